@@ -1,0 +1,11 @@
+"""agglomtool: will wet or ash-coated particles in a fluidized bed stick together?
+
+The collision model is the generalized analytical energy balance of Shabanian, Duchesne,
+Syamlal and Runstedtler (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397.
+"""
+
+from .inputs import Bed, Gas, Liquid, Particle
+
+__version__ = "0.1.0"
+
+__all__ = ["Bed", "Gas", "Liquid", "Particle", "__version__"]

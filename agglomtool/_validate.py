@@ -1,0 +1,63 @@
+"""Input checks shared by every public entry point.
+
+Bad input fails at the boundary with a ``ValueError`` that names the field, the offending
+value and the allowed range. Nothing downstream has to guard against NaN.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _first_bad(arr: np.ndarray, bad: np.ndarray) -> float:
+    """The first offending value of ``arr`` where ``bad`` is true."""
+    return float(np.broadcast_to(arr, bad.shape)[bad].flat[0])
+
+
+def as_float_array(name: str, value) -> np.ndarray:
+    """Convert ``value`` to a float64 array; reject NaN and non-numeric input."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be a number or an array of numbers, got {value!r}") from exc
+    nan = np.isnan(arr)
+    if nan.any():
+        where = "" if arr.ndim == 0 else f" at index {tuple(int(i) for i in np.argwhere(nan)[0])}"
+        raise ValueError(f"{name} is NaN{where}; a finite number is required")
+    return arr
+
+
+def check_range(
+    name: str,
+    value,
+    lo: float | None = None,
+    hi: float | None = None,
+    *,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    allow_inf: bool = False,
+    unit: str = "",
+) -> np.ndarray:
+    """Return ``value`` as a float array after checking ``lo <= value <= hi``.
+
+    ``lo_open`` / ``hi_open`` make the bound strict. ``+inf`` is refused unless
+    ``allow_inf`` (a plate's diameter, say); ``-inf`` is always refused.
+    """
+    arr = as_float_array(name, value)
+    lo_s = "-inf" if lo is None else f"{lo:g}"
+    hi_s = "inf" if hi is None else f"{hi:g}"
+    rng = f"{'(' if lo_open else '['}{lo_s}, {hi_s}{')' if hi_open or hi is None else ']'}"
+    if unit:
+        rng += f" {unit}"
+    bad = np.zeros(arr.shape, dtype=bool)
+    if lo is not None:
+        bad |= (arr <= lo) if lo_open else (arr < lo)
+    if hi is not None:
+        bad |= (arr >= hi) if hi_open else (arr > hi)
+    if not allow_inf:
+        bad |= np.isinf(arr)
+    else:
+        bad |= np.isneginf(arr)
+    if bad.any():
+        raise ValueError(f"{name} = {_first_bad(arr, bad)!r} is outside the allowed range {rng}")
+    return arr

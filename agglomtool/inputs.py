@@ -1,0 +1,165 @@
+"""The four things a collision is made of: two particles, a liquid, a gas, and a bed.
+
+Every field may be a scalar or a numpy array; fields broadcast together when a collision is
+evaluated. All values are SI (m, kg/m3, Pa s, N/m); angles are in degrees at this edge and
+are converted to radians once, inside.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._validate import check_range
+
+__all__ = ["Particle", "Liquid", "Gas", "Bed"]
+
+
+@dataclass(frozen=True)
+class Particle:
+    """A solid sphere with an optional liquid coating.
+
+    Parameters
+    ----------
+    d : float or array
+        Solid diameter [m], > 0. ``math.inf`` is a plate: infinite radius and mass, fixed.
+    rho : float or array
+        Solid density [kg/m3], > 0. Ignored for a plate.
+    h0 : float or array
+        Coating (liquid layer) thickness [m], >= 0. 0 is a dry particle.
+    ha : float or array
+        Asperity (surface roughness) height [m], >= 0.
+
+    Notes
+    -----
+    Shabanian et al. (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397, Fig. 1.
+    """
+
+    d: np.ndarray
+    rho: np.ndarray
+    h0: np.ndarray = field(default=0.0)
+    ha: np.ndarray = field(default=0.0)
+
+    def __post_init__(self) -> None:
+        d = check_range("Particle.d", self.d, 0.0, None, lo_open=True, allow_inf=True, unit="m")
+        rho = check_range(
+            "Particle.rho", self.rho, 0.0, None, lo_open=True, allow_inf=True, unit="kg/m3"
+        )
+        h0 = check_range("Particle.h0", self.h0, 0.0, None, unit="m")
+        ha = check_range("Particle.ha", self.ha, 0.0, None, unit="m")
+        bad = np.isinf(rho) & ~np.isinf(d)
+        if bad.any():
+            raise ValueError(
+                "Particle.rho = inf is allowed only for a plate (d = inf); "
+                "a finite particle needs a finite density in (0, inf) kg/m3"
+            )
+        object.__setattr__(self, "d", d)
+        object.__setattr__(self, "rho", rho)
+        object.__setattr__(self, "h0", h0)
+        object.__setattr__(self, "ha", ha)
+
+    @classmethod
+    def plate(cls, h0=0.0, ha=0.0) -> Particle:
+        """A flat wall: infinite radius and mass, fixed in the lab frame, no body force."""
+        return cls(d=math.inf, rho=math.inf, h0=h0, ha=ha)
+
+    @property
+    def is_plate(self) -> np.ndarray:
+        """True where this particle is a plate (``d = inf``)."""
+        return np.isinf(self.d)
+
+
+@dataclass(frozen=True)
+class Liquid:
+    """The coating liquid or melt that forms the bridge.
+
+    Parameters
+    ----------
+    mu : float or array
+        Dynamic viscosity [Pa s], > 0.
+    gamma : float or array
+        Surface tension [N/m], > 0.
+    rho : float or array
+        Density [kg/m3], > 0.
+    theta_deg : float or array
+        Contact angle [deg], in [0, 90): the model is for wetting liquids.
+    """
+
+    mu: np.ndarray
+    gamma: np.ndarray
+    rho: np.ndarray
+    theta_deg: np.ndarray = field(default=0.0)
+    name: str | None = None
+    source: str | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self, "mu", check_range("Liquid.mu", self.mu, 0.0, None, lo_open=True, unit="Pa s")
+        )
+        object.__setattr__(
+            self,
+            "gamma",
+            check_range("Liquid.gamma", self.gamma, 0.0, None, lo_open=True, unit="N/m"),
+        )
+        object.__setattr__(
+            self, "rho", check_range("Liquid.rho", self.rho, 0.0, None, lo_open=True, unit="kg/m3")
+        )
+        object.__setattr__(
+            self,
+            "theta_deg",
+            check_range("Liquid.theta_deg", self.theta_deg, 0.0, 90.0, hi_open=True, unit="deg"),
+        )
+
+
+@dataclass(frozen=True)
+class Gas:
+    """The fluidizing gas at bed conditions.
+
+    Parameters
+    ----------
+    mu : float or array
+        Dynamic viscosity [Pa s], > 0.
+    rho : float or array
+        Density [kg/m3], > 0.
+    """
+
+    mu: np.ndarray
+    rho: np.ndarray
+    name: str | None = None
+    source: str | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self, "mu", check_range("Gas.mu", self.mu, 0.0, None, lo_open=True, unit="Pa s")
+        )
+        object.__setattr__(
+            self, "rho", check_range("Gas.rho", self.rho, 0.0, None, lo_open=True, unit="kg/m3")
+        )
+
+
+@dataclass(frozen=True)
+class Bed:
+    """The local state of the bed around the colliding pair.
+
+    Parameters
+    ----------
+    eps : float or array
+        Local voidage [-], in (0, 1). The paper uses 0.55 (emulsion phase).
+    U : float, array or None
+        Emulsion-phase superficial gas velocity [m/s], upward (+Z), >= 0. ``None`` takes the
+        paper's choice: 1.1 x the larger Wen-Yu minimum fluidization velocity of the pair.
+    """
+
+    eps: np.ndarray = field(default=0.55)
+    U: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self,
+            "eps",
+            check_range("Bed.eps", self.eps, 0.0, 1.0, lo_open=True, hi_open=True, unit="-"),
+        )
+        if self.U is not None:
+            object.__setattr__(self, "U", check_range("Bed.U", self.U, 0.0, None, unit="m/s"))
