@@ -4,8 +4,22 @@ The collision model is the generalized analytical energy balance of Shabanian, D
 Syamlal and Runstedtler (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397.
 """
 
+from .api import MODES, CollisionResult, collide, critical_impact_speed
+from .collision.outcome import Path, Stage
 from .inputs import Bed, Gas, Liquid, Particle
 
 __version__ = "0.1.0"
 
-__all__ = ["Bed", "Gas", "Liquid", "Particle", "__version__"]
+__all__ = [
+    "Bed",
+    "CollisionResult",
+    "Gas",
+    "Liquid",
+    "MODES",
+    "Particle",
+    "Path",
+    "Stage",
+    "__version__",
+    "collide",
+    "critical_impact_speed",
+]

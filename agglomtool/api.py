@@ -1,0 +1,293 @@
+"""The public collision API: :func:`collide` and :func:`critical_impact_speed`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._validate import as_float_array
+from .collision.critical import first_rebound_speed
+from .collision.outcome import DETAIL_NAMES, Stage, path_names, stage_names
+from .collision.paper import run_paper
+from .inputs import Bed, Gas, Liquid, Particle
+from .pair import PairState, prepare_pair
+
+__all__ = ["CollisionResult", "collide", "critical_impact_speed", "MODES"]
+
+#: Model tiers available through ``mode=``.
+MODES = ("paper",)
+
+
+@dataclass(frozen=True)
+class CollisionResult:
+    """What one (array of) collision(s) came to.
+
+    Attributes
+    ----------
+    e_w : numpy.ndarray
+        Wet restitution coefficient [-] (Eq. 31, non-negative); 0 where the pair sticks.
+    agglomerated : numpy.ndarray of bool
+        True where the pair sticks (exactly where ``e_w == 0``).
+    stage : numpy.ndarray of int8
+        :class:`~agglomtool.collision.outcome.Stage` code: where the outcome was decided.
+    path : numpy.ndarray of int8
+        :class:`~agglomtool.collision.outcome.Path` bit flags: special-case paths taken.
+    w : numpy.ndarray
+        Relative normal impact speed ``u_i - u_j`` [m/s].
+    details : dict of numpy.ndarray
+        Intermediate energies [J], losses [J], gaps [m] and numbers by stage (names in
+        :data:`~agglomtool.collision.outcome.DETAIL_NAMES`); NaN marks a quantity of a stage
+        the collision never reached. Empty when ``details=False`` was asked.
+    mode : str
+        The model tier that produced the result.
+    """
+
+    e_w: np.ndarray
+    agglomerated: np.ndarray
+    stage: np.ndarray
+    path: np.ndarray
+    w: np.ndarray
+    details: dict = field(default_factory=dict)
+    mode: str = "paper"
+
+    @property
+    def stage_name(self) -> np.ndarray:
+        """Stage names as strings (e.g. ``"rebound"``, ``"approach_viscous"``)."""
+        return stage_names(self.stage)
+
+    def explain(self, index=()) -> str:
+        """A short readable account of one collision (``index`` into the result arrays)."""
+        st = Stage(int(np.asarray(self.stage)[index]))
+        flags = path_names(int(np.asarray(self.path)[index]))
+        ew = float(np.asarray(self.e_w)[index])
+        lines = [
+            f"outcome: {'agglomerate' if ew == 0.0 else 'rebound'} (e_w = {ew:.6g})",
+            f"decided at: {st.name.lower()} - {Stage.__dict__[st.name].__doc__ or ''}".rstrip(),
+            f"special paths: {', '.join(flags) if flags else 'none'}",
+        ]
+        for name in DETAIL_NAMES:
+            if name in self.details:
+                val = float(np.asarray(self.details[name])[index])
+                if not np.isnan(val):
+                    lines.append(f"  {name:12s} = {val:.6g}")
+        return "\n".join(lines)
+
+
+def _check_mode(mode: str) -> None:
+    if mode not in MODES:
+        raise ValueError(f"mode = {mode!r} is not one of {MODES}")
+
+
+def _lab_speeds(p_i: Particle, p_j: Particle, u0, u0_j):
+    """Lab-frame normal speeds of i towards j and of j towards i [m/s]; a plate's is 0."""
+    u0 = as_float_array("u0", u0)
+    plate_i = np.isinf(p_i.d)
+    plate_j = np.isinf(p_j.d)
+    if u0_j is None:
+        u_i = np.where(plate_i, 0.0, u0)
+        u_j = np.where(plate_j, 0.0, u0)
+    else:
+        u0_j = as_float_array("u0_j", u0_j)
+        if np.any(plate_j & (u0_j != 0.0)):
+            raise ValueError("u0_j must be 0 (or None) when p_j is a plate: a plate is fixed")
+        if np.any(plate_i & (u0 != 0.0)):
+            raise ValueError(
+                "u0 must be 0 when p_i is a plate and u0_j is given: a plate is fixed"
+            )
+        u_i, u_j = u0, u0_j
+    w = u_i + u_j
+    if np.any(~(w > 0.0)):
+        bad = float(np.broadcast_to(w, np.shape(w))[~(w > 0.0)].flat[0])
+        raise ValueError(
+            f"the particles are not approaching: u0 + u0_j = {bad!r} m/s is outside the "
+            "allowed range (0, inf); e_w is defined for approaching pairs only"
+        )
+    if np.any(np.isinf(w)):
+        raise ValueError("u0 and u0_j must be finite")
+    return u_i, u_j, w
+
+
+def _evaluate(state: PairState, w, mode: str, details: bool):
+    """Run the kernel of ``mode`` on ``state`` broadcast with ``w``; arrays of one shape."""
+    fields = (
+        state.m_i, state.m_j, state.r, state.H0, state.Ha, state.mu_l, state.gamma,
+        state.cos_t, state.theta, w, state.fn_i, state.fn_j, state.e,
+    )
+    arrays = np.broadcast_arrays(*fields)
+    shape = arrays[0].shape
+    flat = [np.ascontiguousarray(a, dtype=np.float64).ravel() for a in arrays]
+    e_w, stage, path, det = run_paper(*flat, details=details)
+    out_details = {name: det[:, k].reshape(shape) for k, name in enumerate(DETAIL_NAMES)} if (
+        details
+    ) else {}
+    return e_w.reshape(shape), stage.reshape(shape), path.reshape(shape), out_details, shape
+
+
+def collide(
+    p_i: Particle,
+    p_j: Particle,
+    *,
+    liquid: Liquid,
+    gas: Gas,
+    bed: Bed | None = None,
+    u0,
+    u0_j=None,
+    beta_deg=0.0,
+    e=0.9,
+    mode: str = "paper",
+    body_forces: bool = True,
+    drag_slip: str = "emulsion",
+    details: bool = True,
+) -> CollisionResult:
+    """Outcome of a binary collision between two wet particles (or a particle and a plate).
+
+    Parameters
+    ----------
+    p_i, p_j : Particle
+        The target particle (at the origin) and its neighbour. Either may be a plate.
+    liquid : Liquid
+        The coating liquid (the bridge).
+    gas : Gas
+        The fluidizing gas at bed conditions.
+    bed : Bed, optional
+        Local voidage and emulsion gas velocity; default ``Bed(eps=0.55, U=None)``.
+    u0 : float or array
+        Lab-frame speed of i towards j [m/s]. With a plate as p_i and ``u0_j=None``, the
+        speed of p_j towards the plate.
+    u0_j : float or array, optional
+        Lab-frame speed of j towards i [m/s]; ``None`` = ``u0`` (head-on, the paper's
+        convention), or 0 for a plate. ``u0 + u0_j`` must be > 0.
+    beta_deg : float or array
+        Collision angle [deg] of the axis i -> j from the horizontal towards +Z (Fig. 5).
+    e : float or array
+        Dry restitution coefficient [-], in [0, 1].
+    mode : str
+        Model tier; ``"paper"``: the published model (MODEL.md sections 2-5).
+    body_forces : bool
+        False switches weight, buoyancy and drag off (the paper's earlier identical-particle
+        model, its ref. 31, for identical particles).
+    drag_slip : {"emulsion", "particle"}
+        Slip velocity of the drag law: ``U_e / eps`` (the paper's) or ``U_e / eps - u0``.
+    details : bool
+        Return the intermediate energies in ``result.details``.
+
+    Returns
+    -------
+    CollisionResult
+
+    Notes
+    -----
+    Shabanian et al. (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397.
+    All inputs broadcast together; results have the broadcast shape.
+    """
+    _check_mode(mode)
+    bed = Bed() if bed is None else bed
+    u_i, u_j, w = _lab_speeds(p_i, p_j, u0, u0_j)
+    state = prepare_pair(
+        p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip, u_i=u_i, u_j=u_j
+    )
+    e_w, stage, path, det, shape = _evaluate(state, w, mode, details)
+    return CollisionResult(
+        e_w=e_w,
+        agglomerated=e_w == 0.0,
+        stage=stage,
+        path=path,
+        w=np.broadcast_to(w, shape).copy(),
+        details=det,
+        mode=mode,
+    )
+
+
+def critical_impact_speed(
+    p_i: Particle,
+    p_j: Particle,
+    *,
+    liquid: Liquid,
+    gas: Gas,
+    bed: Bed | None = None,
+    beta_deg=0.0,
+    e=0.9,
+    mode: str = "paper",
+    body_forces: bool = True,
+    drag_slip: str = "emulsion",
+    rtol: float = 1e-6,
+) -> np.ndarray:
+    """Critical impact speed ``u0*`` [m/s]: the smallest head-on ``u0`` at which the pair
+    rebounds (the paper's Section 3.1 definition).
+
+    Head-on means both particles move towards each other at ``u0`` in the lab frame (the
+    relative speed is ``2 u0``); with a plate, the particle moves at ``u0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``u0*`` with the broadcast shape of the inputs. ``inf`` where the pair sticks at every
+        speed (``e = 0``, or zero total asperity height, whose lubrication loss is infinite);
+        0 where no bridge forms (coatings no thicker than the asperities) and ``e > 0``.
+
+    Notes
+    -----
+    Near the threshold ``e_w(u0)`` need not be monotonic (the paper's Fig. 6b: one particle
+    stops first, body forces matter). The search therefore starts below the smallest speed
+    that can possibly rebound (the viscous bound of the approach, ``m_r w = c Delta_app``),
+    doubles the speed until a rebound, scans the last doubling on 16 geometric points, and
+    bisects between the last sticking and the first rebounding point to ``rtol``. The result
+    is the first rebound found this way: a rebound window narrower than a factor
+    ``2^(1/16)`` (4.4 %) below it can be missed. Above ``u0*`` the pair may stick again in a
+    narrow window; :func:`collide` on a grid shows it.
+    """
+    _check_mode(mode)
+    if not (0.0 < rtol < 0.1):
+        raise ValueError(f"rtol = {rtol!r} is outside the allowed range (0, 0.1)")
+    bed = Bed() if bed is None else bed
+    state = prepare_pair(p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip)
+    depends_on_speed = body_forces and drag_slip == "particle"
+
+    def sticks(w_rel, idx):
+        """True where the pair sticks at relative speed ``w_rel`` (elements ``idx``)."""
+        sub = _subset(state, idx)
+        if depends_on_speed:
+            u = w_rel / sub.w_per_u0
+            plate_i = np.isinf(sub.m_i)
+            plate_j = np.isinf(sub.m_j)
+            u_i = np.where(plate_i, 0.0, u)
+            u_j = np.where(plate_j, 0.0, u)
+            full = prepare_pair(
+                _take(p_i, idx, state.shape), _take(p_j, idx, state.shape),
+                _take(liquid, idx, state.shape), _take(gas, idx, state.shape),
+                _take(bed, idx, state.shape), _take_arr(beta_deg, idx, state.shape),
+                sub.e, True, drag_slip, u_i=u_i, u_j=u_j,
+            )
+            sub.fn_i, sub.fn_j = full.fn_i.ravel(), full.fn_j.ravel()
+        e_w, _, _, _, _ = _evaluate(sub, w_rel, mode, False)
+        return e_w == 0.0
+
+    w_star = first_rebound_speed(state, sticks, rtol)
+    return w_star.reshape(state.shape) / state.w_per_u0
+
+
+def _subset(state: PairState, idx) -> PairState:
+    """The flat elements ``idx`` of ``state`` (a new PairState of 1-D arrays)."""
+    vals = {}
+    for name, val in state.__dict__.items():
+        if name == "shape":
+            continue
+        vals[name] = val.ravel()[idx]
+    return PairState(shape=(len(idx),), **vals)
+
+
+def _take_arr(value, idx, shape):
+    return np.broadcast_to(np.asarray(value, dtype=float), shape).ravel()[idx]
+
+
+def _take(obj, idx, shape):
+    """A copy of an input dataclass holding only the flat elements ``idx``."""
+    kwargs = {}
+    for name, val in obj.__dict__.items():
+        if isinstance(val, np.ndarray):
+            kwargs[name] = _take_arr(val, idx, shape)
+        else:
+            kwargs[name] = val
+    return type(obj)(**kwargs)
+

@@ -1,0 +1,66 @@
+"""Liquid-bridge geometry: volume, volume correction, distance function, rupture distance.
+
+Shabanian et al. (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397,
+Eqs. 3, 28-30, 76 and 94 (the last after Pitois et al. 2001).
+
+All functions are scalar and compiled with Numba; they are called per collision from the
+kernels in this package. Gaps ``D`` are surface-to-surface distances [m]; ``a2`` is the
+bridge constant ``a^2 = H0^2 - Ha^2`` [m2] (Eq. 29 with Eq. 30).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit, vectorize
+
+__all__ = ["ln_f", "ln_f_array", "g_diff", "rupture_distance", "bridge_volume"]
+
+
+@njit(cache=True)
+def ln_f(D, a2):
+    """``ln f(D)`` of the distance function of Eq. 76 [-].
+
+    ``f(D) = D s / (D + s)^2`` with ``s = sqrt(D^2 + a^2)``; evaluated as
+    ``ln D + ln s - 2 ln(D + s)`` so that nothing underflows. ``d ln f / dD = X_v^2 / D``,
+    which makes the viscous work a difference of ``ln f``. ``D <= 0`` gives ``-inf``
+    (the lubrication singularity: an infinite viscous loss).
+    """
+    if D <= 0.0:
+        return -math.inf
+    s = math.sqrt(D * D + a2)
+    return math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+
+
+@njit(cache=True)
+def g_diff(D1, D2, a2):
+    """``g(D2) - g(D1)`` for the capillary potential ``g(D) = D - sqrt(D^2 + a^2)`` [m].
+
+    The capillary work between two gaps is ``2 pi gamma r cos(theta)`` times this
+    (Eqs. 98-105). Written without cancellation: with ``s_k = sqrt(D_k^2 + a^2)``,
+    ``g = -a^2 / (D + s)`` and the difference is
+    ``a^2 (D2 - D1) (1 + (D1 + D2) / (s1 + s2)) / ((D1 + s1) (D2 + s2))``.
+    Positive when ``D2 > D1`` (separating costs energy for a wetting liquid).
+    """
+    s1 = math.sqrt(D1 * D1 + a2)
+    s2 = math.sqrt(D2 * D2 + a2)
+    return a2 * (D2 - D1) * (1.0 + (D1 + D2) / (s1 + s2)) / ((D1 + s1) * (D2 + s2))
+
+
+@njit(cache=True)
+def bridge_volume(r, a2):
+    """Bridge volume ``V_b = (pi r / 2) (H0^2 - Ha^2)`` [m3] (Eq. 30), from ``a^2``."""
+    return 0.5 * math.pi * r * a2
+
+
+@njit(cache=True)
+def rupture_distance(theta, capillary_number, volume):
+    """Gap at which the bridge ruptures [m] (Eq. 94, Pitois et al. 2001).
+
+    ``h_rupt = (1 + theta/2) (1 + Ca^(1/2)) V_b^(1/3)``, ``theta`` in radians.
+    """
+    return (1.0 + 0.5 * theta) * (1.0 + math.sqrt(capillary_number)) * volume ** (1.0 / 3.0)
+
+
+#: :func:`ln_f` as a numpy ufunc, for array code outside the kernels.
+ln_f_array = vectorize(["float64(float64, float64)"], cache=True)(ln_f.py_func)

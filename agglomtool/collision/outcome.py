@@ -1,0 +1,86 @@
+"""Codes that say where and how a collision's outcome was decided.
+
+The kernels write small integers; :class:`Stage` and :class:`Path` name them.
+"""
+
+from __future__ import annotations
+
+import enum
+
+import numpy as np
+
+__all__ = ["Stage", "Path", "DETAIL_NAMES", "stage_names", "path_names"]
+
+
+class Stage(enum.IntEnum):
+    """Where the outcome was decided (the reconstructed flow chart, MODEL.md section 5)."""
+
+    REBOUND = 0
+    """The bridge ruptured with energy left: the pair rebounds (Eq. 31 gives e_w)."""
+    APPROACH_VISCOUS = 1
+    """Approach: the viscous force alone stops the pair before contact (Eqs. 73, 80)."""
+    APPROACH_ENERGY = 2
+    """Approach: both particles' energies are spent before contact (Eqs. 36a, 37a)."""
+    APPROACH_ALONE = 3
+    """Approach: one particle stopped; the other, going on alone, runs out (Eq. 39)."""
+    APPROACH_ALONE_VISCOUS = 4
+    """Approach: one particle stopped; viscosity alone stops the other (Eq. 144)."""
+    CONTACT = 5
+    """Solid contact leaves no separation speed (e = 0)."""
+    SEPARATION_VISCOUS = 6
+    """Separation: the viscous force alone stops the pair before rupture (Eqs. 75, 82)."""
+    SEPARATION_ENERGY = 7
+    """Separation: both particles' energies are spent before rupture (Eqs. 58a, 59a)."""
+    SEPARATION_ALONE = 8
+    """Separation: one particle stopped; the other, going on alone, runs out (Eqs. 61-62)."""
+    SEPARATION_ALONE_VISCOUS = 9
+    """Separation: one particle stopped; viscosity alone stops the other."""
+
+
+class Path(enum.IntFlag):
+    """Special-case paths taken (bit flags; 0 = the ordinary path)."""
+
+    APPROACH_I_STOPS = 1
+    """Particle i stopped first during the approach; j went on alone (Section 2.3.5)."""
+    APPROACH_J_STOPS = 2
+    """Particle j stopped first during the approach; i went on alone."""
+    SEPARATION_I_STOPS = 4
+    """Particle i stopped first during the separation; j went on alone (Suppl. S-11)."""
+    SEPARATION_J_STOPS = 8
+    """Particle j stopped first during the separation; i went on alone (Suppl. S-12)."""
+    NO_BRIDGE = 16
+    """Coatings no thicker than the asperities (H0 <= Ha): no bridge, a dry collision."""
+    BRIDGE_BROKEN_AT_CONTACT = 32
+    """The rupture distance is not above the contact gap: no separation losses."""
+
+
+#: Names of the per-collision details the kernels can write, in column order.
+#: Energies [J] are in the paper's centre-of-mass frames; losses [J] are positive when
+#: energy is lost; gaps [m]. NaN marks a quantity of a stage the collision never reached.
+DETAIL_NAMES = (
+    "K_ini_i", "K_ini_j",          # Eqs. 34-35
+    "L_cap_app", "L_vis_app",      # totals over the approach (Eqs. 88, 100)
+    "L_bdw_app_i", "L_bdw_app_j",  # Eqs. 126-127
+    "K_app_i", "K_app_j",          # Eqs. 36-37
+    "D_stop_app",                  # D_app of the particle that stopped first (Eq. 136)
+    "w_contact",                   # relative speed at contact [m/s]
+    "L_c",                         # contact loss, both particles (Eqs. 132-134)
+    "K_sep_i", "K_sep_j",          # Eqs. 54-55
+    "Ca", "h_rupt",                # Eqs. 57, 94
+    "L_cap_sep", "L_vis_sep",      # totals over the separation (Eqs. 95, 101)
+    "L_bdw_sep_i", "L_bdw_sep_j",  # Eqs. 128-129
+    "D_stop_sep",                  # D_sep of the particle that stopped first
+    "K_fin_i", "K_fin_j",          # Eqs. 58-59
+    "St_app",                      # viscous Stokes number of the approach, m v0 / c
+)  # fmt: skip
+
+
+def stage_names(codes) -> np.ndarray:
+    """Names (strings) for an array of :class:`Stage` codes."""
+    names = np.array([s.name.lower() for s in Stage])
+    return names[np.asarray(codes, dtype=np.intp)]
+
+
+def path_names(flags: int) -> list[str]:
+    """Names of the :class:`Path` flags set in one integer."""
+    return [p.name.lower() for p in Path if int(flags) & p.value]

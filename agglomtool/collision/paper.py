@@ -1,0 +1,346 @@
+"""The paper's generalized energy-balance model of one binary wet collision (mode "paper").
+
+Shabanian, Duchesne, Syamlal, Runstedtler (2024), Generalized analytical energy balance
+model for binary collisions of wet particles, Heliyon 10:e29397,
+doi:10.1016/j.heliyon.2024.e29397, Sections 2.2-2.3.5, Fig. 3 and Table 1, as specified and
+corrected in MODEL.md (sections 2-5).
+
+The kernel is scalar code compiled with Numba and run over flat arrays in parallel. Inputs
+per collision, all SI:
+
+- ``m_i, m_j``: wet masses [kg] (Eqs. 32-33); ``inf`` for a plate (not both);
+- ``r``: harmonic-mean solid radius [m] (Eq. 3; ``2 r_i`` for a plate);
+- ``H0, Ha``: gap at first liquid contact and at solid contact [m];
+- ``mu_l, gamma, cos_t, theta``: liquid viscosity [Pa s], surface tension [N/m], cosine of
+  the contact angle and the angle itself [rad];
+- ``w``: relative normal impact speed ``u_i - u_j`` > 0 [m/s];
+- ``fn_i, fn_j``: net body forces on i and on j projected on ``n`` (from i towards j) [N];
+- ``e``: dry restitution coefficient [-].
+
+Notation inside: the CM-frame speeds are ``v_i = frac_j w`` and ``v_j = frac_i w`` with the
+mass fractions ``frac_i = m_i / (m_i + m_j)``; so the paper's distance shares
+``v_i / (v_i + v_j)`` (Eqs. 13-16) are the mass fractions ``frac_j`` and ``frac_i``, and both
+particles carry the same CM momentum ``P = m_r w`` (``m_r`` the reduced mass). Energies are
+written through ``m_r`` so that a plate (infinite mass, zero CM speed) gives exact zeros,
+never ``inf * 0``.
+
+Per-particle viscous loss over a stretch with ``Delta = |ln f(D_a) - ln f(D_b)|``, for a
+particle of mass ``m`` entering it at speed ``v`` (exact solution of the viscous-only
+equation of motion, Eqs. 72-75, 88-90, 95-97; MODEL.md section 4)::
+
+    L = c Delta (v - c Delta / (2 m)),   c = (3/2) pi mu_l r^2
+
+valid while ``c Delta < m v``, which every caller checks first.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .bridge import bridge_volume, g_diff, ln_f, rupture_distance
+from .outcome import DETAIL_NAMES, Path, Stage
+
+__all__ = ["paper_kernel", "run_paper"]
+
+# Integer codes frozen into the compiled kernel.
+_REBOUND = int(Stage.REBOUND)
+_APP_VIS = int(Stage.APPROACH_VISCOUS)
+_APP_EN = int(Stage.APPROACH_ENERGY)
+_APP_ALONE = int(Stage.APPROACH_ALONE)
+_APP_ALONE_VIS = int(Stage.APPROACH_ALONE_VISCOUS)
+_CONTACT = int(Stage.CONTACT)
+_SEP_VIS = int(Stage.SEPARATION_VISCOUS)
+_SEP_EN = int(Stage.SEPARATION_ENERGY)
+_SEP_ALONE = int(Stage.SEPARATION_ALONE)
+_SEP_ALONE_VIS = int(Stage.SEPARATION_ALONE_VISCOUS)
+_P_APP_I = int(Path.APPROACH_I_STOPS)
+_P_APP_J = int(Path.APPROACH_J_STOPS)
+_P_SEP_I = int(Path.SEPARATION_I_STOPS)
+_P_SEP_J = int(Path.SEPARATION_J_STOPS)
+_P_NO_BRIDGE = int(Path.NO_BRIDGE)
+_P_BROKEN = int(Path.BRIDGE_BROKEN_AT_CONTACT)
+
+N_DETAILS = len(DETAIL_NAMES)
+_DI = {name: k for k, name in enumerate(DETAIL_NAMES)}
+_K_INI_I, _K_INI_J = _DI["K_ini_i"], _DI["K_ini_j"]
+_L_CAP_APP, _L_VIS_APP = _DI["L_cap_app"], _DI["L_vis_app"]
+_L_BDW_APP_I, _L_BDW_APP_J = _DI["L_bdw_app_i"], _DI["L_bdw_app_j"]
+_K_APP_I, _K_APP_J = _DI["K_app_i"], _DI["K_app_j"]
+_D_STOP_APP, _W_CONTACT, _L_C = _DI["D_stop_app"], _DI["w_contact"], _DI["L_c"]
+_K_SEP_I, _K_SEP_J = _DI["K_sep_i"], _DI["K_sep_j"]
+_CA, _H_RUPT = _DI["Ca"], _DI["h_rupt"]
+_L_CAP_SEP, _L_VIS_SEP = _DI["L_cap_sep"], _DI["L_vis_sep"]
+_L_BDW_SEP_I, _L_BDW_SEP_J = _DI["L_bdw_sep_i"], _DI["L_bdw_sep_j"]
+_D_STOP_SEP = _DI["D_stop_sep"]
+_K_FIN_I, _K_FIN_J = _DI["K_fin_i"], _DI["K_fin_j"]
+_ST_APP = _DI["St_app"]
+
+#: Points of the geometric scan that isolates the first zero of a running energy before the
+#: bracketed solve (Eq. 136 need not be monotonic). Adjacent points differ by the factor
+#: ``(D_end / D_start)^(1/32)``: a dip below zero narrower than that can be missed.
+SCAN_POINTS = 32
+
+
+@njit(cache=True)
+def _viscous_loss(v, m, c_delta):
+    """Energy a particle of mass ``m`` [kg] entering at ``v`` [m/s] loses to viscosity over a
+    stretch with ``c Delta`` = ``c_delta`` [kg/s * -]; ``m = inf`` gives ``c_delta v``."""
+    return c_delta * (v - 0.5 * c_delta / m)
+
+
+@njit(cache=True)
+def _running_energy(D, d_start, lnf_start, k, share, v, m, force, c, kcap, a2):
+    """Energy left [J] to a particle at gap ``D`` of a stage that began at ``d_start``, both
+    particles moving (Eqs. 136-139 and their separation mirror).
+
+    ``share`` is the particle's fraction of the gap change, ``force`` the body force
+    projected on its direction of motion relative to the partner (Eqs. 118-119, 124-125).
+    """
+    cap = share * kcap * g_diff(d_start, D, a2)
+    vis = _viscous_loss(v, m, c * abs(ln_f(D, a2) - lnf_start))
+    return k - cap - vis + force * share * abs(D - d_start)
+
+
+@njit(cache=True)
+def _first_zero(d_start, d_end, lnf_start, k, share, v, m, force, c, kcap, a2):
+    """The gap between ``d_start`` and ``d_end`` nearest ``d_start`` where the running energy
+    of :func:`_running_energy` first reaches zero (Eq. 136).
+
+    ``E(d_start) = k > 0`` and ``E(d_end) <= 0`` on entry. A geometric scan of
+    :data:`SCAN_POINTS` points isolates the first sign change; a bisection in ``ln D`` then
+    narrows that bracket to a relative width of 1e-12 (at most 64 halvings: it cannot run
+    away).
+    """
+    ratio = (d_end / d_start) ** (1.0 / SCAN_POINTS)
+    lo = d_start  # energy > 0 here
+    hi = d_end  # energy <= 0 here
+    d = d_start
+    for _ in range(SCAN_POINTS - 1):
+        d = d * ratio
+        if _running_energy(d, d_start, lnf_start, k, share, v, m, force, c, kcap, a2) <= 0.0:
+            hi = d
+            break
+        lo = d
+    for _ in range(64):
+        mid = math.sqrt(lo * hi)
+        if _running_energy(mid, d_start, lnf_start, k, share, v, m, force, c, kcap, a2) <= 0.0:
+            hi = mid
+        else:
+            lo = mid
+        if abs(hi - lo) <= 1e-12 * hi:
+            break
+    return hi
+
+
+@njit(cache=True)
+def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a2):
+    """One liquid stage (approach ``H0 -> Ha`` or separation ``Ha -> h_rupt``).
+
+    ``k_*``: energies at the start [J]; ``v_*``: CM-frame speeds [m/s]; ``f_*``: body forces
+    along each particle's motion relative to its partner [N]; ``p``: the common CM momentum
+    [kg m/s]. Returns ``(code, k_end_i, k_end_j, d_stop, flags, l_cap, l_vis, l_bdw_i,
+    l_bdw_j)`` with ``code`` 0 (both go on), 1 (viscous stop), 2 (energy spent), 3 (the lone
+    mover runs out), 4 (viscosity stops the lone mover); ``flags`` 1 if i stopped first,
+    2 if j did; ``d_stop`` NaN when nobody stopped. Losses are those of the ordinary path
+    (both moving over the whole stage).
+    """
+    nan = math.nan
+    lnf_start = ln_f(d_start, a2)
+    lnf_end = ln_f(d_end, a2)
+    c_delta = c * abs(lnf_end - lnf_start)
+    dist = abs(d_end - d_start)
+    share_i = v_i / (v_i + v_j)
+    share_j = v_j / (v_i + v_j)
+    l_cap = kcap * g_diff(d_start, d_end, a2)
+    if not c_delta < p:  # viscosity alone stops both (Eqs. 73, 80 / 75, 82); also Delta = inf
+        return 1, 0.0, 0.0, nan, 0, l_cap, nan, nan, nan
+    l_vis = c_delta * (v_i + v_j - 0.5 * c_delta / p * (v_i + v_j))
+    l_bdw_i = -f_i * share_i * dist
+    l_bdw_j = -f_j * share_j * dist
+    e_i = k_i - share_i * l_cap - _viscous_loss(v_i, m_i, c_delta) - l_bdw_i
+    e_j = k_j - share_j * l_cap - _viscous_loss(v_j, m_j, c_delta) - l_bdw_j
+    if e_i > 0.0 and e_j > 0.0:
+        return 0, e_i, e_j, nan, 0, l_cap, l_vis, l_bdw_i, l_bdw_j
+    if e_i <= 0.0 and e_j <= 0.0:
+        return 2, 0.0, 0.0, nan, 0, l_cap, l_vis, l_bdw_i, l_bdw_j
+    # One particle stops first (x); the other (y) goes on alone (Section 2.3.5, Eqs. 136-145).
+    if e_i <= 0.0:
+        flag = 1
+        k_x, share_x, v_x, m_x, f_x = k_i, share_i, v_i, m_i, f_i
+        k_y, share_y, v_y, m_y, f_y = k_j, share_j, v_j, m_j, f_j
+    else:
+        flag = 2
+        k_x, share_x, v_x, m_x, f_x = k_j, share_j, v_j, m_j, f_j
+        k_y, share_y, v_y, m_y, f_y = k_i, share_i, v_i, m_i, f_i
+    if k_x <= 0.0:
+        # Zero CM speed from the start (a plate): it never moves, the other takes every loss.
+        d_stop = d_start
+    else:
+        d_stop = _first_zero(
+            d_start, d_end, lnf_start, k_x, share_x, v_x, m_x, f_x, c, kcap, a2
+        )
+    lnf_stop = ln_f(d_stop, a2)
+    dist_1 = abs(d_stop - d_start)
+    dist_2 = abs(d_end - d_stop)
+    # Eqs. 39-42, 140-142 (Eq. 142 with particle j's own share, MODEL.md section 4).
+    k_mid = (
+        k_y
+        - (share_y * kcap * g_diff(d_start, d_stop, a2) + kcap * g_diff(d_stop, d_end, a2))
+        - _viscous_loss(v_y, m_y, c * abs(lnf_stop - lnf_start))
+        + f_y * (share_y * dist_1 + dist_2)
+    )
+    if k_mid <= 0.0:
+        return 3, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
+    v_mid = math.sqrt(2.0 * k_mid / m_y)  # Eqs. 40-41
+    c_delta_2 = c * abs(lnf_end - lnf_stop)
+    if not c_delta_2 < m_y * v_mid:  # Eq. 144
+        return 4, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
+    k_end_y = k_mid - _viscous_loss(v_mid, m_y, c_delta_2)  # Eqs. 37b, 145
+    if flag == 1:
+        return 0, 0.0, k_end_y, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
+    return 0, k_end_y, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
+
+
+@njit(cache=True)
+def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det):
+    """One collision by the paper's flow chart. Returns ``(e_w, stage, path)``.
+
+    ``det`` is a float64 array of length ``len(DETAIL_NAMES)`` to fill, or of length 0.
+    """
+    nan = math.nan
+    want = det.shape[0] > 0
+    if want:
+        for k in range(det.shape[0]):
+            det[k] = nan
+    # Mass fractions and reduced mass, exact for a plate on either side.
+    if math.isinf(m_j):
+        frac_i, frac_j, m_r = 0.0, 1.0, m_i
+    elif math.isinf(m_i):
+        frac_i, frac_j, m_r = 1.0, 0.0, m_j
+    else:
+        frac_i = m_i / (m_i + m_j)
+        frac_j = m_j / (m_i + m_j)
+        m_r = m_i * frac_j
+    path = 0
+    # No bridge can form: a dry collision, no liquid losses at all.
+    if not H0 > Ha:
+        path |= _P_NO_BRIDGE
+        if want:
+            det[_W_CONTACT] = w
+            det[_L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+        if e > 0.0:
+            return e, _REBOUND, path
+        return 0.0, _CONTACT, path
+
+    a2 = (H0 - Ha) * (H0 + Ha)  # Eq. 29-30, without cancellation
+    c = 1.5 * math.pi * mu_l * r * r  # Eq. 26
+    kcap = 2.0 * math.pi * gamma * r * cos_t  # Eq. 25
+
+    # ---- approach, H0 -> Ha (Eqs. 34-45, 72-73, 79-80, 88-90, 100-103, 112-119, 126-127)
+    p = m_r * w
+    k_i = 0.5 * p * frac_j * w
+    k_j = 0.5 * p * frac_i * w
+    if want:
+        det[_K_INI_I] = k_i
+        det[_K_INI_J] = k_j
+        det[_ST_APP] = p / c
+    code, ka_i, ka_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
+        H0, Ha, k_i, k_j, frac_j * w, frac_i * w, m_i, m_j, fn_i, -fn_j, p, c, kcap, a2
+    )
+    if flags == 1:
+        path |= _P_APP_I
+    elif flags == 2:
+        path |= _P_APP_J
+    if want:
+        det[_L_CAP_APP] = l_cap
+        det[_L_VIS_APP] = l_vis
+        det[_L_BDW_APP_I] = lb_i
+        det[_L_BDW_APP_J] = lb_j
+        det[_D_STOP_APP] = d_stop
+    if code != 0:
+        return 0.0, code, path  # codes 1-4 are the approach stages
+    if want:
+        det[_K_APP_I] = ka_i
+        det[_K_APP_J] = ka_j
+
+    # ---- contact (Eqs. 44-55, 131-135): new CM frame, restitution along n
+    w_c = math.sqrt(2.0 * ka_i / m_i) + math.sqrt(2.0 * ka_j / m_j)
+    w_s = e * w_c
+    if want:
+        det[_W_CONTACT] = w_c
+        det[_L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+    if not w_s > 0.0:
+        return 0.0, _CONTACT, path
+    p_s = m_r * w_s
+    ks_i = 0.5 * p_s * frac_j * w_s
+    ks_j = 0.5 * p_s * frac_i * w_s
+
+    # ---- separation, Ha -> h_rupt (Eqs. 56-66, 74-75, 81-82, 91-97, 101, 104-105, 120-129)
+    ca = mu_l * w_s / gamma
+    h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
+    if want:
+        det[_K_SEP_I] = ks_i
+        det[_K_SEP_J] = ks_j
+        det[_CA] = ca
+        det[_H_RUPT] = h_rupt
+    if not h_rupt > Ha:
+        path |= _P_BROKEN
+        kf_i, kf_j = ks_i, ks_j
+    else:
+        code, kf_i, kf_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
+            Ha, h_rupt, ks_i, ks_j, frac_j * w_s, frac_i * w_s, m_i, m_j, -fn_i, fn_j,
+            p_s, c, kcap, a2,
+        )
+        if flags == 1:
+            path |= _P_SEP_I
+        elif flags == 2:
+            path |= _P_SEP_J
+        if want:
+            det[_L_CAP_SEP] = l_cap
+            det[_L_VIS_SEP] = l_vis
+            det[_L_BDW_SEP_I] = lb_i
+            det[_L_BDW_SEP_J] = lb_j
+            det[_D_STOP_SEP] = d_stop
+        if code != 0:
+            return 0.0, _SEP_VIS + code - 1, path
+    if want:
+        det[_K_FIN_I] = kf_i
+        det[_K_FIN_J] = kf_j
+    # Eq. 31 with Eqs. 67-70: the final CM-frame speeds add up to the relative speed.
+    v_rel = math.sqrt(2.0 * kf_i / m_i) + math.sqrt(2.0 * kf_j / m_j)
+    return v_rel / w, _REBOUND, path
+
+
+@njit(parallel=True, cache=True)
+def _run_paper_batch(
+    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path, det
+):
+    n = e_w.shape[0]
+    for k in prange(n):
+        ew, st, pa = paper_kernel(
+            m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k], gamma[k], cos_t[k], theta[k],
+            w[k], fn_i[k], fn_j[k], e[k], det[k],
+        )
+        e_w[k] = ew
+        stage[k] = st
+        path[k] = pa
+
+
+def run_paper(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, details=False):
+    """Evaluate :func:`paper_kernel` over 1-D float64 arrays of equal length.
+
+    Returns ``(e_w, stage, path, det)``; ``det`` has shape ``(n, len(DETAIL_NAMES))`` when
+    ``details`` is true, else ``(n, 0)``.
+    """
+    n = w.shape[0]
+    e_w = np.empty(n)
+    stage = np.empty(n, dtype=np.int8)
+    path = np.empty(n, dtype=np.int8)
+    det = np.empty((n, N_DETAILS if details else 0))
+    _run_paper_batch(
+        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path, det
+    )
+    return e_w, stage, path, det
