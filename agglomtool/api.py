@@ -9,14 +9,14 @@ import numpy as np
 from ._validate import as_float_array
 from .collision.critical import first_rebound_speed
 from .collision.outcome import DETAIL_NAMES, Stage, path_names, stage_names
-from .collision.paper import run_paper
+from .collision.tiers import evaluate, mode_names
 from .inputs import Bed, Gas, Liquid, Particle
 from .pair import PairState, prepare_pair
 
 __all__ = ["CollisionResult", "collide", "critical_impact_speed", "MODES"]
 
-#: Model tiers available through ``mode=``.
-MODES = ("paper",)
+#: Model tiers available through ``mode=`` (see :mod:`agglomtool.collision.tiers`).
+MODES = mode_names()
 
 
 @dataclass(frozen=True)
@@ -75,8 +75,8 @@ class CollisionResult:
 
 
 def _check_mode(mode: str) -> None:
-    if mode not in MODES:
-        raise ValueError(f"mode = {mode!r} is not one of {MODES}")
+    if mode not in mode_names():
+        raise ValueError(f"mode = {mode!r} is not one of {mode_names()}")
 
 
 def _lab_speeds(p_i: Particle, p_j: Particle, u0, u0_j):
@@ -117,7 +117,7 @@ def _evaluate(state: PairState, w, mode: str, details: bool):
     arrays = np.broadcast_arrays(*fields)
     shape = arrays[0].shape
     flat = [np.ascontiguousarray(a, dtype=np.float64).ravel() for a in arrays]
-    e_w, stage, path, det = run_paper(*flat, details=details)
+    e_w, stage, path, det = evaluate(mode, *flat, details=details)
     out_details = {name: det[:, k].reshape(shape) for k, name in enumerate(DETAIL_NAMES)} if (
         details
     ) else {}
