@@ -11,7 +11,7 @@ from .collision.critical import first_rebound_speed
 from .collision.outcome import DETAIL_NAMES, Stage, path_names, stage_names
 from .collision.tiers import evaluate, mode_names
 from .inputs import Bed, Gas, Liquid, Particle
-from .pair import PairState, prepare_pair
+from .pair import PairState, flatten, prepare_pair
 
 __all__ = ["CollisionResult", "collide", "critical_impact_speed", "MODES"]
 
@@ -110,17 +110,16 @@ def _lab_speeds(p_i: Particle, p_j: Particle, u0, u0_j):
 
 def _evaluate(state: PairState, w, mode: str, details: bool):
     """Run the kernel of ``mode`` on ``state`` broadcast with ``w``; arrays of one shape."""
-    fields = (
-        state.m_i, state.m_j, state.r, state.H0, state.Ha, state.mu_l, state.gamma,
-        state.cos_t, state.theta, w, state.fn_i, state.fn_j, state.e,
+    shape = np.broadcast_shapes(state.shape, np.shape(w))
+    flat = flatten(state, shape)
+    w_flat = np.ascontiguousarray(np.broadcast_to(w, shape), dtype=np.float64).reshape(-1)
+    e_w, stage, path, det = evaluate(
+        mode, flat.m_i, flat.m_j, flat.r, flat.H0, flat.Ha, flat.mu_l, flat.gamma, flat.cos_t,
+        flat.theta, w_flat, flat.fn_i, flat.fn_j, flat.e, details=details,
     )
-    arrays = np.broadcast_arrays(*fields)
-    shape = arrays[0].shape
-    flat = [np.ascontiguousarray(a, dtype=np.float64).ravel() for a in arrays]
-    e_w, stage, path, det = evaluate(mode, *flat, details=details)
-    out_details = {name: det[:, k].reshape(shape) for k, name in enumerate(DETAIL_NAMES)} if (
-        details
-    ) else {}
+    out_details = {}
+    if details:
+        out_details = {name: det[:, k].reshape(shape) for k, name in enumerate(DETAIL_NAMES)}
     return e_w.reshape(shape), stage.reshape(shape), path.reshape(shape), out_details, shape
 
 
@@ -242,39 +241,35 @@ def critical_impact_speed(
         raise ValueError(f"rtol = {rtol!r} is outside the allowed range (0, 0.1)")
     bed = Bed() if bed is None else bed
     state = prepare_pair(p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip)
+    shape = state.shape
+    flat = flatten(state)
     depends_on_speed = body_forces and drag_slip == "particle"
 
     def sticks(w_rel, idx):
-        """True where the pair sticks at relative speed ``w_rel`` (elements ``idx``)."""
-        sub = _subset(state, idx)
+        """True where the pair sticks at relative speed ``w_rel`` (flat elements ``idx``)."""
+        sub = _subset(flat, idx)
         if depends_on_speed:
             u = w_rel / sub.w_per_u0
-            plate_i = np.isinf(sub.m_i)
-            plate_j = np.isinf(sub.m_j)
-            u_i = np.where(plate_i, 0.0, u)
-            u_j = np.where(plate_j, 0.0, u)
+            u_i = np.where(np.isinf(sub.m_i), 0.0, u)
+            u_j = np.where(np.isinf(sub.m_j), 0.0, u)
             full = prepare_pair(
-                _take(p_i, idx, state.shape), _take(p_j, idx, state.shape),
-                _take(liquid, idx, state.shape), _take(gas, idx, state.shape),
-                _take(bed, idx, state.shape), _take_arr(beta_deg, idx, state.shape),
+                _take(p_i, idx, shape), _take(p_j, idx, shape), _take(liquid, idx, shape),
+                _take(gas, idx, shape), _take(bed, idx, shape), _take_arr(beta_deg, idx, shape),
                 sub.e, True, drag_slip, u_i=u_i, u_j=u_j,
             )
-            sub.fn_i, sub.fn_j = full.fn_i.ravel(), full.fn_j.ravel()
+            sub.fn_i = np.broadcast_to(full.fn_i, sub.shape)
+            sub.fn_j = np.broadcast_to(full.fn_j, sub.shape)
         e_w, _, _, _, _ = _evaluate(sub, w_rel, mode, False)
         return e_w == 0.0
 
-    w_star = first_rebound_speed(state, sticks, rtol)
-    return w_star.reshape(state.shape) / state.w_per_u0
+    w_star = first_rebound_speed(flat, sticks, rtol)
+    return w_star.reshape(shape) / np.broadcast_to(state.w_per_u0, shape)
 
 
-def _subset(state: PairState, idx) -> PairState:
-    """The flat elements ``idx`` of ``state`` (a new PairState of 1-D arrays)."""
-    vals = {}
-    for name, val in state.__dict__.items():
-        if name == "shape":
-            continue
-        vals[name] = val.ravel()[idx]
-    return PairState(shape=(len(idx),), **vals)
+def _subset(flat: PairState, idx) -> PairState:
+    """The elements ``idx`` of a flattened ``PairState``."""
+    vals = {name: val[idx] for name, val in flat.__dict__.items() if name != "shape"}
+    return PairState((len(idx),), **vals)
 
 
 def _take_arr(value, idx, shape):

@@ -20,7 +20,7 @@ from .inputs import Bed, Gas, Liquid, Particle
 from .properties import drag_force_gidaspow, umf_wen_yu
 from .properties.fluidization import GRAVITY
 
-__all__ = ["PairState", "prepare_pair", "DRAG_SLIP_MODES"]
+__all__ = ["PairState", "prepare_pair", "flatten", "DRAG_SLIP_MODES"]
 
 #: How the slip velocity in the drag law is taken (MODEL.md section 3):
 #: "emulsion": the paper's local gas velocity from Eq. 22, slip = U_e / eps, vertical;
@@ -30,7 +30,7 @@ DRAG_SLIP_MODES = ("emulsion", "particle")
 
 @dataclass
 class PairState:
-    """Everything the kernels need, broadcast to one shape (arrays of float64)."""
+    """Everything the kernels need (float64 arrays that broadcast to ``shape``)."""
 
     shape: tuple
     m_i: np.ndarray
@@ -166,9 +166,22 @@ def prepare_pair(
 
     plate_any = np.isinf(p_i.d) | np.isinf(p_j.d)
     w_per_u0 = np.where(plate_any, 1.0, 2.0)
-    arrays = np.broadcast_arrays(
+    fields = (
         m_i, m_j, r, p_i.h0 + p_j.h0, p_i.ha + p_j.ha, liquid.mu, liquid.gamma, np.cos(theta),
         theta, e, fn_i, fn_j, w_per_u0, U_e,
     )
-    shape = arrays[0].shape
-    return PairState(shape, *(np.array(a, dtype=np.float64) for a in arrays))
+    fields = tuple(np.asarray(a, dtype=np.float64) for a in fields)
+    shape = np.broadcast_shapes(*(a.shape for a in fields))
+    return PairState(shape, *fields)
+
+
+def flatten(state: PairState, shape=None) -> PairState:
+    """``state`` with every array broadcast to ``shape`` (default ``state.shape``) and
+    raveled into a contiguous 1-D array."""
+    shape = state.shape if shape is None else shape
+    vals = {
+        name: np.ascontiguousarray(np.broadcast_to(val, shape)).reshape(-1)
+        for name, val in state.__dict__.items()
+        if name != "shape"
+    }
+    return PairState((int(np.prod(shape)),), **vals)

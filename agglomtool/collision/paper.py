@@ -110,28 +110,40 @@ def _first_zero(d_start, d_end, lnf_start, k, share, v, m, force, c, kcap, a2):
     of :func:`_running_energy` first reaches zero (Eq. 136).
 
     ``E(d_start) = k > 0`` and ``E(d_end) <= 0`` on entry. A geometric scan of
-    :data:`SCAN_POINTS` points isolates the first sign change; a bisection in ``ln D`` then
-    narrows that bracket to a relative width of 1e-12 (at most 64 halvings: it cannot run
-    away).
+    :data:`SCAN_POINTS` points isolates the first sign change; the Illinois variant of
+    regula falsi then narrows that bracket to a relative width of 1e-12. Every iterate stays
+    inside the bracket and the loop is capped at 100 steps: it cannot run away.
     """
     ratio = (d_end / d_start) ** (1.0 / SCAN_POINTS)
-    lo = d_start  # energy > 0 here
+    lo, f_lo = d_start, k  # energy > 0 here
     hi = d_end  # energy <= 0 here
+    f_hi = _running_energy(d_end, d_start, lnf_start, k, share, v, m, force, c, kcap, a2)
     d = d_start
     for _ in range(SCAN_POINTS - 1):
         d = d * ratio
-        if _running_energy(d, d_start, lnf_start, k, share, v, m, force, c, kcap, a2) <= 0.0:
-            hi = d
+        f_d = _running_energy(d, d_start, lnf_start, k, share, v, m, force, c, kcap, a2)
+        if f_d <= 0.0:
+            hi, f_hi = d, f_d
             break
-        lo = d
-    for _ in range(64):
-        mid = math.sqrt(lo * hi)
-        if _running_energy(mid, d_start, lnf_start, k, share, v, m, force, c, kcap, a2) <= 0.0:
-            hi = mid
+        lo, f_lo = d, f_d
+    side = 0
+    for _ in range(100):
+        if abs(hi - lo) <= 1e-12 * max(abs(hi), abs(lo)) or f_hi == 0.0:
+            break
+        x = hi - f_hi * (hi - lo) / (f_hi - f_lo)
+        if not (min(lo, hi) < x < max(lo, hi)):
+            x = 0.5 * (lo + hi)
+        f_x = _running_energy(x, d_start, lnf_start, k, share, v, m, force, c, kcap, a2)
+        if f_x <= 0.0:
+            hi, f_hi = x, f_x
+            if side == -1:
+                f_lo *= 0.5
+            side = -1
         else:
-            lo = mid
-        if abs(hi - lo) <= 1e-12 * hi:
-            break
+            lo, f_lo = x, f_x
+            if side == 1:
+                f_hi *= 0.5
+            side = 1
     return hi
 
 

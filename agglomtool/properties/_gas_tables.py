@@ -241,7 +241,7 @@ def species_state(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Viscosity [Pa s] and density [kg/m3] of a pure gas species at ``T`` [K], ``P`` [Pa].
 
-    ``T`` and ``P`` are float arrays of one shape. ``method="table"`` interpolates the
+    ``T`` and ``P`` are 1-d float arrays of one length. ``method="table"`` interpolates the
     checked table where it is valid and falls back to HEOS elsewhere; ``method="heos"``
     evaluates HEOS for every state. Raises :class:`CondensedPhaseError` for non-gas states
     and :class:`OutOfRangeError` outside the validated range.
@@ -273,6 +273,6 @@ def species_state(
         slow = np.ones(T.shape, dtype=bool)
     else:
         raise ValueError(f"method = {method!r} is not one of 'table', 'heos'")
-    for k in zip(*np.nonzero(slow), strict=True):
+    for k in np.flatnonzero(slow):
         mu[k], rho[k] = heos_point(sp, T[k], P[k])
     return mu, rho

@@ -2,13 +2,17 @@
 
 Only what no installed library has is written here: fluids, thermo, chemicals and ht offer
 the Archimedes number and the Ergun equation but no Wen-Yu minimum fluidization velocity.
+The Ergun route (:func:`umf_ergun`) takes its pressure drop from ``fluids.packed_bed.Ergun``.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from fluids.packed_bed import Ergun
 
-__all__ = ["umf_wen_yu", "GRAVITY"]
+from .._validate import check_range
+
+__all__ = ["umf_wen_yu", "umf_ergun", "umf", "umf_methods", "UMF_C1_C2", "GRAVITY"]
 
 #: Standard gravity [m/s2].
 GRAVITY = 9.80665
@@ -48,3 +52,104 @@ def umf_wen_yu(d, rho_p, mu_g, rho_g, c1=33.7, c2=0.0408):
     ar = d**3 * rho_g * (rho_p - rho_g) * GRAVITY / (mu_g * mu_g)
     re_mf = c2 * ar / (np.sqrt(c1 * c1 + c2 * ar) + c1)
     return re_mf * mu_g / (rho_g * d)
+
+
+#: Published (C1, C2) pairs of ``Re_mf = sqrt(C1^2 + C2 Ar) - C1``, with their sources.
+UMF_C1_C2 = {
+    "wen-yu": (33.7, 0.0408, "Wen & Yu (1966), AIChE J. 12:610, doi:10.1002/aic.690120343"),
+    "richardson": (25.7, 0.0365, "Richardson (1971), in Fluidization, Academic Press"),
+    "saxena-vogel": (25.3, 0.0571, "Saxena & Vogel (1977), Trans. IChemE 55:184"),
+    "babu": (25.25, 0.0651, "Babu, Shah & Talwalkar (1978), AIChE Symp. Ser. 74(176):176"),
+    "grace": (27.2, 0.0408, "Grace (1982), in Handbook of Multiphase Systems, Hemisphere"),
+    "chitester": (28.7, 0.0494, "Chitester et al. (1984), Chem. Eng. Sci. 39:253, "
+                  "doi:10.1016/0009-2509(84)80025-4"),
+}
+
+
+def umf_ergun(d, rho_p, mu_g, rho_g, eps_mf, phi=1.0):
+    """Minimum fluidization velocity from the Ergun equation and a known voidage [m/s].
+
+    Parameters
+    ----------
+    d : array_like
+        Particle diameter [m], > 0.
+    rho_p : array_like
+        Particle density [kg/m3], > ``rho_g``.
+    mu_g, rho_g : array_like
+        Gas viscosity [Pa s] and density [kg/m3].
+    eps_mf : array_like
+        Bed voidage at minimum fluidization [-], in (0, 1).
+    phi : array_like
+        Sphericity [-], in (0, 1]; the Ergun diameter is ``phi d``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``U_mf`` [m/s].
+
+    Notes
+    -----
+    At minimum fluidization the Ergun pressure gradient carries the buoyant bed weight,
+    ``dP/L = (1 - eps_mf)(rho_p - rho_g) g``. The pressure drop is
+    ``fluids.packed_bed.Ergun`` (Ergun, S. (1952), Chem. Eng. Prog. 48:89-94), which is
+    ``a U + b U^2``; ``a`` and ``b`` are read from two evaluations of it and the quadratic is
+    solved in closed form, element-wise and without iteration.
+    """
+    d = check_range("d", d, 0.0, None, lo_open=True, unit="m")
+    eps_mf = check_range("eps_mf", eps_mf, 0.0, 1.0, lo_open=True, hi_open=True, unit="-")
+    phi = check_range("phi", phi, 0.0, 1.0, lo_open=True, unit="-")
+    weight = (1.0 - eps_mf) * (np.asarray(rho_p) - rho_g) * GRAVITY
+    if (weight <= 0.0).any():
+        raise ValueError("rho_p must exceed rho_g for a bed to fluidize")
+    dp = phi * d
+    one = Ergun(dp=dp, voidage=eps_mf, vs=1.0, rho=rho_g, mu=mu_g, L=1.0)
+    two = Ergun(dp=dp, voidage=eps_mf, vs=2.0, rho=rho_g, mu=mu_g, L=1.0)
+    b = 0.5 * (two - 2.0 * one)
+    a = one - b
+    return 2.0 * weight / (a + np.sqrt(a * a + 4.0 * b * weight))
+
+
+def umf_methods(eps_mf=None) -> list[str]:
+    """Names of the ``method`` values :func:`umf` accepts (``"ergun"`` needs ``eps_mf``)."""
+    return list(UMF_C1_C2) + (["ergun"] if eps_mf is not None else [])
+
+
+def umf(d, rho_p, gas, method="wen-yu", *, eps_mf=None, phi=1.0):
+    """Minimum fluidization velocity of spheres of ``d``, ``rho_p`` in ``gas`` [m/s].
+
+    Parameters
+    ----------
+    d : array_like
+        Particle diameter [m], > 0.
+    rho_p : array_like
+        Particle density [kg/m3].
+    gas : agglomtool.Gas
+        The fluidizing gas (``mu`` [Pa s], ``rho`` [kg/m3]).
+    method : str
+        ``"wen-yu"`` (default) or another key of :data:`UMF_C1_C2` (``"richardson"``,
+        ``"saxena-vogel"``, ``"babu"``, ``"grace"``, ``"chitester"``), all
+        ``Re_mf = sqrt(C1^2 + C2 Ar) - C1``; or ``"ergun"`` (needs ``eps_mf``), see
+        :func:`umf_ergun`.
+    eps_mf : array_like, optional
+        Voidage at minimum fluidization [-]; when given without ``method``, prefer
+        ``method="ergun"``, the better route when ``eps_mf`` is known.
+    phi : array_like
+        Sphericity [-], used by ``"ergun"`` only.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``U_mf`` [m/s].
+    """
+    d = check_range("d", d, 0.0, None, lo_open=True, unit="m")
+    rho_p = check_range("rho_p", rho_p, 0.0, None, lo_open=True, unit="kg/m3")
+    if method == "ergun":
+        if eps_mf is None:
+            raise ValueError("method='ergun' needs eps_mf, the voidage at minimum fluidization")
+        return umf_ergun(d, rho_p, gas.mu, gas.rho, eps_mf, phi)
+    if method not in UMF_C1_C2:
+        raise ValueError(f"method = {method!r} is not one of {umf_methods(eps_mf=0.0)}")
+    if (rho_p <= gas.rho).any():
+        raise ValueError("rho_p must exceed the gas density for a bed to fluidize")
+    c1, c2, _ = UMF_C1_C2[method]
+    return umf_wen_yu(d, rho_p, gas.mu, gas.rho, c1=c1, c2=c2)

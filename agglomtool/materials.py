@@ -1,0 +1,408 @@
+"""The materials database: bed solids, coating liquids and melts, fluidizing gases.
+
+Entries live in TOML files, one table per entry under its kind::
+
+    [solid.silica-sand]
+    density = 2650.0            # kg/m3
+    ...
+    source = "..."
+    confidence = "..."
+
+The package's own files are found inside an installed wheel (``agglomtool/_materials``) or,
+in a source checkout or editable install, in the repository's top-level ``materials/``.
+A user adds entries, without touching the package, with TOML files in directories passed as
+``extra_dirs`` or listed in the environment variable ``AGGLOMTOOL_MATERIALS`` (separated by
+``os.pathsep``). A name defined twice is an error that names both files.
+
+Loading validates every entry: an error names the file, the entry and the field. Files are
+read with :mod:`tomllib` only.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tomllib
+from dataclasses import dataclass
+from functools import cache
+from importlib import resources
+from pathlib import Path
+from types import MappingProxyType
+
+from .inputs import Liquid, Particle
+
+__all__ = [
+    "MaterialsError",
+    "Solid",
+    "LiquidEntry",
+    "GasEntry",
+    "names",
+    "solid",
+    "liquid",
+    "liquid_entry",
+    "gas",
+    "load",
+    "builtin_dir",
+    "ENV_VAR",
+]
+
+#: Environment variable listing extra TOML directories (``os.pathsep``-separated).
+ENV_VAR = "AGGLOMTOOL_MATERIALS"
+
+KINDS = ("solid", "liquid", "gas")
+
+
+class MaterialsError(ValueError):
+    """A materials file or entry is malformed; the message names file, entry and field."""
+
+
+@dataclass(frozen=True)
+class Solid:
+    """A bed solid: typical properties of one material, with their source."""
+
+    name: str
+    density: float  #: [kg/m3]
+    asperity_height: float  #: [m]
+    restitution_dry: float  #: dry coefficient of restitution [-]
+    size_range: tuple[float, float]  #: typical particle diameters [m]
+    source: str
+    confidence: str
+    file: str
+
+    def particle(self, d, h0=0.0, ha=None) -> Particle:
+        """A :class:`~agglomtool.Particle` of this solid with diameter ``d`` [m].
+
+        ``h0`` is the coating thickness [m]; ``ha`` defaults to the entry's asperity height.
+        """
+        return Particle(d=d, rho=self.density, h0=h0, ha=self.asperity_height if ha is None else ha)
+
+
+@dataclass(frozen=True)
+class LiquidEntry:
+    """A coating liquid: fixed properties, water (CoolProp), or a melt of given oxides."""
+
+    name: str
+    model: str  #: "fixed", "water" or "melt"
+    theta_deg: float  #: contact angle on the bed solid [deg]
+    source: str
+    confidence: str
+    file: str
+    mu: float | None = None  #: [Pa s], fixed liquids
+    gamma: float | None = None  #: [N/m], fixed liquids
+    rho: float | None = None  #: [kg/m3], fixed liquids
+    composition_wt: MappingProxyType | None = None  #: oxide -> wt %, melts
+    viscosity_model: str = "auto"  #: melts
+
+
+@dataclass(frozen=True)
+class GasEntry:
+    """A fluidizing gas: its composition in mole fractions, keyed by species formula."""
+
+    name: str
+    composition: MappingProxyType
+    source: str
+    confidence: str
+    file: str
+
+
+# ---------------------------------------------------------------------------------------
+# Field validation
+
+
+def _fail(file, kind, key, field, msg) -> MaterialsError:
+    return MaterialsError(f"{file}: [{kind}.{key}] field '{field}': {msg}")
+
+
+def _number(ctx, entry, field, lo=None, hi=None, *, lo_open=False, required=True, default=None):
+    file, kind, key = ctx
+    if field not in entry:
+        if required:
+            raise _fail(file, kind, key, field, "is missing")
+        return default
+    value = entry[field]
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise _fail(file, kind, key, field, f"must be a number, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise _fail(file, kind, key, field, f"must be finite, got {value!r}")
+    too_low = lo is not None and (value <= lo if lo_open else value < lo)
+    if too_low or (hi is not None and value > hi):
+        lo_s = "-inf" if lo is None else f"{lo:g}"
+        hi_s = "inf" if hi is None else f"{hi:g}"
+        raise _fail(
+            file, kind, key, field,
+            f"{value!r} is outside the allowed range {'(' if lo_open else '['}{lo_s}, {hi_s}]",
+        )
+    return value
+
+
+def _text(ctx, entry, field, *, required=True, default=""):
+    file, kind, key = ctx
+    if field not in entry:
+        if required:
+            raise _fail(file, kind, key, field, "is missing")
+        return default
+    value = entry[field]
+    if not isinstance(value, str) or not value.strip():
+        raise _fail(file, kind, key, field, f"must be a non-empty string, got {value!r}")
+    return value
+
+
+def _no_unknown(ctx, entry, allowed):
+    file, kind, key = ctx
+    unknown = sorted(set(entry) - set(allowed))
+    if unknown:
+        raise _fail(file, kind, key, unknown[0], f"is not a known field; allowed: {sorted(allowed)}")
+
+
+def _fractions(ctx, entry, field, check_key, total, tol):
+    file, kind, key = ctx
+    table = entry.get(field)
+    if not isinstance(table, dict) or not table:
+        raise _fail(file, kind, key, field, "must be a non-empty table of component = amount")
+    out = {}
+    for comp, amount in table.items():
+        try:
+            check_key(comp)
+        except ValueError as exc:
+            raise _fail(file, kind, key, f"{field}.{comp}", str(exc)) from None
+        out[comp] = _number(ctx, table, comp, 0.0, total)
+    s = sum(out.values())
+    if abs(s - total) > tol:
+        raise _fail(file, kind, key, field, f"amounts sum to {s:g}, expected {total:g} +- {tol:g}")
+    return MappingProxyType(out)
+
+
+_COMMON = ("source", "confidence", "description")
+
+
+def _solid(ctx, entry) -> Solid:
+    _no_unknown(ctx, entry, ("density", "asperity_height", "restitution_dry", "size_range")
+                + _COMMON)
+    size = entry.get("size_range")
+    file, kind, key = ctx
+    if (
+        not isinstance(size, list)
+        or len(size) != 2
+        or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in size)
+        or not 0.0 < size[0] <= size[1] < 0.1
+    ):
+        raise _fail(file, kind, key, "size_range",
+                    f"must be [d_min, d_max] in m with 0 < d_min <= d_max < 0.1, got {size!r}")
+    return Solid(
+        name=key,
+        density=_number(ctx, entry, "density", 0.0, 25000.0, lo_open=True),
+        asperity_height=_number(ctx, entry, "asperity_height", 0.0, 1e-3),
+        restitution_dry=_number(ctx, entry, "restitution_dry", 0.0, 1.0, lo_open=True),
+        size_range=(float(size[0]), float(size[1])),
+        source=_text(ctx, entry, "source"),
+        confidence=_text(ctx, entry, "confidence"),
+        file=str(file),
+    )
+
+
+def _liquid(ctx, entry) -> LiquidEntry:
+    from .properties.slag_composition import oxide_info
+
+    file, kind, key = ctx
+    model = _text(ctx, entry, "model")
+    common = {
+        "name": key,
+        "model": model,
+        "theta_deg": _number(ctx, entry, "theta_deg", 0.0, 89.999),
+        "source": _text(ctx, entry, "source"),
+        "confidence": _text(ctx, entry, "confidence"),
+        "file": str(file),
+    }
+    if model == "fixed":
+        _no_unknown(ctx, entry, ("model", "theta_deg", "mu", "gamma", "rho") + _COMMON)
+        return LiquidEntry(
+            mu=_number(ctx, entry, "mu", 0.0, None, lo_open=True),
+            gamma=_number(ctx, entry, "gamma", 0.0, 5.0, lo_open=True),
+            rho=_number(ctx, entry, "rho", 0.0, 25000.0, lo_open=True),
+            **common,
+        )
+    if model == "water":
+        _no_unknown(ctx, entry, ("model", "theta_deg") + _COMMON)
+        return LiquidEntry(**common)
+    if model == "melt":
+        from .properties.melt import VISCOSITY_MODELS
+
+        _no_unknown(ctx, entry, ("model", "theta_deg", "composition_wt", "viscosity_model")
+                    + _COMMON)
+        vm = _text(ctx, entry, "viscosity_model", required=False, default="auto")
+        if vm not in ("auto", *VISCOSITY_MODELS):
+            raise _fail(file, kind, key, "viscosity_model",
+                        f"{vm!r} is not one of {['auto', *VISCOSITY_MODELS]}")
+        return LiquidEntry(
+            composition_wt=_fractions(ctx, entry, "composition_wt", oxide_info, 100.0, 1.0),
+            viscosity_model=vm,
+            **common,
+        )
+    raise _fail(file, kind, key, "model", f"{model!r} is not one of 'fixed', 'water', 'melt'")
+
+
+def _gas(ctx, entry) -> GasEntry:
+    from .properties._gas_tables import species_info
+
+    _no_unknown(ctx, entry, ("composition",) + _COMMON)
+    return GasEntry(
+        name=ctx[2],
+        composition=_fractions(ctx, entry, "composition", species_info, 1.0, 1e-3),
+        source=_text(ctx, entry, "source"),
+        confidence=_text(ctx, entry, "confidence"),
+        file=str(ctx[0]),
+    )
+
+
+_BUILDERS = {"solid": _solid, "liquid": _liquid, "gas": _gas}
+
+
+# ---------------------------------------------------------------------------------------
+# Files and directories
+
+
+def builtin_dir() -> Path:
+    """The directory of the package's own TOML files (wheel or source checkout)."""
+    packaged = resources.files("agglomtool") / "_materials"
+    if packaged.is_dir():
+        return Path(str(packaged))
+    source = Path(__file__).resolve().parent.parent / "materials"
+    if source.is_dir():
+        return source
+    raise MaterialsError(
+        "the materials database is missing: neither agglomtool/_materials (installed "
+        f"wheel) nor {source} (source checkout) exists"
+    )
+
+
+def load_file(path: Path) -> dict[str, dict[str, object]]:
+    """Parse and validate one TOML file: ``{kind: {name: entry}}``."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise MaterialsError(f"{path}: not valid TOML: {exc}") from None
+    out: dict[str, dict[str, object]] = {k: {} for k in KINDS}
+    for kind, entries in data.items():
+        if kind not in KINDS:
+            raise MaterialsError(
+                f"{path}: top-level table [{kind}] is not one of {list(KINDS)}; write "
+                "entries as [solid.NAME], [liquid.NAME] or [gas.NAME]"
+            )
+        if not isinstance(entries, dict):
+            raise MaterialsError(f"{path}: [{kind}] must hold tables of entries")
+        for key, entry in entries.items():
+            if not isinstance(entry, dict):
+                raise MaterialsError(f"{path}: [{kind}.{key}] must be a table of fields")
+            out[kind][key] = _BUILDERS[kind]((path, kind, key), entry)
+    return out
+
+
+def _dirs(extra_dirs) -> list[Path]:
+    dirs = [builtin_dir()]
+    env = os.environ.get(ENV_VAR, "")
+    dirs += [Path(p) for p in env.split(os.pathsep) if p.strip()]
+    if extra_dirs is not None:
+        if isinstance(extra_dirs, str | os.PathLike):
+            extra_dirs = [extra_dirs]
+        dirs += [Path(p) for p in extra_dirs]
+    for d in dirs[1:]:
+        if not d.is_dir():
+            raise MaterialsError(f"materials directory {d} does not exist or is not a directory")
+    return dirs
+
+
+@cache
+def _load(dirs: tuple[Path, ...]) -> MappingProxyType:
+    merged: dict[str, dict[str, object]] = {k: {} for k in KINDS}
+    for d in dirs:
+        for path in sorted(d.glob("*.toml")):
+            for kind, entries in load_file(path).items():
+                for key, entry in entries.items():
+                    if key in merged[kind]:
+                        raise MaterialsError(
+                            f"{path}: [{kind}.{key}] is already defined in "
+                            f"{merged[kind][key].file}; choose another name"
+                        )
+                    merged[kind][key] = entry
+    return MappingProxyType({k: MappingProxyType(v) for k, v in merged.items()})
+
+
+def load(extra_dirs=None) -> MappingProxyType:
+    """All entries, validated: ``{kind: {name: entry}}`` (cached per set of directories)."""
+    return _load(tuple(p.resolve() for p in _dirs(extra_dirs)))
+
+
+def _key(name: str) -> str:
+    return "-".join(str(name).strip().lower().replace("_", " ").split())
+
+
+def _get(kind: str, name: str, extra_dirs):
+    entries = load(extra_dirs)[kind]
+    key = _key(name)
+    if key not in entries:
+        raise KeyError(f"no {kind} named {name!r} in the materials database; known: "
+                       f"{', '.join(sorted(entries))}")
+    return entries[key]
+
+
+def names(kind: str, extra_dirs=None) -> list[str]:
+    """Sorted names of the entries of one kind: ``"solid"``, ``"liquid"`` or ``"gas"``."""
+    if kind not in KINDS:
+        raise ValueError(f"kind = {kind!r} is not one of {list(KINDS)}")
+    return sorted(load(extra_dirs)[kind])
+
+
+def solid(name: str, extra_dirs=None) -> Solid:
+    """The bed solid ``name`` (case, spaces, hyphens and underscores are interchangeable)."""
+    return _get("solid", name, extra_dirs)
+
+
+def gas(name: str, extra_dirs=None) -> GasEntry:
+    """The gas ``name``; pass it to :func:`agglomtool.properties.gas_properties`."""
+    return _get("gas", name, extra_dirs)
+
+
+def liquid_entry(name: str, extra_dirs=None) -> LiquidEntry:
+    """The raw database entry of the liquid ``name``."""
+    return _get("liquid", name, extra_dirs)
+
+
+def liquid(name: str, T=None, *, P=101325.0, theta_deg=None, extra_dirs=None,
+           viscosity_model=None) -> Liquid:
+    """The coating liquid ``name`` at temperature ``T`` [K] as an :class:`~agglomtool.Liquid`.
+
+    Parameters
+    ----------
+    name : str
+        A liquid in the database (``names("liquid")``).
+    T : array_like, optional
+        Temperature [K]; required for water and melts, ignored by fixed-property liquids.
+    P : float
+        Pressure [Pa], used for water only.
+    theta_deg : float, optional
+        Contact angle [deg]; defaults to the entry's.
+    viscosity_model : str, optional
+        For melts: overrides the entry's viscosity model ("grd", "urbain-mills", "riboud").
+    """
+    entry = liquid_entry(name, extra_dirs)
+    theta = entry.theta_deg if theta_deg is None else theta_deg
+    label = f"{entry.name} ({entry.file})"
+    if entry.model == "fixed":
+        return Liquid(mu=entry.mu, gamma=entry.gamma, rho=entry.rho, theta_deg=theta,
+                      name=entry.name, source=f"fixed values: {entry.source}")
+    if T is None:
+        raise ValueError(f"liquid {label} depends on temperature: pass T [K]")
+    if entry.model == "water":
+        from .properties.water import water_liquid
+
+        return water_liquid(T, P, theta_deg=theta)
+    from .properties.melt import melt_liquid
+
+    return melt_liquid(
+        dict(entry.composition_wt), T, theta_deg=theta,
+        viscosity_model=viscosity_model or entry.viscosity_model, name=entry.name,
+    )
+
