@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+import CoolProp
 import CoolProp.CoolProp as CP
 import numpy as np
 
@@ -187,7 +188,7 @@ def gas_properties(
     if len(fractions) == 1:
         (formula,) = fractions
         mu, rho = species_state(formula, t1, p1, **opts)
-        source = f"CoolProp {CP.__version__} HEOS ({SPECIES[formula].coolprop}), {method}"
+        source = f"CoolProp {CoolProp.__version__} HEOS ({SPECIES[formula].coolprop}), {method}"
     else:
         formulas = list(fractions)
         x = np.array([fractions[f] for f in formulas])
@@ -203,7 +204,7 @@ def gas_properties(
         mu = viscosity_wilke(x[:, None], np.array(mus), molar)
         rho = mixture_density_dalton(np.array(rhos))
         source = (
-            f"CoolProp {CP.__version__} pure components ({method}) at partial pressures; "
+            f"CoolProp {CoolProp.__version__} pure components ({method}) at partial pressures; "
             "Wilke (1950) viscosity, Dalton density"
         )
     return Gas(mu=mu.reshape(shape), rho=rho.reshape(shape), name=name, source=source)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from functools import cache
 
+import CoolProp
 import CoolProp.CoolProp as CP
 import numpy as np
 
@@ -118,6 +119,6 @@ def water_liquid(T, P=101325.0, *, theta_deg=0.0) -> Liquid:
     gamma = water_surface_tension_iapws(np.broadcast_to(T, np.shape(mu)))
     return Liquid(
         mu=mu, gamma=gamma, rho=rho, theta_deg=theta_deg, name="water",
-        source=f"CoolProp {CP.__version__}: IAPWS-95 density, IAPWS 2008 viscosity; "
+        source=f"CoolProp {CoolProp.__version__}: IAPWS-95 density, IAPWS 2008 viscosity; "
         "IAPWS R1-76 surface tension",
     )
