@@ -4,6 +4,7 @@ The collision model is the generalized analytical energy balance of Shabanian, D
 Syamlal and Runstedtler (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397.
 """
 
+from . import examples
 from .api import MODES, CollisionResult, collide, critical_impact_speed
 from .collision.outcome import Path, Stage
 from .inputs import Bed, Gas, Liquid, Particle
@@ -22,4 +23,5 @@ __all__ = [
     "__version__",
     "collide",
     "critical_impact_speed",
+    "examples",
 ]

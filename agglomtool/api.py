@@ -8,7 +8,13 @@ import numpy as np
 
 from ._validate import as_float_array
 from .collision.critical import first_rebound_speed
-from .collision.outcome import DETAIL_NAMES, Stage, path_names, stage_names
+from .collision.outcome import (
+    DETAIL_NAMES,
+    STAGE_DESCRIPTIONS,
+    Stage,
+    path_names,
+    stage_names,
+)
 from .collision.tiers import evaluate, mode_names
 from .inputs import Bed, Gas, Liquid, Particle
 from .pair import PairState, flatten, prepare_pair
@@ -63,7 +69,7 @@ class CollisionResult:
         ew = float(np.asarray(self.e_w)[index])
         lines = [
             f"outcome: {'agglomerate' if ew == 0.0 else 'rebound'} (e_w = {ew:.6g})",
-            f"decided at: {st.name.lower()} - {Stage.__dict__[st.name].__doc__ or ''}".rstrip(),
+            f"decided at: {st.name.lower()}: {STAGE_DESCRIPTIONS[st]}",
             f"special paths: {', '.join(flags) if flags else 'none'}",
         ]
         for name in DETAIL_NAMES:

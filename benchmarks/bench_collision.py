@@ -33,7 +33,8 @@ def main(n=1_000_000, n_crit=10_000):
     air = at.Gas(mu=18.48e-6, rho=1.168)
     bed = at.Bed(eps=0.55)
     p = at.Particle(d=1000e-6, rho=2650.0, h0=5e-6, ha=0.1e-6)
-    print(f"agglomtool {at.__version__}; numba threads: {os.environ.get('NUMBA_NUM_THREADS', 'default')}")
+    threads = os.environ.get("NUMBA_NUM_THREADS", "default")
+    print(f"agglomtool {at.__version__}; numba threads: {threads}")
 
     # Warm up (compilation is cached on disk after the first run).
     at.collide(p, p, liquid=water, gas=air, bed=bed, u0=np.array([0.05, 0.1]))

@@ -9,32 +9,62 @@ import enum
 
 import numpy as np
 
-__all__ = ["Stage", "Path", "DETAIL_NAMES", "stage_names", "path_names"]
+__all__ = ["Stage", "Path", "DETAIL_NAMES", "STAGE_DESCRIPTIONS", "stage_names", "path_names"]
 
 
 class Stage(enum.IntEnum):
-    """Where the outcome was decided (the reconstructed flow chart, MODEL.md section 5)."""
+    """Where the outcome was decided (the reconstructed flow chart, MODEL.md section 5);
+    :data:`STAGE_DESCRIPTIONS` says what each means."""
 
     REBOUND = 0
-    """The bridge ruptured with energy left: the pair rebounds (Eq. 31 gives e_w)."""
     APPROACH_VISCOUS = 1
-    """Approach: the viscous force alone stops the pair before contact (Eqs. 73, 80)."""
     APPROACH_ENERGY = 2
-    """Approach: both particles' energies are spent before contact (Eqs. 36a, 37a)."""
     APPROACH_ALONE = 3
-    """Approach: one particle stopped; the other, going on alone, runs out (Eq. 39)."""
     APPROACH_ALONE_VISCOUS = 4
-    """Approach: one particle stopped; viscosity alone stops the other (Eq. 144)."""
     CONTACT = 5
-    """Solid contact leaves no separation speed (e = 0)."""
     SEPARATION_VISCOUS = 6
-    """Separation: the viscous force alone stops the pair before rupture (Eqs. 75, 82)."""
     SEPARATION_ENERGY = 7
-    """Separation: both particles' energies are spent before rupture (Eqs. 58a, 59a)."""
     SEPARATION_ALONE = 8
-    """Separation: one particle stopped; the other, going on alone, runs out (Eqs. 61-62)."""
     SEPARATION_ALONE_VISCOUS = 9
-    """Separation: one particle stopped; viscosity alone stops the other."""
+
+
+#: One sentence per :class:`Stage`.
+STAGE_DESCRIPTIONS = {
+    Stage.REBOUND: "The bridge ruptured with energy left: the pair rebounds (Eq. 31 gives e_w).",
+    Stage.APPROACH_VISCOUS: (
+        "Approach: the viscous force alone stops the pair before "
+        "contact (Eqs. 73, 80)."
+    ),
+    Stage.APPROACH_ENERGY: (
+        "Approach: both particles' energies are spent before contact "
+        "(Eqs. 36a, 37a)."
+    ),
+    Stage.APPROACH_ALONE: (
+        "Approach: one particle stopped; the other, going on alone, "
+        "runs out (Eq. 39)."
+    ),
+    Stage.APPROACH_ALONE_VISCOUS: (
+        "Approach: one particle stopped; viscosity alone stops the "
+        "other (Eq. 144)."
+    ),
+    Stage.CONTACT: "Solid contact leaves no separation speed (e = 0).",
+    Stage.SEPARATION_VISCOUS: (
+        "Separation: the viscous force alone stops the pair before "
+        "rupture (Eqs. 75, 82)."
+    ),
+    Stage.SEPARATION_ENERGY: (
+        "Separation: both particles' energies are spent before "
+        "rupture (Eqs. 58a, 59a)."
+    ),
+    Stage.SEPARATION_ALONE: (
+        "Separation: one particle stopped; the other, going on "
+        "alone, runs out (Eqs. 61-62)."
+    ),
+    Stage.SEPARATION_ALONE_VISCOUS: (
+        "Separation: one particle stopped; viscosity alone stops the "
+        "other."
+    ),
+}
 
 
 class Path(enum.IntFlag):
