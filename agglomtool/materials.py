@@ -152,7 +152,8 @@ def _no_unknown(ctx, entry, allowed):
     file, kind, key = ctx
     unknown = sorted(set(entry) - set(allowed))
     if unknown:
-        raise _fail(file, kind, key, unknown[0], f"is not a known field; allowed: {sorted(allowed)}")
+        raise _fail(file, kind, key, unknown[0],
+                    f"is not a known field; allowed: {sorted(allowed)}")
 
 
 def _fractions(ctx, entry, field, check_key, total, tol):
@@ -161,7 +162,7 @@ def _fractions(ctx, entry, field, check_key, total, tol):
     if not isinstance(table, dict) or not table:
         raise _fail(file, kind, key, field, "must be a non-empty table of component = amount")
     out = {}
-    for comp, amount in table.items():
+    for comp in table:
         try:
             check_key(comp)
         except ValueError as exc:
@@ -179,6 +180,9 @@ _COMMON = ("source", "confidence", "description")
 def _solid(ctx, entry) -> Solid:
     _no_unknown(ctx, entry, ("density", "asperity_height", "restitution_dry", "size_range")
                 + _COMMON)
+    density = _number(ctx, entry, "density", 0.0, 25000.0, lo_open=True)
+    asperity = _number(ctx, entry, "asperity_height", 0.0, 1e-3)
+    restitution = _number(ctx, entry, "restitution_dry", 0.0, 1.0, lo_open=True)
     size = entry.get("size_range")
     file, kind, key = ctx
     if (
@@ -191,9 +195,9 @@ def _solid(ctx, entry) -> Solid:
                     f"must be [d_min, d_max] in m with 0 < d_min <= d_max < 0.1, got {size!r}")
     return Solid(
         name=key,
-        density=_number(ctx, entry, "density", 0.0, 25000.0, lo_open=True),
-        asperity_height=_number(ctx, entry, "asperity_height", 0.0, 1e-3),
-        restitution_dry=_number(ctx, entry, "restitution_dry", 0.0, 1.0, lo_open=True),
+        density=density,
+        asperity_height=asperity,
+        restitution_dry=restitution,
         size_range=(float(size[0]), float(size[1])),
         source=_text(ctx, entry, "source"),
         confidence=_text(ctx, entry, "confidence"),

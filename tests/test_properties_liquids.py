@@ -1,0 +1,184 @@
+"""Water and molten-slag properties against published values."""
+
+import warnings
+
+import CoolProp.CoolProp as CP
+import numpy as np
+import pytest
+from chemicals.interface import sigma_IAPWS
+
+from agglomtool.properties import (
+    choose_viscosity_model,
+    density_mills_keene,
+    fixed_liquid,
+    melt_liquid,
+    surface_tension_kucuk,
+    surface_tension_mills,
+    viscosity_giordano_russell_dingwell,
+    viscosity_riboud,
+    viscosity_urbain_mills,
+    water_density_wagner_pruss,
+    water_liquid,
+    water_surface_tension_iapws,
+    water_viscosity_huber,
+)
+
+BF_SLAG = {"CaO": 40.0, "SiO2": 36.0, "Al2O3": 14.0, "MgO": 10.0}
+MELT_A = {"K2O": 20.0, "CaO": 10.0, "SiO2": 70.0}
+N_MORB = {"SiO2": 50.42, "TiO2": 1.53, "Al2O3": 15.13, "FeO": 9.81, "MgO": 7.76,
+          "CaO": 11.35, "Na2O": 2.83, "K2O": 0.14}
+
+
+# --- water ------------------------------------------------------------------------------
+
+def test_water_iapws95_check_value():
+    # IAPWS-95 release (Wagner & Pruss 2002, doi:10.1063/1.1461829), Table 7 check value:
+    # T = 300 K, p = 0.0992418352 MPa -> rho = 996.5560 kg/m3. Tolerance 1e-6: the printed
+    # digits; CoolProp implements the same equation.
+    assert water_density_wagner_pruss(300.0, 0.0992418352e6) == pytest.approx(996.5560,
+                                                                               rel=1e-6)
+
+
+def test_water_viscosity_iapws2008_check_value():
+    # IAPWS R12-08 (Huber et al. 2009, doi:10.1063/1.3088050), Table 4: T = 298.15 K,
+    # rho = 998 kg/m3 -> mu = 889.735100 uPa s. Our API takes (T, p): the pressure at which
+    # IAPWS-95 gives 998 kg/m3 is found first. Tolerance 1e-6: check-value digits.
+    p = CP.PropsSI("P", "T", 298.15, "D", 998.0, "Water")
+    assert water_viscosity_huber(298.15, p) == pytest.approx(889.735100e-6, rel=1e-6)
+
+
+def test_water_at_25c_1atm():
+    # IAPWS-95 / IAPWS 2008 at 25 C, 0.101325 MPa: 997.05 kg/m3, 0.8900 mPa s (NIST
+    # Webbook, which implements them); IAPWS R1-76 surface tension table: 71.97 mN/m.
+    # Tolerances: half a unit of the last digit quoted.
+    liq = water_liquid(298.15)
+    assert liq.rho == pytest.approx(997.05, abs=0.005)
+    assert liq.mu == pytest.approx(0.8900e-3, abs=0.00005e-3)
+    assert liq.gamma == pytest.approx(71.97e-3, abs=0.005e-3)
+    # Independent implementation of R1-76 in chemicals: same numbers to 1e-12.
+    T = np.array([280.0, 300.0, 350.0, 500.0])
+    assert water_surface_tension_iapws(T) == pytest.approx([sigma_IAPWS(t) for t in T],
+                                                           rel=1e-12)
+
+
+def test_water_refuses_vapour_and_ice():
+    with pytest.raises(ValueError, match="not a liquid.*boils at 373.1"):
+        water_liquid(380.0)
+    with pytest.raises(ValueError, match="outside the allowed range"):
+        water_liquid(260.0)
+
+
+# --- slag viscosity ---------------------------------------------------------------------
+
+@pytest.mark.parametrize(("h2o", "log_eta"), [(0.0, 1.757695047576570),
+                                                (1.0, 1.05530134571660)])
+def test_grd_matches_authors_spreadsheet(h2o, log_eta):
+    # Giordano, Russell & Dingwell (2008), doi:10.1016/j.epsl.2008.03.038: the authors'
+    # calculator (grdViscosity.xls) for N-MORB at 1200 C, dry and with 1 wt % H2O (anhydrous
+    # oxides rescaled to 99 wt %), as quoted in the SilicateMeltProps test suite. Tolerance
+    # 1e-3 decades: our molar masses (IUPAC, via chemicals) differ from the spreadsheet's in
+    # the 4th digit (we obtain differences of 1.3e-4 and 2.7e-5 decades).
+    comp = {k: v * (100.0 - h2o) / sum(N_MORB.values()) for k, v in N_MORB.items()}
+    if h2o:
+        comp["H2O"] = h2o
+    eta = viscosity_giordano_russell_dingwell(comp, 1473.15)
+    assert np.log10(eta) == pytest.approx(log_eta, abs=1e-3)
+
+
+def test_grd_k_ca_silicate_and_glass_limit():
+    # PROPERTIES.md cross-check (independent scratch implementation of GRD) for melt A:
+    # log10 eta 7.59 / 6.34 / 5.32 at 800 / 900 / 1000 C; 0.01 decade for its rounding.
+    eta = viscosity_giordano_russell_dingwell(MELT_A, np.array([1073.15, 1173.15, 1273.15]))
+    assert np.log10(eta) == pytest.approx([7.59, 6.34, 5.32], abs=0.01)
+    # Below its VFT temperature C (about 202 K for melt A) the law has no meaning: an error.
+    with pytest.raises(ValueError, match="VFT temperature"):
+        viscosity_giordano_russell_dingwell(MELT_A, 150.0)
+
+
+def test_bf_slag_urbain_mills_and_riboud():
+    # Blast-furnace slag 40 CaO/36 SiO2/14 Al2O3/10 MgO wt % at 1500 C: measured viscosities
+    # of such slags are 0.2-0.5 Pa s (Mills, Slag Atlas 1995, as summarised in
+    # PROPERTIES.md). Both metallurgical models must fall in that band; PROPERTIES.md's
+    # scratch implementation gives log10 eta = -0.45 (Urbain-Mills) and -0.51 (Riboud),
+    # which ours reproduces to 0.01 decade (rounding of the quoted values).
+    T = 1773.15
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        urbain = viscosity_urbain_mills(BF_SLAG, T)
+    riboud = viscosity_riboud(BF_SLAG, T)
+    assert 0.2 <= urbain <= 0.5 and 0.2 <= riboud <= 0.5
+    assert np.log10(urbain) == pytest.approx(-0.45, abs=0.01)
+    assert np.log10(riboud) == pytest.approx(-0.51, abs=0.01)
+
+
+def test_grd_warns_outside_calibration_for_bf_slag():
+    # PROPERTIES.md: GRD is about 100x too low for the BF slag (-2.10 decades) and warns.
+    with pytest.warns(UserWarning, match="outside GRD"):
+        eta = viscosity_giordano_russell_dingwell(BF_SLAG, 1773.15)
+    assert np.log10(eta) == pytest.approx(-2.10, abs=0.01)
+
+
+def test_viscosity_decreases_with_temperature():
+    T = np.linspace(1500.0, 1900.0, 9)
+    for f in (viscosity_urbain_mills, viscosity_riboud):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            assert np.all(np.diff(f(BF_SLAG, T)) < 0)
+
+
+# --- surface tension and density ---------------------------------------------------------
+
+def test_surface_tension_models_agree_for_soda_lime_glass():
+    # Kucuk et al. (1999) regression (Glass Technol. 40:149) and Mills's additive model
+    # (2011) at 1400 C for a soda-lime-silica glass (72 SiO2/10 Na2O/12 CaO/4 MgO/2 Al2O3
+    # wt %), inside both calibrations. Independent fits; they must agree to 10 % (their
+    # stated accuracies are about 5 % each; we obtain 2.5 %). For K-rich melts they do not
+    # agree (26 % for melt A): recorded in materials/README.md, not tested.
+    glass = {"SiO2": 72.0, "Na2O": 10.0, "CaO": 12.0, "MgO": 4.0, "Al2O3": 2.0}
+    kucuk = surface_tension_kucuk(glass)
+    mills = surface_tension_mills(glass, 1673.15)
+    assert 0.25 < kucuk < 0.35
+    assert mills == pytest.approx(kucuk, rel=0.10)
+
+
+def test_k_silicate_surface_tension_and_density_in_literature_band():
+    # PROPERTIES.md: K-silicate ash melts 0.20-0.30 N/m; K-Ca silicate melts
+    # 2300-2450 kg/m3 at 800-1000 C.
+    T = np.array([1073.15, 1273.15])
+    assert np.all((surface_tension_mills(MELT_A, T) > 0.20)
+                  & (surface_tension_mills(MELT_A, T) < 0.30))
+    rho = density_mills_keene(MELT_A, T)
+    assert np.all((rho > 2300.0) & (rho < 2450.0))
+
+
+def test_density_mills_keene_unknown_oxide_raises():
+    with pytest.raises(ValueError, match="CaF2"):
+        density_mills_keene({"SiO2": 40.0, "CaO": 40.0, "CaF2": 20.0}, 1700.0)
+
+
+# --- the melt as a Liquid -----------------------------------------------------------------
+
+def test_choice_rule_and_source():
+    assert choose_viscosity_model(MELT_A) == "grd"
+    assert choose_viscosity_model(BF_SLAG) == "urbain-mills"
+    assert choose_viscosity_model({"SiO2": 38, "CaO": 40, "CaF2": 12, "Na2O": 10}) == "riboud"
+    liq = melt_liquid(MELT_A, 1073.15, theta_deg=10.0)
+    assert "grd (chosen by rule)" in liq.source and "Mills" in liq.source
+    with pytest.raises(ValueError, match="viscosity_model"):
+        melt_liquid(MELT_A, 1073.15, viscosity_model="guess")
+
+
+@pytest.mark.parametrize(
+    ("comp", "match"),
+    [({"SiO2": 0.7, "K2O": 0.3}, "sums to 1"), ({"SiO2": 70, "Unobtainium": 30}, "unknown oxide"),
+     ({"SiO2": 110.0}, "outside the allowed range")],
+)
+def test_bad_composition_raises(comp, match):
+    with pytest.raises(ValueError, match=match):
+        melt_liquid(comp, 1273.15)
+
+
+def test_hypothetical_slag_is_fixed():
+    # Shabanian et al. (2024), Table 2: 10 Pa s, 0.400 N/m, 2500 kg/m3 (exact).
+    liq = fixed_liquid(10.0, 0.400, 2500.0, 10.0, name="hypothetical slag")
+    assert (liq.mu, liq.gamma, liq.rho) == (10.0, 0.4, 2500.0)
