@@ -4,10 +4,11 @@ The collision model is the generalized analytical energy balance of Shabanian, D
 Syamlal and Runstedtler (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397.
 """
 
-from . import examples
+from . import examples, materials
 from .api import MODES, CollisionResult, collide, critical_impact_speed
 from .collision.outcome import Path, Stage
 from .inputs import Bed, Gas, Liquid, Particle
+from .properties import gas_properties, umf
 
 __version__ = "0.1.0"
 
@@ -24,4 +25,7 @@ __all__ = [
     "collide",
     "critical_impact_speed",
     "examples",
+    "gas_properties",
+    "materials",
+    "umf",
 ]
