@@ -114,14 +114,14 @@ def _lab_speeds(p_i: Particle, p_j: Particle, u0, u0_j):
     return u_i, u_j, w
 
 
-def _evaluate(state: PairState, w, mode: str, details: bool):
+def _evaluate(state: PairState, w, mode: str, details: bool, tol=None):
     """Run the kernel of ``mode`` on ``state`` broadcast with ``w``; arrays of one shape."""
     shape = np.broadcast_shapes(state.shape, np.shape(w))
     flat = flatten(state, shape)
     w_flat = np.ascontiguousarray(np.broadcast_to(w, shape), dtype=np.float64).reshape(-1)
     e_w, stage, path, det = evaluate(
         mode, flat.m_i, flat.m_j, flat.r, flat.H0, flat.Ha, flat.mu_l, flat.gamma, flat.cos_t,
-        flat.theta, w_flat, flat.fn_i, flat.fn_j, flat.e, details=details,
+        flat.theta, w_flat, flat.fn_i, flat.fn_j, flat.e, details=details, tol=tol,
     )
     out_details = {}
     if details:
@@ -144,6 +144,7 @@ def collide(
     body_forces: bool = True,
     drag_slip: str = "emulsion",
     details: bool = True,
+    tol: float | None = None,
 ) -> CollisionResult:
     """Outcome of a binary collision between two wet particles (or a particle and a plate).
 
@@ -176,6 +177,8 @@ def collide(
         Slip velocity of the drag law: ``U_e / eps`` (the paper's) or ``U_e / eps - u0``.
     details : bool
         Return the intermediate energies in ``result.details``.
+    tol : float, optional
+        Tolerance in ``e_w`` [-] of ``mode="auto"`` (default 0.01); other modes refuse it.
 
     Returns
     -------
@@ -192,7 +195,7 @@ def collide(
     state = prepare_pair(
         p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip, u_i=u_i, u_j=u_j
     )
-    e_w, stage, path, det, shape = _evaluate(state, w, mode, details)
+    e_w, stage, path, det, shape = _evaluate(state, w, mode, details, tol)
     return CollisionResult(
         e_w=e_w,
         agglomerated=e_w == 0.0,
@@ -217,12 +220,15 @@ def critical_impact_speed(
     body_forces: bool = True,
     drag_slip: str = "emulsion",
     rtol: float = 1e-6,
+    tol: float | None = None,
 ) -> np.ndarray:
     """Critical impact speed ``u0*`` [m/s]: the smallest head-on ``u0`` at which the pair
     rebounds (the paper's Section 3.1 definition).
 
     Head-on means both particles move towards each other at ``u0`` in the lab frame (the
     relative speed is ``2 u0``); with a plate, the particle moves at ``u0``.
+
+    ``tol`` is passed to ``mode="auto"`` as in :func:`collide`.
 
     Returns
     -------
@@ -265,7 +271,7 @@ def critical_impact_speed(
             )
             sub.fn_i = np.broadcast_to(full.fn_i, sub.shape)
             sub.fn_j = np.broadcast_to(full.fn_j, sub.shape)
-        e_w, _, _, _, _ = _evaluate(sub, w_rel, mode, False)
+        e_w, _, _, _, _ = _evaluate(sub, w_rel, mode, False, tol)
         return e_w == 0.0
 
     w_star = first_rebound_speed(flat, sticks, rtol)

@@ -102,6 +102,10 @@ DETAIL_NAMES = (
     "D_stop_sep",                  # D_sep of the particle that stopped first
     "K_fin_i", "K_fin_j",          # Eqs. 58-59
     "St_app",                      # viscous Stokes number of the approach, m v0 / c
+    # Modes other than "paper": work bounds of optional terms over the initial relative
+    # kinetic energy [-] (agglomtool.collision.relative.term_work_fractions); a term is
+    # negligible below relative.NEGLIGIBLE_FRACTION.
+    "W_body_frac", "W_volcorr_frac",
 )  # fmt: skip
 
 

@@ -10,14 +10,26 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from .auto import run_auto
+from .ode import run_ode, run_ode_self_consistent
 from .paper import run_paper
+from .relative import run_relative
+from .stokes import run_stokes
 
-__all__ = ["TIERS", "evaluate", "mode_names"]
+__all__ = ["TIERS", "TAKES_TOL", "evaluate", "mode_names"]
 
 #: name -> tier function
 TIERS: dict[str, Callable] = {
+    "stokes": run_stokes,
     "paper": run_paper,
+    "relative": run_relative,
+    "ode": run_ode,
+    "ode_selfconsistent": run_ode_self_consistent,
+    "auto": run_auto,
 }
+
+#: Tiers that take a tolerance ``tol`` in ``e_w`` (passed through ``collide(..., tol=)``).
+TAKES_TOL = frozenset({"auto"})
 
 
 def mode_names() -> tuple[str, ...]:
@@ -25,10 +37,21 @@ def mode_names() -> tuple[str, ...]:
     return tuple(TIERS)
 
 
-def evaluate(mode: str, *arrays, details: bool = False):
-    """Run tier ``mode`` on flat arrays; see the module docstring."""
+def evaluate(mode: str, *arrays, details: bool = False, tol: float | None = None):
+    """Run tier ``mode`` on flat arrays; see the module docstring.
+
+    ``tol``: the tolerance in ``e_w`` of the tiers in :data:`TAKES_TOL` (None: their
+    default); other tiers refuse it.
+    """
     try:
         tier = TIERS[mode]
     except KeyError:
         raise ValueError(f"mode = {mode!r} is not one of {mode_names()}") from None
-    return tier(*arrays, details=details)
+    if tol is None:
+        return tier(*arrays, details=details)
+    if mode not in TAKES_TOL:
+        raise ValueError(
+            f"tol = {tol!r} was given but mode = {mode!r} takes no tolerance; "
+            f"only {sorted(TAKES_TOL)} do"
+        )
+    return tier(*arrays, details=details, tol=tol)

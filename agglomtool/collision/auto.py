@@ -1,0 +1,190 @@
+"""Mode "auto": per collision, the cheapest tier whose error bound is within a tolerance.
+
+Two tiers are candidates, in order of cost: the closed forms on the relative motion
+(:mod:`.relative`, ~0.1 us per collision) and the integrated truth (:mod:`.ode`). The
+Ennis criterion (:mod:`.stokes`) is cheaper still but is never a candidate: against the
+integrated truth its error in ``e_w`` stays above 0.1 over most of the calibration set, even
+far above the critical speed (no capillary force, no volume correction, rupture at ``H0``);
+``benchmarks/fidelity.py`` reports it. Mode "paper" is not a candidate either: it costs as
+much as "relative" and is further from the truth wherever body forces act.
+
+Error bound of the closed forms
+-------------------------------
+The closed forms take each stage's viscous loss along the viscous-only speed history, while
+the capillary and body forces change that history. To first order the energy error of a
+stage is bounded by ``(c Delta / (m_r v_min)) |W_cons|``: its viscous number at the stage's
+lowest viscous-only speed ``v_min`` (the speed at its end) times the work ``W_cons`` of the
+capillary and body forces over it. Summed over approach and separation and divided by the
+initial relative kinetic energy this is ``eta`` [-]; the error of
+``e_w = sqrt(k_fin)`` then scales as ``g = eta / max(e_w, sqrt(eta))``. The bound used is
+
+``|e_w(relative) - e_w(ode)| <= CLOSED_FORM_BOUND * g``, trusted for ``g <= G_MAX``.
+
+Where the closed forms say "stick", the pair is far enough below the critical speed when the
+closed forms still stick at ``STICK_MARGIN`` times the speed; then "ode" sticks too.
+
+How the constants were measured
+-------------------------------
+``benchmarks/calibrate_auto.py``: 400 random scenes (seed 20240611; diameters 0.2-3 mm, 15 %
+plates, densities 1000-5000 kg/m3, asperities 0.01-1 um, H0/Ha 1.2-500, viscosities
+1e-3-1e6 Pa s, surface tensions 0.02-0.5 N/m, contact angles 0-60 deg, e 0.3-1, beta 0-90
+deg, voidage 0.4-0.9, air at 25 or 800 C), 310 with a finite critical speed, each at 60
+speeds from 0.3 to 30 times its "ode" critical speed (9300 collisions). Measured: the largest
+``|e_w(relative) - e_w(ode)| / g`` over the rebounds with ``g < 0.1`` was 0.119 (bins of
+``g`` from 1e-6 to 0.1 all gave 0.118-0.119; above ``g = 0.1`` up to 0.73); the largest
+ratio of the critical speeds ``u*(relative) / u*(ode)`` was 1.036; the integrator at
+``rtol = 1e-6`` differed from ``rtol = 1e-10`` by at most 5.2e-5 in ``e_w``. The constants
+below add a safety factor to each.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .bridge import g_diff, ln_f
+from .ode import ode_batch
+from .outcome import DETAIL_NAMES
+from .relative import reduced_mass, relative_body_force, relative_kernel
+
+__all__ = [
+    "run_auto",
+    "auto_batch",
+    "CLOSED_FORM_BOUND",
+    "G_MAX",
+    "STICK_MARGIN",
+    "DEFAULT_TOL",
+    "TIER_RELATIVE",
+    "TIER_ODE",
+]
+
+#: Measured 0.119 (see the module docstring), with a safety factor 1.7.
+CLOSED_FORM_BOUND = 0.2
+#: Largest ``g`` at which the closed-form bound is trusted (measured up to 0.1).
+G_MAX = 0.05
+#: Measured largest ``u*(relative) / u*(ode)`` 1.036, with a safety factor ~2.6 on its log.
+STICK_MARGIN = 1.10
+#: Default tolerance in ``e_w`` [-].
+DEFAULT_TOL = 0.01
+#: Integration tolerance of the "ode" tier inside "auto" per unit ``tol`` (measured error of
+#: "ode" about 50 ``rtol``: at ``tol = 0.01``, ``rtol = 1e-6`` and an error below 1e-4).
+ODE_RTOL_PER_TOL = 1e-4
+#: Codes of the tier used per collision.
+TIER_RELATIVE, TIER_ODE = 1, 2
+
+_H_RUPT = DETAIL_NAMES.index("h_rupt")
+_W_CONTACT = DETAIL_NAMES.index("w_contact")
+
+
+@njit(cache=True)
+def closed_form_indicator(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+                          det):
+    """The closed forms' ``e_w`` and their error indicator ``g`` (module docstring).
+
+    ``det`` (length 0 or ``len(DETAIL_NAMES)``) receives the closed forms' details: the
+    indicator reads the stage quantities from it, so it must have full length here.
+    Returns ``(e_w, stage, path, g)``; ``g = inf`` where a stage has no viscous-only end
+    speed (the closed forms stick).
+    """
+    ew, st, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
+                                    fn_j, e, det)
+    if not H0 > Ha:
+        return ew, st, pa, 0.0
+    if not ew > 0.0:
+        return ew, st, pa, math.inf
+    m_r, _, _ = reduced_mass(m_i, m_j)
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    kcap = 2.0 * math.pi * gamma * r * cos_t
+    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    k0 = 0.5 * m_r * w * w
+    lnf_ha = ln_f(Ha, a2)
+    c_delta = c * (ln_f(H0, a2) - lnf_ha)
+    w_end = w - c_delta / m_r
+    work = abs(kcap * g_diff(H0, Ha, a2))
+    eta = c_delta / (m_r * w_end) * (work + abs(f_b) * (H0 - Ha))
+    h_rupt = det[_H_RUPT]
+    w_s = e * det[_W_CONTACT]
+    if h_rupt > Ha:
+        c_delta = c * (ln_f(h_rupt, a2) - lnf_ha)
+        w_end = w_s - c_delta / m_r
+        work = abs(kcap * g_diff(Ha, h_rupt, a2))
+        eta += c_delta / (m_r * w_end) * (work + abs(f_b) * (h_rupt - Ha))
+    eta /= k0
+    return ew, st, pa, eta / max(ew, math.sqrt(eta))
+
+
+@njit(parallel=True, cache=True)
+def _choose(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol,
+            e_w, stage, path, tier, bound, det):
+    n = e_w.shape[0]
+    for q in prange(n):
+        scratch = det[q]
+        ew, st, pa, g = closed_form_indicator(
+            m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q], cos_t[q], theta[q], w[q],
+            fn_i[q], fn_j[q], e[q], scratch,
+        )
+        e_w[q] = ew
+        stage[q] = st
+        path[q] = pa
+        tier[q] = TIER_RELATIVE
+        bound[q] = 0.0
+        if ew > 0.0:
+            b = CLOSED_FORM_BOUND * g
+            if g <= G_MAX and b <= tol:
+                bound[q] = b
+            else:
+                tier[q] = TIER_ODE
+        elif H0[q] > Ha[q]:
+            # Stick: trust it if the closed forms still stick at STICK_MARGIN x the speed.
+            ew2, _, _, _ = relative_kernel(
+                m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q], cos_t[q], theta[q],
+                w[q] * STICK_MARGIN, fn_i[q], fn_j[q], e[q], scratch[:0],
+            )
+            if ew2 > 0.0:
+                tier[q] = TIER_ODE
+
+
+def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+               details=False, tol=DEFAULT_TOL):
+    """:func:`run_auto` that also returns the tier used per collision (``TIER_RELATIVE`` or
+    ``TIER_ODE``) and its error bound in ``e_w`` [-] (fifth and sixth arrays)."""
+    tol = float(tol)
+    if not (1e-6 <= tol <= 0.5):
+        raise ValueError(f"tol = {tol!r} is outside the allowed range [1e-6, 0.5]")
+    n = w.shape[0]
+    e_w = np.empty(n)
+    stage = np.empty(n, dtype=np.int8)
+    path = np.empty(n, dtype=np.int8)
+    tier = np.empty(n, dtype=np.int8)
+    bound = np.empty(n)
+    det = np.empty((n, len(DETAIL_NAMES)))
+    args = (m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e)
+    _choose(*args, tol, e_w, stage, path, tier, bound, det)
+    idx = np.flatnonzero(tier == TIER_ODE)
+    if idx.size:
+        rtol = min(1e-6, ODE_RTOL_PER_TOL * tol)
+        sub = [np.ascontiguousarray(a[idx]) for a in args]
+        e_o, st_o, pa_o, det_o, _ = ode_batch(*sub, details=details, rtol=rtol,
+                                              atol=1e-2 * rtol)
+        e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
+        bound[idx] = 50.0 * rtol
+        if details:
+            det[idx] = det_o
+    if not details:
+        det = det[:, :0]
+    return e_w, stage, path, det, tier, bound
+
+
+def run_auto(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+             details=False, tol=DEFAULT_TOL):
+    """Evaluate each collision with the cheapest tier whose error bound in ``e_w`` is within
+    ``tol`` [-] (module docstring). Returns ``(e_w, stage, path, det)`` like
+    :func:`agglomtool.collision.paper.run_paper`."""
+    e_w, stage, path, det, _, _ = auto_batch(
+        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, details=details,
+        tol=tol,
+    )
+    return e_w, stage, path, det

@@ -1,0 +1,423 @@
+"""The integrated truth under the paper's force laws (mode "ode", MODEL.md section 7).
+
+The relative equation of motion of the pair along the collision axis, integrated numerically
+in the gap, with the same force laws as the paper (Shabanian et al. 2024, Heliyon
+10:e29397, doi:10.1016/j.heliyon.2024.e29397):
+
+- capillary force ``kcap X_v(D)``, ``kcap = 2 pi gamma r cos(theta)`` (Eq. 25), attractive;
+- viscous force ``c X_v(D)^2 v / D``, ``c = (3/2) pi mu_l r^2`` (Eq. 26), against the
+  relative speed ``v``;
+- ``X_v(D) = a^2 / (s (s + D))``, ``s = sqrt(D^2 + a^2)``, ``a^2 = H0^2 - Ha^2``: the
+  bridge-volume correction (Eqs. 28-30), written without cancellation;
+- the body forces held at their impact values and acting on the relative motion through
+  ``F_b = m_r (fn_i / m_i - fn_j / m_j)`` (a plate is held: its term is 0), see
+  :func:`agglomtool.collision.relative.relative_body_force`;
+- instantaneous solid contact at ``D = Ha`` with restitution ``e``;
+- rupture at ``h_rupt`` of Eq. 94 with ``Ca = mu_l v / gamma`` from the opening speed at
+  contact (as the analytic models do), or, with ``rupture="self-consistent"``, at the first
+  gap where ``D >= h_rupt(Ca(v(D)))`` with the current opening speed ``v(D)``.
+
+The pair sticks when its relative kinetic energy reaches zero inside the bridge.
+``e_w = v(h_rupt) / w``.
+
+Numerics
+--------
+The independent variable is ``y = ln D`` and the state the relative kinetic energy over its
+initial value, ``k = K / K0``, ``K0 = m_r w^2 / 2``. Then
+
+``dk/dy = -D (kcap X_v + F_b) / K0 + sigma (2 c / (m_r w)) X_v^2 sqrt(k)``
+
+with ``sigma = +1`` on the approach (integrated from ``ln H0`` down to ``ln Ha``) and
+``sigma = -1`` on the separation (``ln Ha`` up to ``ln h_rupt``). The ``1/D`` of the
+lubrication force is gone (``d ln f / dD = X_v^2 / D``). The equation is stiff only where
+the local Stokes number ``m_r v / (c X_v^2)`` is small, i.e. when a slow pair creeps towards
+contact at the speed where capillary pull and viscous drag balance; there the integration
+stops early with a rigorous bound (see :func:`_cannot_rebound`), so an explicit embedded
+Runge-Kutta pair (Dormand-Prince 5(4), FSAL, with step control on ``|k5 - k4| <=
+atol + rtol |k|``) is enough. It is compiled with Numba and run over collisions with
+``prange``. Convergence and the agreement with scipy's implicit Radau at ``rtol = 1e-12``
+are checked in ``tests/test_tiers_ode.py``.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import partial
+
+import numpy as np
+from numba import njit, prange
+
+from .bridge import bridge_volume, g_diff, ln_f, rupture_distance
+from .outcome import DETAIL_NAMES, Path, Stage
+from .relative import reduced_mass, relative_body_force, term_work_fractions
+
+__all__ = [
+    "run_ode",
+    "ode_batch",
+    "ode_kernel",
+    "volume_correction",
+    "DEFAULT_RTOL",
+    "DEFAULT_ATOL",
+    "RUPTURE_MODES",
+]
+
+#: Default relative and absolute tolerances of the step control (``k`` is dimensionless).
+DEFAULT_RTOL = 1e-10
+DEFAULT_ATOL = 1e-12
+#: Accepted steps per stage before the integration gives up (an error is raised).
+MAX_STEPS = 200_000
+#: How the rupture gap is taken: Ca from the opening speed at contact, or self-consistent.
+RUPTURE_MODES = ("contact", "self-consistent")
+
+_REBOUND = int(Stage.REBOUND)
+_APP_VIS = int(Stage.APPROACH_VISCOUS)
+_APP_EN = int(Stage.APPROACH_ENERGY)
+_CONTACT = int(Stage.CONTACT)
+_SEP_EN = int(Stage.SEPARATION_ENERGY)
+_P_NO_BRIDGE = int(Path.NO_BRIDGE)
+_P_BROKEN = int(Path.BRIDGE_BROKEN_AT_CONTACT)
+
+N_DETAILS = len(DETAIL_NAMES)
+_DI = {name: k for k, name in enumerate(DETAIL_NAMES)}
+_K_INI_I, _K_INI_J = _DI["K_ini_i"], _DI["K_ini_j"]
+_L_CAP_APP, _L_VIS_APP = _DI["L_cap_app"], _DI["L_vis_app"]
+_L_BDW_APP_I, _L_BDW_APP_J = _DI["L_bdw_app_i"], _DI["L_bdw_app_j"]
+_K_APP_I, _K_APP_J = _DI["K_app_i"], _DI["K_app_j"]
+_W_CONTACT, _L_C = _DI["w_contact"], _DI["L_c"]
+_K_SEP_I, _K_SEP_J = _DI["K_sep_i"], _DI["K_sep_j"]
+_CA, _H_RUPT = _DI["Ca"], _DI["h_rupt"]
+_L_CAP_SEP, _L_VIS_SEP = _DI["L_cap_sep"], _DI["L_vis_sep"]
+_L_BDW_SEP_I, _L_BDW_SEP_J = _DI["L_bdw_sep_i"], _DI["L_bdw_sep_j"]
+_K_FIN_I, _K_FIN_J = _DI["K_fin_i"], _DI["K_fin_j"]
+_ST_APP = _DI["St_app"]
+_W_BODY, _W_VOLCORR = _DI["W_body_frac"], _DI["W_volcorr_frac"]
+
+# Status codes of one integrated stage.
+_REACHED, _STOPPED, _CANNOT, _EVENT, _TOO_MANY = 0, 1, 2, 3, 4
+
+
+@njit(cache=True)
+def volume_correction(D, a2):
+    """Bridge-volume correction ``X_v(D) = 1 - D / sqrt(D^2 + a^2)`` [-] (Eqs. 25-26, 28),
+    evaluated as ``a^2 / (s (s + D))`` without cancellation; ``a2`` = ``a^2`` [m2]."""
+    s = math.sqrt(D * D + a2)
+    return a2 / (s * (s + D))
+
+
+@njit(cache=True)
+def _rhs(y, k, sigma, a2, kc, fb, vis, volcorr):
+    """``dk/dy`` (module docstring); ``kc = kcap/K0``, ``fb = F_b/K0`` [1/m],
+    ``vis = 2 c / (m_r w)`` [-]."""
+    D = math.exp(y)
+    x = volume_correction(D, a2) if volcorr else 1.0
+    return -D * (kc * x + fb) + sigma * vis * x * x * math.sqrt(max(k, 0.0))
+
+
+@njit(cache=True)
+def _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
+    """One Dormand-Prince 5(4) step from ``(y, k)`` of size ``h`` with ``f1 = dk/dy`` there.
+
+    Returns ``(k5, k5 - k4, dk/dy at the new point)`` (the last is the next step's ``f1``).
+    """
+    f2 = _rhs(y + h / 5.0, k + h * (f1 / 5.0), sigma, a2, kc, fb, vis, volcorr)
+    f3 = _rhs(y + 0.3 * h, k + h * (3.0 / 40.0 * f1 + 9.0 / 40.0 * f2),
+              sigma, a2, kc, fb, vis, volcorr)
+    f4 = _rhs(y + 0.8 * h, k + h * (44.0 / 45.0 * f1 - 56.0 / 15.0 * f2 + 32.0 / 9.0 * f3),
+              sigma, a2, kc, fb, vis, volcorr)
+    f5 = _rhs(
+        y + 8.0 / 9.0 * h,
+        k + h * (19372.0 / 6561.0 * f1 - 25360.0 / 2187.0 * f2 + 64448.0 / 6561.0 * f3
+                 - 212.0 / 729.0 * f4),
+        sigma, a2, kc, fb, vis, volcorr,
+    )
+    f6 = _rhs(
+        y + h,
+        k + h * (9017.0 / 3168.0 * f1 - 355.0 / 33.0 * f2 + 46732.0 / 5247.0 * f3
+                 + 49.0 / 176.0 * f4 - 5103.0 / 18656.0 * f5),
+        sigma, a2, kc, fb, vis, volcorr,
+    )
+    k5 = k + h * (35.0 / 384.0 * f1 + 500.0 / 1113.0 * f3 + 125.0 / 192.0 * f4
+                  - 2187.0 / 6784.0 * f5 + 11.0 / 84.0 * f6)
+    f7 = _rhs(y + h, k5, sigma, a2, kc, fb, vis, volcorr)
+    # b5 - b4 of the embedded pair
+    err = h * (71.0 / 57600.0 * f1 - 71.0 / 16695.0 * f3 + 71.0 / 1920.0 * f4
+               - 17253.0 / 339200.0 * f5 + 22.0 / 525.0 * f6 - 1.0 / 40.0 * f7)
+    return k5, err, f7
+
+
+@njit(cache=True)
+def _cannot_rebound(D, k, a2, kc, fb, vis, e2, need):
+    """True when the approach, now at gap ``D`` with ``k``, cannot end in a rebound.
+
+    On the approach the closing speed cannot rise above ``M = max(v, sup v_term)``, where
+    ``v_term(D') = D' (kcap X_v + F_b) / (c X_v^2)`` is the speed at which the bridge forces
+    balance (below it the speed grows, above it falls); ``sup`` over ``[Ha, D]`` is bounded by
+    the value at ``D`` with ``max(F_b, 0)``, as ``D / X_v`` and ``D / X_v^2`` increase with
+    ``D``. So ``k_s <= e^2 M^2`` (in units of the initial energy). ``need`` is a lower bound
+    of the ``k_s`` any rebound requires (see :func:`ode_kernel`).
+    """
+    x = volume_correction(D, a2)
+    m_term = D * (kc * x + max(fb, 0.0)) / (vis * x * x)
+    m = max(math.sqrt(max(k, 0.0)), m_term)
+    return e2 * m * m <= need
+
+
+@njit(cache=True)
+def _rupture_gap_log(theta, ca_per_sqrtk, vol, k):
+    """``ln h_rupt`` (Eq. 94) at the opening speed ``w sqrt(k)``."""
+    return math.log(rupture_distance(theta, ca_per_sqrtk * math.sqrt(max(k, 0.0)), vol))
+
+
+@njit(cache=True)
+def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
+               e2, need, event, theta, ca_per_sqrtk, vol):
+    """Integrate ``dk/dy`` from ``y0`` towards ``y1``.
+
+    ``need >= 0`` enables the early stop of :func:`_cannot_rebound` (approach only; -1
+    disables it). ``event`` stops at the first ``y >= ln h_rupt(k)`` (self-consistent
+    rupture). Returns ``(k, y, status, steps)``.
+    """
+    direction = 1.0 if y1 > y0 else -1.0
+    y, k = y0, k0
+    f1 = _rhs(y, k, sigma, a2, kc, fb, vis, volcorr)
+    h = direction * min(abs(y1 - y0), 1e-2)
+    steps = 0
+    while steps < MAX_STEPS:
+        if direction * (y + h - y1) > 0.0:
+            h = y1 - y
+        k_new, err, f_new = _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr)
+        scale = atol + rtol * max(abs(k), abs(k_new))
+        ratio = abs(err) / scale
+        if ratio > 1.0:
+            h *= max(0.2, 0.9 * ratio ** -0.2)
+            continue
+        steps += 1
+        if event and y + h >= _rupture_gap_log(theta, ca_per_sqrtk, vol, k_new):
+            # Locate the crossing by bisecting the step length (single steps from (y, k)).
+            lo, hi = 0.0, 1.0
+            k_hi = k_new
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                k_mid, _, _ = _dp_step(y, k, mid * h, f1, sigma, a2, kc, fb, vis, volcorr)
+                if k_mid > 0.0 and y + mid * h >= _rupture_gap_log(
+                    theta, ca_per_sqrtk, vol, k_mid
+                ):
+                    hi, k_hi = mid, k_mid
+                else:
+                    lo = mid
+                if (hi - lo) * abs(h) < 1e-14:
+                    break
+            if not k_hi > 0.0:
+                return 0.0, y + hi * h, _STOPPED, steps
+            return k_hi, y + hi * h, _EVENT, steps
+        y += h
+        k = k_new
+        f1 = f_new
+        if not k > 0.0:
+            return 0.0, y, _STOPPED, steps
+        if direction * (y - y1) >= 0.0:
+            return k, y1, _REACHED, steps
+        if need >= 0.0 and _cannot_rebound(math.exp(y), k, a2, kc, fb, vis, e2, need):
+            return k, y, _CANNOT, steps
+        factor = 5.0 if ratio == 0.0 else min(5.0, max(0.2, 0.9 * ratio ** -0.2))
+        h *= factor
+    return k, y, _TOO_MANY, steps
+
+
+@njit(cache=True)
+def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det,
+               rtol, atol, self_consistent, volcorr):
+    """One collision integrated. Returns ``(e_w, stage, path, steps, status)``.
+
+    ``status`` is 4 when :data:`MAX_STEPS` was exceeded (the wrapper raises), else 0.
+    ``det`` as in :func:`agglomtool.collision.paper.paper_kernel`; the per-particle columns
+    hold the CM-frame split of the relative energies; the viscous losses are the energy
+    balance of the integrated stage (``K_start - K_end - L_cap - L_bdw``).
+    """
+    nan = math.nan
+    want = det.shape[0] > 0
+    if want:
+        for q in range(det.shape[0]):
+            det[q] = nan
+    m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
+    if not H0 > Ha:
+        if want:
+            det[_W_CONTACT] = w
+            det[_L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+        if e > 0.0:
+            return e, _REBOUND, _P_NO_BRIDGE, 0, 0
+        return 0.0, _CONTACT, _P_NO_BRIDGE, 0, 0
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    kcap = 2.0 * math.pi * gamma * r * cos_t
+    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    k0 = 0.5 * m_r * w * w
+    kc = kcap / k0
+    fb = f_b / k0
+    vis = 2.0 * c / (m_r * w)
+    vol = bridge_volume(r, a2)
+    e2 = e * e
+    if want:
+        det[_K_INI_I] = frac_j * k0
+        det[_K_INI_J] = frac_i * k0
+        det[_ST_APP] = m_r * w / c
+        det[_L_CAP_APP] = kcap * g_diff(H0, Ha, a2)
+        det[_L_BDW_APP_I] = -frac_j * f_b * (H0 - Ha)
+        det[_L_BDW_APP_J] = -frac_i * f_b * (H0 - Ha)
+    if not Ha > 0.0:  # an infinite lubrication loss before contact
+        return 0.0, _APP_VIS, 0, 0, 0
+
+    # A lower bound of the opening energy any rebound needs: the bridge must at least be
+    # stretched to h_min = h_rupt(Ca = 0). Capillary and (if F_b >= 0) body forces and
+    # viscosity all slow the opening; with F_b >= 0 the viscous-only speed loss alone is a
+    # bound, and in any case the potential barrier at h_min.
+    h_min = rupture_distance(theta, 0.0, vol)
+    need = -1.0
+    if h_min > Ha:
+        barrier = kc * g_diff(Ha, h_min, a2) + fb * (h_min - Ha)
+        need = max(barrier, 0.0)
+        if fb >= 0.0:
+            v_min = 0.5 * vis * (ln_f(h_min, a2) - ln_f(Ha, a2))
+            need = max(need, v_min * v_min)
+
+    # ---- approach
+    k_c, _, status, steps = _integrate(
+        math.log(H0), math.log(Ha), 1.0, 1.0, a2, kc, fb, vis, volcorr, rtol, atol,
+        e2, need, False, theta, 0.0, vol,
+    )
+    if status == _TOO_MANY:
+        return nan, _APP_EN, 0, steps, _TOO_MANY
+    if status == _STOPPED:
+        return 0.0, _APP_EN, 0, steps, 0
+    if status == _CANNOT:
+        return 0.0, _APP_VIS, 0, steps, 0
+    w_c = w * math.sqrt(k_c)
+    if want:
+        det[_K_APP_I] = frac_j * k_c * k0
+        det[_K_APP_J] = frac_i * k_c * k0
+        det[_L_VIS_APP] = k0 * (1.0 - k_c) - det[_L_CAP_APP] + f_b * (H0 - Ha)
+        det[_W_CONTACT] = w_c
+        det[_L_C] = 0.5 * m_r * (1.0 - e2) * w_c * w_c
+    if not e > 0.0:
+        return 0.0, _CONTACT, 0, steps, 0
+
+    # ---- separation
+    k_s = e2 * k_c
+    w_s = e * w_c
+    ca = mu_l * w_s / gamma
+    h_rupt = rupture_distance(theta, ca, vol)
+    path = 0
+    if not h_rupt > Ha:
+        path |= _P_BROKEN
+        k_end = k_s
+        status = _REACHED
+    else:
+        y_end = math.log(h_rupt)
+        if self_consistent:
+            # The rupture gap follows the speed; a far bound, the event ends the stage.
+            y_end = math.log(Ha) + 60.0
+        k_end, y_stop, status, steps_sep = _integrate(
+            math.log(Ha), y_end, k_s, -1.0, a2, kc, fb, vis, volcorr, rtol, atol,
+            e2, -1.0, self_consistent, theta, mu_l * w / gamma, vol,
+        )
+        steps += steps_sep
+        if status == _TOO_MANY:
+            return nan, _SEP_EN, path, steps, _TOO_MANY
+        if self_consistent and status == _EVENT:
+            h_rupt = math.exp(y_stop)
+            ca = mu_l * w * math.sqrt(k_end) / gamma
+    if want:
+        det[_K_SEP_I] = frac_j * k_s * k0
+        det[_K_SEP_J] = frac_i * k_s * k0
+        det[_CA] = ca
+        det[_H_RUPT] = h_rupt
+        body, volc = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
+        det[_W_BODY] = body
+        det[_W_VOLCORR] = volc
+        if h_rupt > Ha and status != _STOPPED:
+            l_cap = kcap * g_diff(Ha, h_rupt, a2)
+            l_bdw = f_b * (h_rupt - Ha)
+            det[_L_CAP_SEP] = l_cap
+            det[_L_BDW_SEP_I] = frac_j * l_bdw
+            det[_L_BDW_SEP_J] = frac_i * l_bdw
+            det[_L_VIS_SEP] = k0 * (k_s - k_end) - l_cap - l_bdw
+    if status == _STOPPED:
+        return 0.0, _SEP_EN, path, steps, 0
+    if want:
+        det[_K_FIN_I] = frac_j * k_end * k0
+        det[_K_FIN_J] = frac_i * k_end * k0
+    return math.sqrt(k_end), _REBOUND, path, steps, 0
+
+
+@njit(parallel=True, cache=True)
+def _run_ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+                   rtol, atol, self_consistent, volcorr, e_w, stage, path, steps, status, det):
+    for q in prange(e_w.shape[0]):
+        ew, st, pa, ns, stat = ode_kernel(
+            m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q], cos_t[q], theta[q],
+            w[q], fn_i[q], fn_j[q], e[q], det[q], rtol, atol, self_consistent, volcorr,
+        )
+        e_w[q] = ew
+        stage[q] = st
+        path[q] = pa
+        steps[q] = ns
+        status[q] = stat
+
+
+def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+              details=False, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, rupture="contact",
+              volume_corrected=True):
+    """:func:`run_ode` that also returns the accepted steps per collision (fifth array).
+
+    Parameters
+    ----------
+    rtol, atol : float
+        Step-control tolerances on ``k = K / K0`` [-].
+    rupture : {"contact", "self-consistent"}
+        Capillary number of Eq. 94 from the opening speed at contact (the analytic models'
+        rule), or from the speed at the rupture gap itself.
+    volume_corrected : bool
+        False sets ``X_v = 1`` in both bridge forces (the uncorrected force laws).
+    """
+    if rupture not in RUPTURE_MODES:
+        raise ValueError(f"rupture = {rupture!r} is not one of {RUPTURE_MODES}")
+    if not (0.0 < rtol < 1e-2 and 0.0 < atol < 1e-2):
+        raise ValueError(f"rtol = {rtol!r}, atol = {atol!r}: both must be in (0, 0.01)")
+    n = w.shape[0]
+    e_w = np.empty(n)
+    stage = np.empty(n, dtype=np.int8)
+    path = np.empty(n, dtype=np.int8)
+    steps = np.empty(n, dtype=np.int64)
+    status = np.empty(n, dtype=np.int8)
+    det = np.empty((n, N_DETAILS if details else 0))
+    _run_ode_batch(
+        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+        float(rtol), float(atol), rupture == "self-consistent", bool(volume_corrected),
+        e_w, stage, path, steps, status, det,
+    )
+    if np.any(status == _TOO_MANY):
+        bad = int(np.flatnonzero(status == _TOO_MANY)[0])
+        raise RuntimeError(
+            f"ode: collision {bad} needed more than {MAX_STEPS} steps in one stage "
+            f"(w = {w[bad]!r} m/s); loosen rtol = {rtol!r}"
+        )
+    return e_w, stage, path, det, steps
+
+
+def run_ode(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+            details=False, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, rupture="contact",
+            volume_corrected=True):
+    """Integrate the relative equation of motion of each collision (flat float64 arrays).
+
+    Returns ``(e_w, stage, path, det)`` like :func:`agglomtool.collision.paper.run_paper`.
+    Options as in :func:`ode_batch`.
+    """
+    e_w, stage, path, det, _ = ode_batch(
+        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, details=details,
+        rtol=rtol, atol=atol, rupture=rupture, volume_corrected=volume_corrected,
+    )
+    return e_w, stage, path, det
+
+
+#: The self-consistent-rupture variant as a tier function.
+run_ode_self_consistent = partial(run_ode, rupture="self-consistent")

@@ -1,0 +1,289 @@
+"""The frame-consistent variant of the paper's model (mode "relative", MODEL.md section 7).
+
+The paper's closed-form losses (Shabanian et al. 2024, Heliyon 10:e29397,
+doi:10.1016/j.heliyon.2024.e29397, Eqs. 72-105, 126-129) applied to the *relative* motion
+along the collision axis instead of to each particle in the centre-of-mass frame:
+
+- one body of reduced mass ``m_r = m_i m_j / (m_i + m_j)`` (``m_i`` for a plate j) moving at
+  the relative normal speed ``w``;
+- bridge forces as in the paper: capillary ``kcap X_v``, viscous ``c X_v^2 w / D``;
+- body forces enter only through the relative acceleration they cause,
+  ``F_b = m_r (fn_i / m_i - fn_j / m_j)`` (positive: pushes the pair together). Two particles
+  with equal body force per unit mass (identical particles in a uniform field) feel none, so
+  for them the collision direction has no effect, as mechanics requires.
+
+Per stage (approach ``H0 -> Ha``, separation ``Ha -> h_rupt``), with
+``Delta = |ln f(D_end) - ln f(D_start)|`` and the entering speed ``v``:
+
+1. viscosity alone stops the pair when ``c Delta >= m_r v`` (the paper's Eqs. 73, 75 written
+   for the relative motion);
+2. otherwise ``K_end = K_start - L_cap - L_vis - L_bdw`` with the exact viscous-only loss
+   ``L_vis = c Delta (v - c Delta / (2 m_r))``, the capillary loss
+   ``kcap (g(D_end) - g(D_start))`` and the body-force loss ``-F_b (D_start - D_end)``
+   (approach) or ``F_b (D_end - D_start)`` (separation); ``K_end <= 0`` sticks.
+
+With no body forces (``fn_i = fn_j = 0``, e.g. ``beta = 0``) each particle of the paper's
+model carries the mass fraction of the relative energy, both stop together, and this tier
+equals mode "paper" to rounding.
+
+A plate (``m_j = inf``) is the ``m_j -> inf`` limit of the same formulas (``m_r -> m_i``):
+the losses are taken in the same order as for two moving particles (viscous loss from the
+impact speed), not by the paper's plate path (MODEL.md step 4: capillary gain first, then
+the viscous loss from the gained speed), so the tier is continuous in ``m_j``. For the body
+forces a plate is a *held* wall: nothing accelerates it, its term ``fn_j / m_j`` is 0. (A
+free partner of huge mass would keep its own gravitational acceleration; a plate does not.)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .bridge import bridge_volume, g_diff, ln_f, rupture_distance
+from .outcome import DETAIL_NAMES, Path, Stage
+from .paper import _viscous_loss
+
+__all__ = [
+    "relative_kernel",
+    "run_relative",
+    "reduced_mass",
+    "relative_body_force",
+    "term_work_fractions",
+    "NEGLIGIBLE_FRACTION",
+]
+
+#: A term (body forces, the bridge-volume correction) is reported negligible when its work
+#: bound is below this fraction of the initial relative kinetic energy.
+NEGLIGIBLE_FRACTION = 1e-3
+
+_REBOUND = int(Stage.REBOUND)
+_APP_VIS = int(Stage.APPROACH_VISCOUS)
+_APP_EN = int(Stage.APPROACH_ENERGY)
+_CONTACT = int(Stage.CONTACT)
+_SEP_VIS = int(Stage.SEPARATION_VISCOUS)
+_SEP_EN = int(Stage.SEPARATION_ENERGY)
+_P_NO_BRIDGE = int(Path.NO_BRIDGE)
+_P_BROKEN = int(Path.BRIDGE_BROKEN_AT_CONTACT)
+
+N_DETAILS = len(DETAIL_NAMES)
+_DI = {name: k for k, name in enumerate(DETAIL_NAMES)}
+_K_INI_I, _K_INI_J = _DI["K_ini_i"], _DI["K_ini_j"]
+_L_CAP_APP, _L_VIS_APP = _DI["L_cap_app"], _DI["L_vis_app"]
+_L_BDW_APP_I, _L_BDW_APP_J = _DI["L_bdw_app_i"], _DI["L_bdw_app_j"]
+_K_APP_I, _K_APP_J = _DI["K_app_i"], _DI["K_app_j"]
+_W_CONTACT, _L_C = _DI["w_contact"], _DI["L_c"]
+_K_SEP_I, _K_SEP_J = _DI["K_sep_i"], _DI["K_sep_j"]
+_CA, _H_RUPT = _DI["Ca"], _DI["h_rupt"]
+_L_CAP_SEP, _L_VIS_SEP = _DI["L_cap_sep"], _DI["L_vis_sep"]
+_L_BDW_SEP_I, _L_BDW_SEP_J = _DI["L_bdw_sep_i"], _DI["L_bdw_sep_j"]
+_K_FIN_I, _K_FIN_J = _DI["K_fin_i"], _DI["K_fin_j"]
+_ST_APP = _DI["St_app"]
+_W_BODY, _W_VOLCORR = _DI["W_body_frac"], _DI["W_volcorr_frac"]
+
+
+@njit(cache=True)
+def reduced_mass(m_i, m_j):
+    """Reduced mass [kg] and the mass fractions ``(m_r, frac_i, frac_j)``; exact for a plate
+    on either side (``frac = m / (m_i + m_j)``)."""
+    if math.isinf(m_j):
+        return m_i, 0.0, 1.0
+    if math.isinf(m_i):
+        return m_j, 1.0, 0.0
+    frac_i = m_i / (m_i + m_j)
+    return m_i * (1.0 - frac_i), frac_i, 1.0 - frac_i
+
+
+@njit(cache=True)
+def relative_body_force(m_i, m_j, fn_i, fn_j):
+    """Body force on the relative motion [N], positive when it pushes the pair together:
+    ``m_r (fn_i / m_i - fn_j / m_j)``; a plate (infinite mass, held) contributes 0."""
+    m_r, _, _ = reduced_mass(m_i, m_j)
+    acc_i = 0.0 if math.isinf(m_i) else fn_i / m_i
+    acc_j = 0.0 if math.isinf(m_j) else fn_j / m_j
+    return m_r * (acc_i - acc_j)
+
+
+@njit(cache=True)
+def term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2):
+    """Bounds of the work of two optional terms, as fractions of the initial relative kinetic
+    energy ``k0`` [J]: ``(body, volume correction)``.
+
+    - body forces: ``|F_b| (H0 - Ha + h_rupt - Ha)``, the most they can do over the bridge;
+    - the bridge-volume correction ``X_v``: the change it makes to the capillary work and to
+      the viscous work at the impact speed ``w`` (with ``X_v = 1`` the capillary work over a
+      stage is ``kcap |dD|`` and the viscous ``c w |d ln D|``).
+
+    ``h_rupt`` NaN (the pair stuck before contact) counts the approach only.
+    """
+    sep = h_rupt > Ha
+    d_body = (H0 - Ha) + ((h_rupt - Ha) if sep else 0.0)
+    body = abs(f_b) * d_body / k0
+    if not Ha > 0.0:
+        return body, math.inf
+    ln_h0, ln_ha = math.log(H0), math.log(Ha)
+    cap = kcap * abs((H0 - Ha) - abs(g_diff(H0, Ha, a2)))
+    vis = c * w * abs((ln_h0 - ln_ha) - abs(ln_f(H0, a2) - ln_f(Ha, a2)))
+    if sep:
+        cap += kcap * abs((h_rupt - Ha) - abs(g_diff(Ha, h_rupt, a2)))
+        ln_hr = math.log(h_rupt)
+        vis += c * w * abs((ln_hr - ln_ha) - abs(ln_f(h_rupt, a2) - ln_f(Ha, a2)))
+    return body, (cap + vis) / k0
+
+
+@njit(cache=True)
+def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det):
+    """One collision by the paper's closed forms on the relative motion.
+
+    Returns ``(e_w, stage, path, k_fin)``: ``k_fin`` is the kinetic energy of the relative
+    motion left at rupture over the initial one [-] (0 when the pair sticks; used by mode
+    "auto"). ``det`` as in :func:`agglomtool.collision.paper.paper_kernel`; the per-particle
+    columns hold the CM-frame split of the relative energies (``frac_j`` to i, ``frac_i``
+    to j, which is exact for kinetic energies).
+    """
+    nan = math.nan
+    want = det.shape[0] > 0
+    if want:
+        for k in range(det.shape[0]):
+            det[k] = nan
+    m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
+    if not H0 > Ha:
+        if want:
+            det[_W_CONTACT] = w
+            det[_L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+        if e > 0.0:
+            return e, _REBOUND, _P_NO_BRIDGE, e * e
+        return 0.0, _CONTACT, _P_NO_BRIDGE, 0.0
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    kcap = 2.0 * math.pi * gamma * r * cos_t
+    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    k0 = 0.5 * m_r * w * w
+    h_rupt = nan
+    if want:
+        det[_K_INI_I] = frac_j * k0
+        det[_K_INI_J] = frac_i * k0
+        det[_ST_APP] = m_r * w / c
+
+    # ---- approach, H0 -> Ha
+    lnf_h0 = ln_f(H0, a2)
+    lnf_ha = ln_f(Ha, a2)
+    c_delta = c * (lnf_h0 - lnf_ha)
+    l_cap = kcap * g_diff(H0, Ha, a2)
+    l_bdw = -f_b * (H0 - Ha)
+    stage = _REBOUND
+    k_fin = 0.0
+    path = 0
+    if want:
+        det[_L_CAP_APP] = l_cap
+        det[_L_BDW_APP_I] = frac_j * l_bdw
+        det[_L_BDW_APP_J] = frac_i * l_bdw
+    if not c_delta < m_r * w:
+        stage = _APP_VIS
+    else:
+        l_vis = _viscous_loss(w, m_r, c_delta)
+        k_app = k0 - l_cap - l_vis - l_bdw
+        if want:
+            det[_L_VIS_APP] = l_vis
+        if not k_app > 0.0:
+            stage = _APP_EN
+        else:
+            # ---- contact
+            w_c = math.sqrt(2.0 * k_app / m_r)
+            w_s = e * w_c
+            if want:
+                det[_K_APP_I] = frac_j * k_app
+                det[_K_APP_J] = frac_i * k_app
+                det[_W_CONTACT] = w_c
+                det[_L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+            if not w_s > 0.0:
+                stage = _CONTACT
+            else:
+                # ---- separation, Ha -> h_rupt
+                k_s = 0.5 * m_r * w_s * w_s
+                ca = mu_l * w_s / gamma
+                h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
+                if want:
+                    det[_K_SEP_I] = frac_j * k_s
+                    det[_K_SEP_J] = frac_i * k_s
+                    det[_CA] = ca
+                    det[_H_RUPT] = h_rupt
+                if not h_rupt > Ha:
+                    path |= _P_BROKEN
+                    k_end = k_s
+                else:
+                    c_delta = c * (ln_f(h_rupt, a2) - lnf_ha)
+                    l_cap = kcap * g_diff(Ha, h_rupt, a2)
+                    l_bdw = f_b * (h_rupt - Ha)
+                    k_end = 0.0
+                    if want:
+                        det[_L_CAP_SEP] = l_cap
+                        det[_L_BDW_SEP_I] = frac_j * l_bdw
+                        det[_L_BDW_SEP_J] = frac_i * l_bdw
+                    if not c_delta < m_r * w_s:
+                        stage = _SEP_VIS
+                    else:
+                        l_vis = _viscous_loss(w_s, m_r, c_delta)
+                        k_end = k_s - l_cap - l_vis - l_bdw
+                        if want:
+                            det[_L_VIS_SEP] = l_vis
+                        if not k_end > 0.0:
+                            stage = _SEP_EN
+                if stage == _REBOUND:
+                    k_fin = k_end / k0
+                    if want:
+                        det[_K_FIN_I] = frac_j * k_end
+                        det[_K_FIN_J] = frac_i * k_end
+    if want:
+        body, vol = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
+        det[_W_BODY] = body
+        det[_W_VOLCORR] = vol
+    if stage != _REBOUND:
+        return 0.0, stage, path, 0.0
+    return math.sqrt(k_fin), _REBOUND, path, k_fin
+
+
+@njit(parallel=True, cache=True)
+def _run_relative_batch(
+    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path, k_fin,
+    det,
+):
+    for k in prange(e_w.shape[0]):
+        ew, st, pa, kf = relative_kernel(
+            m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k], gamma[k], cos_t[k], theta[k],
+            w[k], fn_i[k], fn_j[k], e[k], det[k],
+        )
+        e_w[k] = ew
+        stage[k] = st
+        path[k] = pa
+        k_fin[k] = kf
+
+
+def relative_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+                   details=False):
+    """:func:`run_relative` that also returns ``k_fin`` (final over initial relative kinetic
+    energy [-]) as a fifth array."""
+    n = w.shape[0]
+    e_w = np.empty(n)
+    stage = np.empty(n, dtype=np.int8)
+    path = np.empty(n, dtype=np.int8)
+    k_fin = np.empty(n)
+    det = np.empty((n, N_DETAILS if details else 0))
+    _run_relative_batch(
+        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path,
+        k_fin, det,
+    )
+    return e_w, stage, path, det, k_fin
+
+
+def run_relative(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+                 details=False):
+    """Evaluate :func:`relative_kernel` over 1-D float64 arrays of equal length.
+
+    Returns ``(e_w, stage, path, det)`` like :func:`agglomtool.collision.paper.run_paper`.
+    """
+    e_w, stage, path, det, _ = relative_batch(
+        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, details=details
+    )
+    return e_w, stage, path, det
