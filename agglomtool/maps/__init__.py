@@ -1,0 +1,22 @@
+"""Operating maps: impact-speed distributions, sweeps over scenes, resumable stores.
+
+:mod:`agglomtool.scene` uses :mod:`.speeds`, and the sweep (:mod:`.grid`) uses the scene, so the
+sweep functions are imported on first use.
+"""
+
+from .speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
+
+__all__ = ["SPEED_FAMILIES", "SpeedModel", "build", "open_store", "sticking_probability",
+           "sweep"]
+
+
+def __getattr__(name):
+    if name in ("sweep", "build"):
+        from importlib import import_module
+
+        return getattr(import_module(f"{__name__}.grid"), name)
+    if name == "open_store":
+        from .store import open_store
+
+        return open_store
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

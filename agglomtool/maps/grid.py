@@ -1,0 +1,267 @@
+"""Sweeps: a scene evaluated over a grid of its fields, as an ``xarray.Dataset``.
+
+The grid is chunked with dask and every block is evaluated by
+``xarray.apply_ufunc(..., dask="parallelized")``. Outputs are computed in groups, each
+over the dimensions it depends on only: gas properties over (T, P), ``u0*`` over every
+field except the impact-speed ones, the collisions over the whole grid. ``u0*`` is the
+expensive part (about 1e5 solves/s), so a grid whose speed axes are long is cheap.
+"""
+
+from __future__ import annotations
+
+import json
+from importlib.metadata import PackageNotFoundError, version
+
+import dask
+import numpy as np
+import xarray as xr
+
+from ..scene import (
+    CATEGORICAL_FIELDS,
+    NUMERIC_FIELDS,
+    Resolved,
+    Scene,
+    collision_outputs,
+    critical_outputs,
+    validate,
+)
+from .meta import field_attrs, variable_attrs
+
+__all__ = ["sweep", "build", "GROUPS", "DEFAULT_BLOCK"]
+
+#: Default number of grid points per dask block (bounded memory: about 30 MB of
+#: temporaries per collision batch).
+DEFAULT_BLOCK = 2**18
+
+SPEED_FIELDS = ("u0", "speed", "sigma_ln", "granular_temperature", "fluctuation_ratio",
+                "U", "U_Umf")
+_ALL = tuple(CATEGORICAL_FIELDS) + tuple(NUMERIC_FIELDS)
+
+#: group name -> (fields it depends on, output names, output dtypes)
+GROUPS = {
+    "gas": (("T", "P", "gas"), ("mu_g", "rho_g"), (float, float)),
+    "liquid": (("T", "P", "liquid", "theta_deg"), ("mu_l", "gamma_l", "rho_l"),
+               (float, float, float)),
+    "fluid": (("T", "P", "gas", "liquid", "solid_i", "solid_j", "d_i", "d_j", "h0", "h0_j",
+               "U_e_Umf", "umf_method"), ("Umf", "U_e"), (float, float)),
+    "critical": (tuple(f for f in _ALL if f not in SPEED_FIELDS),
+                 ("u_star", "Ca_star", "regime"), (float, float, np.int8)),
+    "collision": (_ALL, ("u_typical", "U", "e_w", "agglomerated", "stage", "St",
+                         "propensity", "margin"),
+                  (float, float, float, bool, np.int8, float, float, float)),
+}
+
+
+def _version() -> str:
+    try:
+        return version("agglomtool")
+    except PackageNotFoundError:  # pragma: no cover
+        return "unknown"
+
+
+def _grid_values(scene: Scene, grid: dict) -> dict:
+    """Validate the grid: 1-D, known fields, values the scene accepts."""
+    out = {}
+    base = scene.values()
+    for name, values in grid.items():
+        if name == "body_forces":
+            raise ValueError("body_forces cannot be swept; run two sweeps")
+        if name not in base:
+            raise ValueError(f"{name!r} is not a Scene field; fields: {sorted(base)}")
+        if name in CATEGORICAL_FIELDS:
+            vals = [values] if isinstance(values, str) else list(values)
+            if not vals or not all(isinstance(v, str) for v in vals):
+                raise ValueError(f"grid {name} must be a non-empty list of names, got {values!r}")
+            for v in vals:
+                validate({**base, name: v})
+            arr = np.array(vals)
+        else:
+            arr = np.atleast_1d(np.asarray(values, dtype=float))
+            if arr.ndim != 1 or arr.size == 0:
+                raise ValueError(f"grid {name} must be a non-empty 1-D list of numbers, "
+                                 f"got shape {arr.shape}")
+            validate({**base, name: arr})
+        if len(np.unique(arr)) != arr.size:
+            raise ValueError(f"grid {name} repeats a value; coordinates must be unique")
+        out[name] = arr
+    speed = base["speed"]
+    needs = {"u0": ("fixed", "lognormal"), "sigma_ln": ("lognormal",),
+             "granular_temperature": ("maxwellian",), "fluctuation_ratio": ("excess-gas",)}
+    if "speed" not in grid:
+        for name, families in needs.items():
+            if name in grid and speed not in families:
+                raise ValueError(f"grid {name} has no effect with speed = {speed!r}; set the "
+                                 f"scene's speed to one of {list(families)}")
+    return out
+
+
+def _chunks(grid: dict, chunks) -> dict:
+    """Chunk size per dim: 1 for names, else ``chunks`` (dict, int total, "auto", None)."""
+    sizes = {k: len(v) for k, v in grid.items()}
+    out = {k: 1 for k in grid if k in CATEGORICAL_FIELDS}
+    numeric = [k for k in grid if k not in CATEGORICAL_FIELDS]
+    if isinstance(chunks, dict):
+        unknown = sorted(set(chunks) - set(grid))
+        if unknown:
+            raise ValueError(f"chunks names {unknown[0]!r}, which is not a grid dimension")
+        for k in numeric:
+            out[k] = int(min(sizes[k], max(1, chunks.get(k, sizes[k]))))
+        return out
+    if chunks is None:
+        return {**out, **{k: sizes[k] for k in numeric}}
+    target = DEFAULT_BLOCK if chunks == "auto" else int(chunks)
+    if target < 1:
+        raise ValueError(f"chunks = {chunks!r} must be >= 1 points per block")
+    prod = 1
+    for k in reversed(numeric):  # the last dims whole first, the outer ones split
+        c = int(min(sizes[k], max(1, target // prod)))
+        out[k] = c
+        prod *= c
+    return out
+
+
+def _block_function(scene_values: dict, names: tuple, group: str, nodes: int):
+    """The numpy function of one output group over one block."""
+
+    def func(*arrays):
+        values = dict(scene_values)
+        values.update(zip(names, arrays[: len(names)], strict=True))
+        r = Resolved(values)
+        if group == "gas":
+            out = (r.mu_g, r.rho_g)
+        elif group == "liquid":
+            out = (r.liquid.mu, r.liquid.gamma, r.liquid.rho)
+        elif group == "fluid":
+            out = (r.Umf, r.U_e)
+        elif group == "critical":
+            c = critical_outputs(r)
+            out = (c["u_star"], c["Ca_star"], c["regime"])
+        else:
+            c = collision_outputs(r, arrays[-1], nodes)
+            out = tuple(c[k] for k in GROUPS["collision"][1])
+        shape = np.broadcast_shapes(*[np.shape(a) for a in arrays]) if arrays else ()
+        return tuple(np.broadcast_to(o, shape).copy() for o in out)
+
+    return func
+
+
+def build(scene: Scene, *, chunks="auto", nodes: int = 16, **grid) -> xr.Dataset:
+    """The lazy (dask-backed) Dataset of a sweep: nothing is computed yet.
+
+    Parameters are those of :func:`sweep`; compute it with the synchronous scheduler
+    (the collision kernel is itself parallel, and its threading layer does not allow
+    concurrent calls from several threads).
+    """
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be an agglomtool Scene, got {type(scene).__name__}")
+    if not isinstance(nodes, int | np.integer) or nodes < 1:
+        raise ValueError(f"nodes = {nodes!r} must be an integer >= 1")
+    grid = _grid_values(scene, grid)
+    sizes = _chunks(grid, chunks)
+    coords = {k: xr.DataArray(v, dims=[k], attrs=field_attrs(k)) for k, v in grid.items()}
+    inputs = {k: c.chunk({k: sizes[k]}) for k, c in coords.items()}
+    base = scene.values()
+    data = {}
+    for group, (deps, outs, dtypes) in GROUPS.items():
+        names = tuple(k for k in grid if k in deps)
+        args = [inputs[k] for k in names]
+        func = _block_function(base, names, group, int(nodes))
+        if group == "collision":
+            args.append(data["u_star"])
+        if names:
+            res = xr.apply_ufunc(
+                func, *args, dask="parallelized", output_dtypes=list(dtypes),
+                output_core_dims=[[] for _ in outs],
+            )
+        else:
+            vals = func(*[a.values for a in args])
+            res = tuple(xr.DataArray(v) for v in vals)
+        for name, da in zip(outs, res, strict=True):
+            data[name] = da.assign_attrs(variable_attrs(name)).drop_vars(
+                [c for c in da.coords if c not in coords], errors="ignore")
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update(_dataset_attrs(scene, grid, nodes))
+    return ds
+
+
+def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
+    base = scene.values()
+    tiers = list(grid["mode"]) if "mode" in grid else [base["mode"]]
+    sources = {}
+    for name in ("solid_i", "solid_j", "liquid", "gas"):
+        for value in (list(grid[name]) if name in grid else [base[name]]):
+            if value is None:
+                continue
+            for key, text in Resolved({**base, name: value}).sources.items():
+                sources["source: " + key] = " ".join(text.split())
+    return {
+        "title": "agglomtool operating map",
+        "agglomtool_version": _version(),
+        "model_tier": ", ".join(tiers),
+        "scene": json.dumps(base),
+        "grid": json.dumps(list(grid)),
+        "propensity_method": (
+            f"F(u0*) plus the sticking indicator integrated over {nodes} equal-probability "
+            "nodes above u0* (agglomtool.maps.speeds)"),
+        "quadrature_nodes": int(nodes),
+        "reference": ("Shabanian, Duchesne, Syamlal and Runstedtler (2024), Heliyon "
+                      "10:e29397, doi:10.1016/j.heliyon.2024.e29397"),
+        **sources,
+    }
+
+
+def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=False,
+          compute: bool = True, **grid) -> xr.Dataset:
+    """Evaluate ``scene`` over a grid of its fields.
+
+    Parameters
+    ----------
+    scene : Scene
+        The operating point; fields not in ``grid`` keep its values.
+    chunks : "auto", int, dict or None
+        Dask block size: ``"auto"`` (about 2.6e5 points per block), a number of points per
+        block, a ``{dim: size}`` dict, or ``None`` (one block per category combination).
+        Dimensions holding names (solids, liquid, gas, mode, ...) are always chunked by 1.
+    nodes : int
+        Quadrature nodes of the impact-speed distribution for the propensity.
+    store : path, optional
+        A directory where finished blocks are written as netCDF files; an interrupted
+        sweep run again with the same store skips them. The result is then opened lazily
+        from the store (bounded memory for grids larger than memory).
+    progress : bool
+        Show progress on stderr (``tqdm`` if installed, else a text bar).
+    compute : bool
+        ``False`` returns the lazy dask-backed Dataset (ignored with ``store``).
+    **grid
+        ``field=values``: one dimension per field, in the order given, with the values
+        as coordinates (numbers in the units of :class:`Scene`, or names).
+
+    Returns
+    -------
+    xarray.Dataset
+        Data variables (see :data:`agglomtool.maps.meta.VARIABLE_META`), each with
+        ``units`` and ``long_name``: gas and liquid properties, ``Umf``, ``U``, ``U_e``,
+        ``u_star``, ``Ca_star``, ``regime``, ``u_typical``, ``St``, ``e_w``,
+        ``agglomerated``, ``stage``, ``propensity`` and ``margin``, each over the grid
+        dimensions it depends on. Attributes record the agglomtool version, model tier,
+        base scene and material sources.
+
+    Examples
+    --------
+    >>> import numpy as np, agglomtool as at                         # doctest: +SKIP
+    >>> ds = at.sweep(at.Scene(), T=np.linspace(1000, 1300, 31), h0=[0.2e-6, 1e-6])
+    """
+    ds = build(scene, chunks=chunks, nodes=nodes, **grid)
+    if store is not None:
+        from .store import run_with_store
+
+        return run_with_store(ds, store, progress=progress)
+    if not compute:
+        return ds
+    with dask.config.set(scheduler="synchronous"):
+        if progress:
+            from .store import progress_callback
+
+            with progress_callback():
+                return ds.compute()
+        return ds.compute()

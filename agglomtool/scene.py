@@ -1,0 +1,516 @@
+"""A scene: one operating point of a fluidized bed, and everything derived from it.
+
+A :class:`Scene` holds what a person knows about the bed (temperature, pressure, gas, how
+hard it is fluidized, the two bed materials and their sizes, the coating, the collision
+angle and the impact speed, a value or a distribution). Every property the collision core
+needs (gas and liquid properties, densities, asperity heights, ``U_mf``, the emulsion gas
+velocity) is derived from it through :mod:`agglomtool.properties` and
+:mod:`agglomtool.materials`: nothing is typed twice. This module is the only place where
+the property layer meets the collision core.
+
+:func:`evaluate` turns a mapping of field values (scalars, or numpy arrays that broadcast
+together, typically with singleton axes as a grid block has them) into the derived arrays.
+Properties are evaluated on the unique values of their inputs and broadcast back.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from . import materials
+from ._validate import check_range
+from .api import MODES, collide, critical_impact_speed
+from .inputs import Bed, Liquid, Particle
+from .maps.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
+from .pair import DRAG_SLIP_MODES, wet_mass
+from .properties import gas_properties, umf, umf_methods
+
+__all__ = ["Scene", "evaluate", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CA_VISCOUS"]
+
+#: Fields holding names (swept as categories, one value per grid block).
+CATEGORICAL_FIELDS = ("gas", "solid_i", "solid_j", "liquid", "speed", "mode", "drag_slip",
+                      "umf_method")
+#: Fields holding numbers (swept as numeric coordinates).
+NUMERIC_FIELDS = ("T", "P", "U", "U_Umf", "eps", "U_e_Umf", "d_i", "d_j", "h0", "h0_j",
+                  "ha_i", "ha_j", "e", "theta_deg", "beta_deg", "u0", "sigma_ln",
+                  "granular_temperature", "fluctuation_ratio")
+
+#: Capillary number at ``u0*`` above which the outcome is called viscous-limited.
+CA_VISCOUS = 1.0
+
+#: Units and long names of the scene's fields (pint-parsable units).
+FIELD_META = {
+    "T": ("K", "bed temperature"),
+    "P": ("Pa", "absolute pressure"),
+    "U": ("m/s", "superficial gas velocity"),
+    "U_Umf": ("dimensionless", "fluidization number U/U_mf"),
+    "eps": ("dimensionless", "local voidage around the colliding pair"),
+    "U_e_Umf": ("dimensionless", "emulsion gas velocity over U_mf (drag)"),
+    "d_i": ("m", "solid diameter of particle i"),
+    "d_j": ("m", "solid diameter of particle j"),
+    "h0": ("m", "coating thickness of particle i"),
+    "h0_j": ("m", "coating thickness of particle j"),
+    "ha_i": ("m", "asperity height of particle i"),
+    "ha_j": ("m", "asperity height of particle j"),
+    "e": ("dimensionless", "dry restitution coefficient of the pair"),
+    "theta_deg": ("degree", "contact angle of the coating liquid"),
+    "beta_deg": ("degree", "collision angle from the horizontal"),
+    "u0": ("m/s", "impact speed (fixed value, or lognormal median)"),
+    "sigma_ln": ("dimensionless", "lognormal shape of the impact-speed distribution"),
+    "granular_temperature": ("m**2/s**2", "granular temperature (Maxwellian speeds)"),
+    "fluctuation_ratio": ("dimensionless", "r.m.s. particle velocity over U - U_mf"),
+}
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One operating point of a bubbling fluidized bed with coated particles.
+
+    Parameters
+    ----------
+    T : float
+        Bed temperature [K].
+    P : float
+        Absolute pressure [Pa].
+    gas : str
+        Fluidizing gas, a name of the materials database (``materials.names("gas")``).
+    U : float, optional
+        Superficial gas velocity [m/s]. ``None`` takes ``U_Umf * U_mf``.
+    U_Umf : float
+        Fluidization number ``U / U_mf`` [-], used when ``U`` is ``None``.
+    eps : float
+        Local voidage around the pair [-] (the paper's 0.55, emulsion phase).
+    U_e_Umf : float
+        Emulsion gas velocity over ``U_mf`` [-] for the drag (the paper's 1.1).
+    solid_i, solid_j : str
+        Bed solids of particles i and j (database names); ``solid_j=None`` = ``solid_i``.
+    d_i, d_j : float
+        Solid diameters [m]; ``d_j=None`` = ``d_i``.
+    liquid : str
+        Coating liquid or melt (database name); its properties follow ``T`` (and ``P``).
+    h0, h0_j : float
+        Coating thicknesses of i and j [m]; ``h0_j=None`` = ``h0``.
+    ha_i, ha_j : float, optional
+        Asperity heights [m]; ``None`` = the solid's database value.
+    e : float, optional
+        Dry restitution coefficient [-]; ``None`` = the mean of the two solids' values.
+    theta_deg : float, optional
+        Contact angle [deg]; ``None`` = the liquid's database value.
+    beta_deg : float
+        Collision angle [deg] of the axis i -> j from the horizontal (the paper's Fig. 5).
+    u0 : float, optional
+        Impact speed [m/s], head-on in the lab frame (relative speed ``2 u0``): the value
+        for ``speed="fixed"``, the median for ``speed="lognormal"``.
+    speed : {"fixed", "lognormal", "maxwellian", "excess-gas"}, optional
+        Impact-speed distribution (see :mod:`agglomtool.maps.speeds`). ``None`` picks
+        ``"fixed"`` when ``u0`` is given, ``"maxwellian"`` when ``granular_temperature``
+        is, and otherwise the default estimate ``"excess-gas"``.
+    sigma_ln : float
+        Shape (standard deviation of ``ln u0``) of the lognormal [-].
+    granular_temperature : float, optional
+        Granular temperature [m2/s2] of the Maxwellian.
+    fluctuation_ratio : float
+        For ``"excess-gas"``: r.m.s. particle velocity per component over ``U - U_mf`` [-].
+    mode : str
+        Model tier (``agglomtool.MODES``).
+    body_forces : bool
+        Weight, buoyancy and drag on (the paper's generalized model) or off.
+    drag_slip : {"emulsion", "particle"}
+        Slip velocity of the drag law (see :func:`agglomtool.collide`).
+    umf_method : str
+        Minimum fluidization correlation (:func:`agglomtool.properties.umf_methods`).
+
+    Notes
+    -----
+    ``U_mf`` is the larger of the two particles' values, each with the wet diameter and
+    the wet particle's mean density, as the paper's Section 3.1 does (Shabanian et al.
+    2024, Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397).
+    """
+
+    T: float = 1073.15
+    P: float = 101325.0
+    gas: str = "air"
+    U: float | None = None
+    U_Umf: float = 3.0
+    eps: float = 0.55
+    U_e_Umf: float = 1.1
+    solid_i: str = "silica-sand"
+    d_i: float = 500e-6
+    solid_j: str | None = None
+    d_j: float | None = None
+    liquid: str = "hypothetical-slag"
+    h0: float = 0.2e-6
+    h0_j: float | None = None
+    ha_i: float | None = None
+    ha_j: float | None = None
+    e: float | None = None
+    theta_deg: float | None = None
+    beta_deg: float = 0.0
+    u0: float | None = None
+    speed: str | None = None
+    sigma_ln: float = 0.5
+    granular_temperature: float | None = None
+    fluctuation_ratio: float = 1.0
+    mode: str = "paper"
+    body_forces: bool = True
+    drag_slip: str = "emulsion"
+    umf_method: str = field(default="wen-yu")
+
+    def __post_init__(self) -> None:
+        if self.speed is None:
+            if self.u0 is not None:
+                chosen = "fixed"
+            elif self.granular_temperature is not None:
+                chosen = "maxwellian"
+            else:
+                chosen = "excess-gas"
+            object.__setattr__(self, "speed", chosen)
+        validate(self.values())
+
+    def values(self) -> dict:
+        """The fields as a plain dict (the form :func:`evaluate` and sweeps take)."""
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+
+    def replace(self, **changes) -> Scene:
+        """A copy with some fields changed (validated)."""
+        unknown = sorted(set(changes) - {f.name for f in dataclasses.fields(self)})
+        if unknown:
+            raise ValueError(f"{unknown[0]!r} is not a Scene field; fields: {field_names()}")
+        return dataclasses.replace(self, **changes)
+
+    def evaluate(self, *, nodes: int = 16) -> dict:
+        """Derived numbers of this scene (see :func:`evaluate`), as 0-d arrays."""
+        return evaluate(self.values(), nodes=nodes)
+
+    def collide(self, u0=None, *, details: bool = True):
+        """:func:`agglomtool.collide` at this scene; ``u0=None`` = the typical speed."""
+        r = Resolved(self.values())
+        return r.collide(r.u_typical if u0 is None else u0, details=details)
+
+
+def field_names() -> list[str]:
+    """Names of the :class:`Scene` fields."""
+    return [f.name for f in dataclasses.fields(Scene)]
+
+
+def _check_name(field_name, value, allowed):
+    if not isinstance(value, str) or value not in allowed:
+        raise ValueError(f"{field_name} = {value!r} is not one of {sorted(allowed)}")
+
+
+def validate(values: dict) -> None:
+    """Check a mapping of field values; the ``ValueError`` names the field."""
+    unknown = sorted(set(values) - set(field_names()))
+    if unknown:
+        raise ValueError(f"{unknown[0]!r} is not a Scene field; fields: {field_names()}")
+    for name in ("gas", "solid_i", "solid_j", "liquid"):
+        v = values.get(name)
+        if v is None and name == "solid_j":
+            continue
+        kind = "solid" if name.startswith("solid") else name
+        known = materials.names(kind)
+        if not isinstance(v, str) or materials._key(v) not in known:
+            raise ValueError(f"{name} = {v!r} is not in the materials database; known "
+                             f"{kind}s: {', '.join(known)}")
+    _check_name("speed", values.get("speed"), SPEED_FAMILIES)
+    _check_name("mode", values.get("mode"), MODES)
+    _check_name("drag_slip", values.get("drag_slip"), DRAG_SLIP_MODES)
+    _check_name("umf_method", values.get("umf_method"), umf_methods())
+    if not isinstance(values.get("body_forces"), bool | np.bool_):
+        raise ValueError(f"body_forces = {values.get('body_forces')!r} must be true or false")
+    ranges = {
+        "T": (0.0, None, True, "K"), "P": (0.0, None, True, "Pa"), "U": (0.0, None, False, "m/s"),
+        "U_Umf": (0.0, None, True, "-"), "eps": (0.0, 1.0, True, "-"),
+        "U_e_Umf": (0.0, None, False, "-"), "d_i": (0.0, None, True, "m"),
+        "d_j": (0.0, None, True, "m"), "h0": (0.0, None, False, "m"),
+        "h0_j": (0.0, None, False, "m"), "ha_i": (0.0, None, False, "m"),
+        "ha_j": (0.0, None, False, "m"), "e": (0.0, 1.0, False, "-"),
+        "theta_deg": (0.0, 90.0, False, "deg"), "beta_deg": (-90.0, 90.0, False, "deg"),
+        "u0": (0.0, None, True, "m/s"), "sigma_ln": (0.0, None, True, "-"),
+        "granular_temperature": (0.0, None, True, "m2/s2"),
+        "fluctuation_ratio": (0.0, None, True, "-"),
+    }
+    for name, (lo, hi, lo_open, unit) in ranges.items():
+        v = values.get(name)
+        if v is None:
+            continue
+        hi_open = name in ("eps", "theta_deg")
+        check_range(name, v, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
+    speed = values["speed"]
+    if speed in ("fixed", "lognormal") and values.get("u0") is None:
+        raise ValueError(f"speed = {speed!r} needs u0 [m/s] (the value, or the median)")
+    if speed == "maxwellian" and values.get("granular_temperature") is None:
+        raise ValueError("speed = 'maxwellian' needs granular_temperature [m2/s2]")
+
+
+def _on_unique(func, *arrays):
+    """Evaluate ``func`` on the unique rows of the broadcast ``arrays``; broadcast back.
+
+    ``func`` takes 1-D arrays and returns a tuple of 1-D arrays of the same length.
+    """
+    b = np.broadcast_arrays(*[np.asarray(a, dtype=float) for a in arrays])
+    shape = b[0].shape
+    stacked = np.stack([x.reshape(-1) for x in b], axis=1)
+    uniq, inverse = np.unique(stacked, axis=0, return_inverse=True)
+    out = func(*uniq.T)
+    inverse = inverse.reshape(-1)
+    return tuple(np.asarray(o)[inverse].reshape(shape) for o in out)
+
+
+def _compact(a):
+    """``a`` as an array whose size-1-everywhere-it-is-constant shape is kept."""
+    return np.asarray(a, dtype=float)
+
+
+class Resolved:
+    """Lazily derived numbers of a mapping of field values (arrays that broadcast)."""
+
+    def __init__(self, values: dict):
+        v = dict(values)
+        for name in CATEGORICAL_FIELDS:
+            if name in v and v[name] is not None:
+                v[name] = str(np.asarray(v[name]).reshape(-1)[0])
+        v["body_forces"] = bool(np.asarray(v["body_forces"]).reshape(-1)[0])
+        self.v = v
+
+    def num(self, name, default=None):
+        """A numeric field as a float array (``default`` when it is ``None``)."""
+        val = self.v.get(name)
+        if val is None:
+            return default
+        return _compact(val)
+
+    # --- materials --------------------------------------------------------------------
+    @cached_property
+    def solids(self):
+        si = materials.solid(self.v["solid_i"])
+        sj = materials.solid(self.v["solid_j"] or self.v["solid_i"])
+        return si, sj
+
+    @cached_property
+    def sources(self) -> dict:
+        """Where the materials came from: ``{"solid <name>": text, ...}`` (database entries
+        and, for the liquid and gas, the property models used)."""
+        si, sj = self.solids
+        _ = self._gas_arrays
+        name_l, name_g = self.v["liquid"], self.v["gas"]
+        return {
+            f"solid {si.name}": si.source,
+            f"solid {sj.name}": sj.source,
+            f"liquid {name_l}": f"{materials.liquid_entry(name_l).source} Models: "
+                                f"{self.liquid.source}",
+            f"gas {name_g}": f"{materials.gas(name_g).source} Models: {self._gas_source}",
+        }
+
+    # --- properties on unique (T, P) ---------------------------------------------------
+    @cached_property
+    def _gas_arrays(self):
+        src = {}
+
+        def f(T, P):
+            g = gas_properties(T, P, materials.gas(self.v["gas"]).composition)
+            src["s"] = g.source
+            return g.mu, g.rho
+
+        mu, rho = _on_unique(f, self.num("T"), self.num("P"))
+        self._gas_source = src["s"]
+        return mu, rho
+
+    @property
+    def mu_g(self):
+        return self._gas_arrays[0]
+
+    @property
+    def rho_g(self):
+        return self._gas_arrays[1]
+
+    @cached_property
+    def gas(self):
+        from .inputs import Gas
+
+        return Gas(mu=self.mu_g, rho=self.rho_g, name=self.v["gas"])
+
+    @cached_property
+    def liquid(self) -> Liquid:
+        entry = materials.liquid_entry(self.v["liquid"])
+        src = {}
+
+        def f(T, P):
+            liq = materials.liquid(self.v["liquid"], T=T, P=P)
+            src["s"] = liq.source
+            n = T.shape
+            return (np.broadcast_to(liq.mu, n), np.broadcast_to(liq.gamma, n),
+                    np.broadcast_to(liq.rho, n))
+
+        if entry.model == "fixed":
+            liq = materials.liquid(self.v["liquid"])
+            mu, gamma, rho, src["s"] = liq.mu, liq.gamma, liq.rho, liq.source
+        else:
+            mu, gamma, rho = _on_unique(f, self.num("T"), self.num("P"))
+        theta = self.num("theta_deg", entry.theta_deg)
+        return Liquid(mu=mu, gamma=gamma, rho=rho, theta_deg=theta, name=entry.name,
+                      source=src["s"])
+
+    # --- particles, fluidization, bed ----------------------------------------------------
+    @cached_property
+    def particles(self):
+        si, sj = self.solids
+        d_i = self.num("d_i")
+        d_j = self.num("d_j", d_i)
+        h0 = self.num("h0")
+        h0_j = self.num("h0_j", h0)
+        p_i = Particle(d=d_i, rho=si.density, h0=h0, ha=self.num("ha_i", si.asperity_height))
+        p_j = Particle(d=d_j, rho=sj.density, h0=h0_j, ha=self.num("ha_j", sj.asperity_height))
+        return p_i, p_j
+
+    @cached_property
+    def e(self):
+        si, sj = self.solids
+        return self.num("e", 0.5 * (si.restitution_dry + sj.restitution_dry))
+
+    @cached_property
+    def Umf(self):
+        """The larger ``U_mf`` of the two wet particles [m/s]."""
+        out = []
+        for p in self.particles:
+            d_wet = p.d + 2.0 * p.h0
+            vol = (math.pi / 6.0) * d_wet**3
+            rho_p = wet_mass(p, self.liquid.rho) / vol
+            out.append(umf(d_wet, rho_p, self.gas, self.v["umf_method"]))
+        return np.maximum(out[0], out[1])
+
+    @cached_property
+    def U_e(self):
+        return self.num("U_e_Umf") * self.Umf
+
+    @cached_property
+    def U(self):
+        U = self.num("U")
+        return self.num("U_Umf") * self.Umf if U is None else U * np.ones_like(self.Umf)
+
+    @cached_property
+    def bed(self) -> Bed:
+        return Bed(eps=self.num("eps"), U=self.U_e)
+
+    # --- speeds ------------------------------------------------------------------------
+    @cached_property
+    def speeds(self) -> SpeedModel:
+        family = self.v["speed"]
+        if family == "excess-gas":
+            excess = self.U - self.Umf
+            if np.any(excess <= 0.0):
+                bad = float(np.broadcast_to(self.U, excess.shape)[excess <= 0.0][0])
+                raise ValueError(
+                    f"U = {bad:g} m/s does not exceed U_mf: the excess-gas speed estimate "
+                    "needs a fluidized bed (U_Umf > 1 or U > U_mf), or give u0 or "
+                    "granular_temperature"
+                )
+            theta = (self.num("fluctuation_ratio") * excess) ** 2
+            return SpeedModel("maxwellian", granular_temperature=theta)
+        return SpeedModel(family, u0=self.num("u0"), sigma_ln=self.num("sigma_ln"),
+                          granular_temperature=self.num("granular_temperature"))
+
+    @property
+    def u_typical(self):
+        """Typical (median) impact speed [m/s]."""
+        return self.speeds.median()
+
+    # --- collisions ------------------------------------------------------------------
+    def _common(self):
+        p_i, p_j = self.particles
+        return dict(liquid=self.liquid, gas=self.gas, bed=self.bed,
+                    beta_deg=self.num("beta_deg"), e=self.e, mode=self.v["mode"],
+                    body_forces=self.v["body_forces"], drag_slip=self.v["drag_slip"])
+
+    def collide(self, u0, *, details: bool = False):
+        p_i, p_j = self.particles
+        return collide(p_i, p_j, u0=u0, details=details, **self._common())
+
+    @cached_property
+    def u_star(self):
+        """Critical impact speed ``u0*`` [m/s] (shape of the inputs it depends on)."""
+        p_i, p_j = self.particles
+        return critical_impact_speed(p_i, p_j, **self._common())
+
+    def stokes(self, u0):
+        """Viscous Stokes number of the pair at head-on speed ``u0`` [-]:
+        ``St = m_r w / (1.5 pi mu_l r^2)`` with the wet reduced mass ``m_r``, relative
+        speed ``w = 2 u0`` and harmonic radius ``r``; for identical particles it is the
+        paper's ``St = 2 m v0 / (3 pi mu_l r^2)`` (Eq. 77) with ``v0 = u0``."""
+        p_i, p_j = self.particles
+        m_i = wet_mass(p_i, self.liquid.rho)
+        m_j = wet_mass(p_j, self.liquid.rho)
+        m_r = m_i * m_j / (m_i + m_j)
+        r = 2.0 / (2.0 / p_i.d + 2.0 / p_j.d)
+        return m_r * 2.0 * u0 / (1.5 * math.pi * self.liquid.mu * r * r)
+
+
+def capillary_number(mu_l, gamma, u_star):
+    """Capillary number at the critical speed, ``Ca = mu_l (2 u0*) / gamma`` [-], as the
+    paper evaluates it (Section 3.1: 8.3e-4 for case I, 31.9 for case II); ``inf`` where
+    ``u0* = inf``."""
+    return mu_l * 2.0 * u_star / gamma
+
+
+def evaluate(values: dict, *, nodes: int = 16, u_star=None) -> dict:
+    """Every derived number of a scene (or a block of a grid of scenes).
+
+    Parameters
+    ----------
+    values : dict
+        Field values (see :class:`Scene`); numeric fields may be arrays that broadcast.
+    nodes : int
+        Quadrature nodes of the impact-speed distribution (see
+        :func:`agglomtool.maps.speeds.sticking_probability`).
+    u_star : array, optional
+        ``u0*`` [m/s] if already known (it is then not recomputed).
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``mu_g`` [Pa s], ``rho_g`` [kg/m3], ``mu_l`` [Pa s], ``gamma_l`` [N/m], ``rho_l``
+        [kg/m3], ``Umf``, ``U``, ``U_e``, ``u_typical``, ``u_star`` [m/s], ``Ca_star``,
+        ``regime`` (0 capillary-, 1 viscous-limited), ``St``, ``e_w``, ``agglomerated``,
+        ``stage``, ``propensity``, ``margin`` [-].
+    """
+    r = Resolved(values)
+    out = critical_outputs(r, u_star)
+    out.update(collision_outputs(r, out["u_star"], nodes))
+    out.update(property_outputs(r))
+    return out
+
+
+def property_outputs(r: Resolved) -> dict:
+    """Gas and liquid properties, ``U_mf`` and the emulsion velocity."""
+    return {"mu_g": r.mu_g, "rho_g": r.rho_g, "mu_l": r.liquid.mu, "gamma_l": r.liquid.gamma,
+            "rho_l": r.liquid.rho, "Umf": r.Umf, "U_e": r.U_e}
+
+
+def critical_outputs(r: Resolved, u_star=None) -> dict:
+    """``u0*``, the capillary number at ``u0*`` and the regime it implies."""
+    us = r.u_star if u_star is None else np.asarray(u_star, dtype=float)
+    ca = capillary_number(r.liquid.mu, r.liquid.gamma, us)
+    regime = np.where(ca > CA_VISCOUS, 1, 0).astype(np.int8)
+    return {"u_star": us, "Ca_star": ca, "regime": regime}
+
+
+def collision_outputs(r: Resolved, u_star, nodes: int) -> dict:
+    """Outcome at the typical speed, Stokes number, propensity and margin."""
+    u_typ = r.u_typical
+    res = r.collide(u_typ)
+    shape = res.e_w.shape
+    prop = sticking_probability(r.speeds, u_star, r.collide, nodes=nodes, shape=shape)
+    with np.errstate(divide="ignore"):
+        margin = np.where(np.isinf(u_star), 0.0, u_typ / u_star)
+    b = np.broadcast_to
+    return {
+        "u_typical": b(u_typ, shape), "U": b(r.U, shape), "e_w": res.e_w,
+        "agglomerated": res.agglomerated, "stage": res.stage,
+        "St": b(r.stokes(u_typ), shape), "propensity": b(prop, shape),
+        "margin": b(margin, shape),
+    }
