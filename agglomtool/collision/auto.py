@@ -33,7 +33,8 @@ speeds from 0.3 to 30 times its "ode" critical speed (9300 collisions). Measured
 ``|e_w(relative) - e_w(ode)| / g`` over the rebounds with ``g < 0.1`` was 0.119 (bins of
 ``g`` from 1e-6 to 0.1 all gave 0.118-0.119; above ``g = 0.1`` up to 0.73); the largest
 ratio of the critical speeds ``u*(relative) / u*(ode)`` was 1.036; the integrator at
-``rtol = 1e-6`` differed from ``rtol = 1e-10`` by at most 5.2e-5 in ``e_w``. The constants
+``rtol = 1e-5`` and ``1e-6`` differed from ``rtol = 1e-10`` by at most 5.4e-4 and 5.2e-5
+in ``e_w``. The constants
 below add a safety factor to each.
 """
 
@@ -69,8 +70,11 @@ STICK_MARGIN = 1.10
 #: Default tolerance in ``e_w`` [-].
 DEFAULT_TOL = 0.01
 #: Integration tolerance of the "ode" tier inside "auto" per unit ``tol`` (measured error of
-#: "ode" about 50 ``rtol``: at ``tol = 0.01``, ``rtol = 1e-6`` and an error below 1e-4).
-ODE_RTOL_PER_TOL = 1e-4
+#: "ode" at most 55 ``rtol`` for rtol 1e-5 and 1e-6: at ``tol = 0.01``, ``rtol = 1e-5`` and
+#: an error below 6e-4).
+ODE_RTOL_PER_TOL = 1e-3
+#: Error bound of "ode" in ``e_w`` per unit ``rtol`` (measured 54, see above).
+ODE_ERROR_PER_RTOL = 60.0
 #: Codes of the tier used per collision.
 TIER_RELATIVE, TIER_ODE = 1, 2
 
@@ -165,12 +169,12 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     _choose(*args, tol, e_w, stage, path, tier, bound, det)
     idx = np.flatnonzero(tier == TIER_ODE)
     if idx.size:
-        rtol = min(1e-6, ODE_RTOL_PER_TOL * tol)
+        rtol = min(1e-5, ODE_RTOL_PER_TOL * tol)
         sub = [np.ascontiguousarray(a[idx]) for a in args]
         e_o, st_o, pa_o, det_o, _ = ode_batch(*sub, details=details, rtol=rtol,
                                               atol=1e-2 * rtol)
         e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
-        bound[idx] = 50.0 * rtol
+        bound[idx] = ODE_ERROR_PER_RTOL * rtol
         if details:
             det[idx] = det_o
     if not details:

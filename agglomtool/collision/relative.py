@@ -91,8 +91,10 @@ def reduced_mass(m_i, m_j):
         return m_i, 0.0, 1.0
     if math.isinf(m_i):
         return m_j, 1.0, 0.0
+    # Both fractions divided out directly: 1 - frac_i would cancel at extreme mass ratios.
     frac_i = m_i / (m_i + m_j)
-    return m_i * (1.0 - frac_i), frac_i, 1.0 - frac_i
+    frac_j = m_j / (m_i + m_j)
+    return m_i * frac_j, frac_i, frac_j
 
 
 @njit(cache=True)
