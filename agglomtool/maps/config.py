@@ -1,0 +1,149 @@
+"""Map configurations in TOML: a scene, a grid and options.
+
+Example::
+
+    [scene]                      # any Scene field; SI units (T in K, h0 in m)
+    liquid = "k-silicate-ash-melt"
+    d_i = 500e-6
+
+    [grid]                       # one dimension per key, in this order
+    T = { start = 1073.15, stop = 1473.15, num = 41 }          # evenly spaced
+    h0 = { start = 0.12e-6, stop = 10e-6, num = 41, log = true } # evenly spaced in log
+    U_Umf = [2.0, 4.0, 8.0]                                     # explicit values
+    solid_j = ["silica-sand", "ilmenite"]                       # names
+
+    [options]
+    nodes = 16                   # quadrature nodes of the speed distribution
+    chunks = "auto"              # or a number of points per block
+
+Every error names the file, the table and the key.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from ..scene import CATEGORICAL_FIELDS, Scene, field_names
+
+__all__ = ["ConfigError", "MapConfig", "load_config", "parse_config"]
+
+
+class ConfigError(ValueError):
+    """A map configuration is malformed; the message names the key."""
+
+
+class MapConfig:
+    """A parsed configuration: ``scene`` (Scene), ``grid`` (dict), ``options`` (dict)."""
+
+    def __init__(self, scene: Scene, grid: dict, options: dict):
+        self.scene, self.grid, self.options = scene, grid, options
+
+
+def _axis(where: str, value):
+    if isinstance(value, list):
+        if not value:
+            raise ConfigError(f"{where}: the list of values is empty")
+        if all(isinstance(v, str) for v in value):
+            return list(value)
+        if all(isinstance(v, int | float) and not isinstance(v, bool) for v in value):
+            return np.asarray(value, dtype=float)
+        raise ConfigError(f"{where}: values must be all numbers or all names, got {value!r}")
+    if isinstance(value, dict):
+        unknown = sorted(set(value) - {"start", "stop", "num", "log"})
+        if unknown:
+            raise ConfigError(f"{where}: unknown key {unknown[0]!r}; a range takes start, "
+                              "stop, num and optionally log")
+        for k in ("start", "stop", "num"):
+            if k not in value:
+                raise ConfigError(f"{where}: a range needs {k!r}")
+            if not isinstance(value[k], int | float) or isinstance(value[k], bool):
+                raise ConfigError(f"{where}.{k}: must be a number, got {value[k]!r}")
+        num = value["num"]
+        if not isinstance(num, int) or num < 1:
+            raise ConfigError(f"{where}.num: must be an integer >= 1, got {num!r}")
+        log = value.get("log", False)
+        if not isinstance(log, bool):
+            raise ConfigError(f"{where}.log: must be true or false, got {log!r}")
+        start, stop = float(value["start"]), float(value["stop"])
+        if log:
+            if start <= 0.0 or stop <= 0.0:
+                raise ConfigError(f"{where}: log = true needs start and stop > 0")
+            return np.geomspace(start, stop, num)
+        return np.linspace(start, stop, num)
+    if isinstance(value, int | float | str) and not isinstance(value, bool):
+        return [value] if isinstance(value, str) else np.asarray([float(value)])
+    raise ConfigError(f"{where}: must be a list of values or a table start/stop/num, "
+                      f"got {value!r}")
+
+
+def parse_config(data: dict, source: str = "config") -> MapConfig:
+    """Build a :class:`MapConfig` from a parsed TOML mapping."""
+    unknown = sorted(set(data) - {"scene", "grid", "options"})
+    if unknown:
+        raise ConfigError(f"{source}: unknown table [{unknown[0]}]; allowed: [scene], [grid], "
+                          "[options]")
+    fields = field_names()
+    scene_data = data.get("scene", {})
+    if not isinstance(scene_data, dict):
+        raise ConfigError(f"{source}: [scene] must be a table of field = value")
+    for key, value in scene_data.items():
+        if key not in fields:
+            raise ConfigError(f"{source}: [scene] {key}: not a Scene field; fields: "
+                              f"{', '.join(fields)}")
+        if isinstance(value, list | dict):
+            raise ConfigError(f"{source}: [scene] {key}: must be a single value; put ranges "
+                              "in [grid]")
+    try:
+        scene = Scene(**scene_data)
+    except (ValueError, TypeError) as exc:
+        raise ConfigError(f"{source}: [scene]: {exc}") from None
+    grid_data = data.get("grid", {})
+    if not isinstance(grid_data, dict) or not grid_data:
+        raise ConfigError(f"{source}: [grid] must hold at least one field = values")
+    grid = {}
+    for key, value in grid_data.items():
+        where = f"{source}: [grid] {key}"
+        if key not in fields:
+            raise ConfigError(f"{where}: not a Scene field; fields: {', '.join(fields)}")
+        axis = _axis(where, value)
+        if key in CATEGORICAL_FIELDS and not isinstance(axis, list):
+            raise ConfigError(f"{where}: {key} takes names, e.g. [\"silica-sand\"]")
+        if key not in CATEGORICAL_FIELDS and isinstance(axis, list):
+            raise ConfigError(f"{where}: {key} takes numbers")
+        grid[key] = axis
+    opts = dict(data.get("options", {}))
+    unknown = sorted(set(opts) - {"nodes", "chunks"})
+    if unknown:
+        raise ConfigError(f"{source}: [options] {unknown[0]}: unknown; allowed: nodes, chunks")
+    nodes = opts.get("nodes", 16)
+    if not isinstance(nodes, int) or isinstance(nodes, bool) or nodes < 1:
+        raise ConfigError(f"{source}: [options] nodes: must be an integer >= 1, got {nodes!r}")
+    chunks = opts.get("chunks", "auto")
+    if chunks != "auto" and (not isinstance(chunks, int) or chunks < 1):
+        raise ConfigError(f"{source}: [options] chunks: must be \"auto\" or an integer >= 1, "
+                          f"got {chunks!r}")
+    # Validate the grid against the scene now, so the error names the key.
+    from .grid import _grid_values
+
+    for key, axis in grid.items():
+        try:
+            _grid_values(scene, {key: axis})
+        except ValueError as exc:
+            raise ConfigError(f"{source}: [grid] {key}: {exc}") from None
+    return MapConfig(scene, grid, {"nodes": nodes, "chunks": chunks})
+
+
+def load_config(path) -> MapConfig:
+    """Read and validate a map configuration file (TOML)."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError:
+        raise ConfigError(f"{path}: no such file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
+    return parse_config(data, str(path))
