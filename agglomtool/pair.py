@@ -81,8 +81,11 @@ def emulsion_velocity(p_i, p_j, liquid, gas, bed) -> np.ndarray:
     for p in (p_i, p_j):
         vol, d_wet = _wet_volume_and_diameter(p)
         plate = np.isinf(p.d)
-        d_f = np.where(plate, 1.0, d_wet)
-        rho_p = np.where(plate, 1.0, wet_mass(p, liquid.rho) / np.where(plate, 1.0, vol))
+        # A plate has no Umf: finite stand-ins (1 mm, 1000 x the gas density) keep the
+        # arithmetic clean, and its value is replaced by 0 below.
+        d_f = np.where(plate, 1e-3, d_wet)
+        mass = np.where(plate, 1.0, wet_mass(p, liquid.rho))
+        rho_p = np.where(plate, 1e3 * gas.rho, mass / np.where(plate, 1.0, vol))
         umf = umf_wen_yu(d_f, rho_p, gas.mu, gas.rho)
         umfs.append(np.where(plate, 0.0, umf))
     return 1.1 * np.maximum(umfs[0], umfs[1])

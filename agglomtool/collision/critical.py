@@ -30,9 +30,10 @@ def viscous_lower_bound(m_i, m_j, r, H0, Ha, mu_l):
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
     delta = ln_f_array(H0, a2) - ln_f_array(Ha, a2)
-    m_r = np.where(
-        np.isinf(m_j), m_i, np.where(np.isinf(m_i), m_j, m_i * (m_j / (m_i + m_j)))
-    )
+    plate_i, plate_j = np.isinf(m_i), np.isinf(m_j)
+    # Finite stand-ins where a plate sits, so that no inf/inf is ever formed.
+    mi_f, mj_f = np.where(plate_i, 1.0, m_i), np.where(plate_j, 1.0, m_j)
+    m_r = np.where(plate_j, m_i, np.where(plate_i, m_j, mi_f * (mj_f / (mi_f + mj_f))))
     return c * delta / m_r
 
 
