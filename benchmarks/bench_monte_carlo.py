@@ -42,7 +42,8 @@ def report(label, n, seconds):
 
 def main() -> None:
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
-          f"numba threads {numba.get_num_threads()}, numpy {np.__version__}")
+          f"numba threads {numba.get_num_threads()}, numpy {np.__version__}, "
+          f"load average {os.getloadavg()[0]:.2f} (other processes slow these figures)")
     for case in ("water", "slag"):
         kw = table4_case(case, 0.52)
         print(f"\n{case}, Table 4 reference sds, n = {N:,}, mode = 'paper'")
