@@ -14,16 +14,19 @@ def _first_bad(arr: np.ndarray, bad: np.ndarray) -> float:
     return float(np.broadcast_to(arr, bad.shape)[bad].flat[0])
 
 
-def as_float_array(name: str, value) -> np.ndarray:
-    """Convert ``value`` to a float64 array; reject NaN and non-numeric input."""
+def as_float_array(name: str, value, allowed: str = "finite numbers") -> np.ndarray:
+    """Convert ``value`` to a float64 array; reject NaN and non-numeric input, naming the
+    field, the value and the ``allowed`` range in the message."""
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be a number or an array of numbers, got {value!r}") from exc
+        raise ValueError(
+            f"{name} = {value!r} is not a number or an array of numbers; allowed: {allowed}"
+        ) from exc
     nan = np.isnan(arr)
     if nan.any():
         where = "" if arr.ndim == 0 else f" at index {tuple(int(i) for i in np.argwhere(nan)[0])}"
-        raise ValueError(f"{name} is NaN{where}; a finite number is required")
+        raise ValueError(f"{name} = nan{where} is outside the allowed range {allowed}")
     return arr
 
 
@@ -43,12 +46,12 @@ def check_range(
     ``lo_open`` / ``hi_open`` make the bound strict. ``+inf`` is refused unless
     ``allow_inf`` (a plate's diameter, say); ``-inf`` is always refused.
     """
-    arr = as_float_array(name, value)
     lo_s = "-inf" if lo is None else f"{lo:g}"
     hi_s = "inf" if hi is None else f"{hi:g}"
     rng = f"{'(' if lo_open else '['}{lo_s}, {hi_s}{')' if hi_open or hi is None else ']'}"
     if unit:
         rng += f" {unit}"
+    arr = as_float_array(name, value, rng)
     bad = np.zeros(arr.shape, dtype=bool)
     if lo is not None:
         bad |= (arr <= lo) if lo_open else (arr < lo)

@@ -17,7 +17,7 @@ from .collision.outcome import (
 )
 from .collision.tiers import evaluate, mode_names
 from .inputs import Bed, Gas, Liquid, Particle
-from .pair import PairState, flatten, prepare_pair
+from .pair import PairState, check_pair, flatten, prepare_pair
 
 __all__ = ["CollisionResult", "collide", "critical_impact_speed", "MODES"]
 
@@ -62,8 +62,15 @@ class CollisionResult:
         """Stage names as strings (e.g. ``"rebound"``, ``"approach_viscous"``)."""
         return stage_names(self.stage)
 
-    def explain(self, index=()) -> str:
-        """A short readable account of one collision (``index`` into the result arrays)."""
+    def explain(self, index=None) -> str:
+        """A short readable account of one collision (``index`` into the result arrays;
+        may be omitted when the result holds one collision)."""
+        if index is None:
+            if np.size(self.e_w) != 1:
+                raise ValueError(
+                    f"index is required: this result holds {np.size(self.e_w)} collisions"
+                )
+            index = (0,) * np.ndim(self.e_w)
         st = Stage(int(np.asarray(self.stage)[index]))
         flags = path_names(int(np.asarray(self.path)[index]))
         ew = float(np.asarray(self.e_w)[index])
@@ -110,7 +117,9 @@ def _lab_speeds(p_i: Particle, p_j: Particle, u0, u0_j):
             "allowed range (0, inf); e_w is defined for approaching pairs only"
         )
     if np.any(np.isinf(w)):
-        raise ValueError("u0 and u0_j must be finite")
+        raise ValueError(
+            "u0 = inf (or u0_j = inf) is outside the allowed range: finite speeds [m/s]"
+        )
     return u_i, u_j, w
 
 
@@ -191,6 +200,7 @@ def collide(
     """
     _check_mode(mode)
     bed = Bed() if bed is None else bed
+    check_pair(p_i, p_j)
     u_i, u_j, w = _lab_speeds(p_i, p_j, u0, u0_j)
     state = prepare_pair(
         p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip, u_i=u_i, u_j=u_j

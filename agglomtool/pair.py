@@ -115,6 +115,14 @@ def body_force_vector(p: Particle, m, liquid, gas, bed, U_e, u_vec, drag_slip):
     return f_y, f_z
 
 
+def check_pair(p_i, p_j) -> None:
+    """Both are Particles, and at most one of them is a plate."""
+    if not isinstance(p_i, Particle) or not isinstance(p_j, Particle):
+        raise ValueError("p_i and p_j must be agglomtool.Particle instances")
+    if np.any(np.isinf(p_i.d) & np.isinf(p_j.d)):
+        raise ValueError("p_i and p_j are both plates (d = inf); at most one may be")
+
+
 def prepare_pair(
     p_i: Particle,
     p_j: Particle,
@@ -133,13 +141,9 @@ def prepare_pair(
     ``u_i``, ``u_j`` (lab speeds towards each other [m/s]) are needed only with
     ``drag_slip="particle"``, where the drag depends on them.
     """
-    if not isinstance(p_i, Particle) or not isinstance(p_j, Particle):
-        raise ValueError("p_i and p_j must be agglomtool.Particle instances")
+    check_pair(p_i, p_j)
     if drag_slip not in DRAG_SLIP_MODES:
         raise ValueError(f"drag_slip = {drag_slip!r} is not one of {DRAG_SLIP_MODES}")
-    both = np.isinf(p_i.d) & np.isinf(p_j.d)
-    if np.any(both):
-        raise ValueError("p_i and p_j are both plates (d = inf); at most one may be")
     e = check_range("e", e, 0.0, 1.0, unit="-")
     beta = np.deg2rad(as_float_array("beta_deg", beta_deg))
     cos_b, sin_b = np.cos(beta), np.sin(beta)
@@ -152,7 +156,7 @@ def prepare_pair(
     U_e = emulsion_velocity(p_i, p_j, liquid, gas, bed)
 
     if body_forces:
-        zero = np.zeros(1)
+        zero = np.zeros(())
         ui = zero if u_i is None else u_i
         uj = zero if u_j is None else u_j
         # Lab velocity vectors: i moves along +n at u_i, j along -n at u_j.
@@ -165,7 +169,7 @@ def prepare_pair(
         fn_i = fy_i * cos_b + fz_i * sin_b  # Eq. 118 with m_ij,app = n_ij
         fn_j = fy_j * cos_b + fz_j * sin_b  # projected on n; the kernel flips signs per stage
     else:
-        fn_i = fn_j = np.zeros(1)
+        fn_i = fn_j = np.zeros(np.shape(beta))  # keeps beta's shape in the broadcast
 
     plate_any = np.isinf(p_i.d) | np.isinf(p_j.d)
     w_per_u0 = np.where(plate_any, 1.0, 2.0)

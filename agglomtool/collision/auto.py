@@ -45,7 +45,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .bridge import g_diff, ln_f
+from .bridge import g_diff, ln_f_diff
 from .ode import ode_batch
 from .outcome import DETAIL_NAMES
 from .relative import reduced_mass, relative_body_force, relative_kernel
@@ -104,15 +104,14 @@ def closed_form_indicator(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_
     kcap = 2.0 * math.pi * gamma * r * cos_t
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
     k0 = 0.5 * m_r * w * w
-    lnf_ha = ln_f(Ha, a2)
-    c_delta = c * (ln_f(H0, a2) - lnf_ha)
+    c_delta = c * -ln_f_diff(H0, Ha, a2)
     w_end = w - c_delta / m_r
     work = abs(kcap * g_diff(H0, Ha, a2))
     eta = c_delta / (m_r * w_end) * (work + abs(f_b) * (H0 - Ha))
     h_rupt = det[_H_RUPT]
     w_s = e * det[_W_CONTACT]
     if h_rupt > Ha:
-        c_delta = c * (ln_f(h_rupt, a2) - lnf_ha)
+        c_delta = c * ln_f_diff(Ha, h_rupt, a2)
         w_end = w_s - c_delta / m_r
         work = abs(kcap * g_diff(Ha, h_rupt, a2))
         eta += c_delta / (m_r * w_end) * (work + abs(f_b) * (h_rupt - Ha))

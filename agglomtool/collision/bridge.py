@@ -14,7 +14,17 @@ import math
 
 from numba import njit, vectorize
 
-__all__ = ["ln_f", "ln_f_array", "g_diff", "rupture_distance", "bridge_volume"]
+_LN4 = math.log(4.0)
+
+__all__ = [
+    "ln_f",
+    "ln_f_diff",
+    "ln_f_array",
+    "ln_f_diff_array",
+    "g_diff",
+    "rupture_distance",
+    "bridge_volume",
+]
 
 
 @njit(cache=True)
@@ -22,14 +32,49 @@ def ln_f(D, a2):
     """``ln f(D)`` of the distance function of Eq. 76 [-].
 
     ``f(D) = D s / (D + s)^2`` with ``s = sqrt(D^2 + a^2)``; evaluated as
-    ``ln D + ln s - 2 ln(D + s)`` so that nothing underflows. ``d ln f / dD = X_v^2 / D``,
+    ``ln D + ln s - 2 ln(D + s)`` so that nothing underflows, or, where ``D >> a``, as
+    ``log1p(-q^2) - ln 4`` with ``q = a^2 / (D + s)^2`` (the same number, exactly), so that
+    differences of ``ln f`` keep their digits. ``d ln f / dD = X_v^2 / D``,
     which makes the viscous work a difference of ``ln f``. ``D <= 0`` gives ``-inf``
     (the lubrication singularity: an infinite viscous loss).
     """
     if D <= 0.0:
         return -math.inf
     s = math.sqrt(D * D + a2)
+    # With q = a^2 / (D + s)^2, exactly f = (1 - q^2) / 4. Where D >> a the three logs
+    # below all approach constants and a difference of two ln f values would lose every
+    # digit; log1p keeps them.
+    q = a2 / ((D + s) * (D + s))
+    if q < 0.5:
+        return math.log1p(-q * q) - _LN4
     return math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+
+
+@njit(cache=True)
+def _ln_f_parts(D, a2):
+    """``(kind, value)``: kind 1 when ``ln f = value - ln 4`` (the log1p form), else 0 and
+    ``ln f = value``."""
+    if D <= 0.0:
+        return 0, -math.inf
+    s = math.sqrt(D * D + a2)
+    q = a2 / ((D + s) * (D + s))
+    if q < 0.5:
+        return 1, math.log1p(-q * q)
+    return 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+
+
+@njit(cache=True)
+def ln_f_diff(D1, D2, a2):
+    """``ln f(D2) - ln f(D1)`` [-], keeping its digits where both gaps are ``>> a``.
+
+    There ``ln f`` is ``-ln 4`` plus a tiny ``log1p`` term, and subtracting two full values
+    would lose every digit of that term; the constant is cancelled exactly instead. This is
+    the ``Delta`` of every viscous loss (Eqs. 72-75, 88-97). ``D1`` or ``D2`` of 0 gives an
+    infinite difference.
+    """
+    k1, v1 = _ln_f_parts(D1, a2)
+    k2, v2 = _ln_f_parts(D2, a2)
+    return (v2 - v1) + (k1 - k2) * _LN4
 
 
 @njit(cache=True)
@@ -64,3 +109,8 @@ def rupture_distance(theta, capillary_number, volume):
 
 #: :func:`ln_f` as a numpy ufunc, for array code outside the kernels.
 ln_f_array = vectorize(["float64(float64, float64)"], cache=True)(ln_f.py_func)
+
+#: :func:`ln_f_diff` as a numpy ufunc.
+ln_f_diff_array = vectorize(["float64(float64, float64, float64)"], cache=True)(
+    ln_f_diff.py_func
+)

@@ -10,14 +10,16 @@ import math
 
 import numpy as np
 
-from .bridge import ln_f_array
+from .bridge import ln_f_diff_array
 
 __all__ = ["first_rebound_speed", "viscous_lower_bound"]
 
 #: Geometric points scanned inside the first doubling that rebounds.
 FINE_POINTS = 16
-#: Doublings tried before a pair is declared never to rebound (a factor 2^200).
-MAX_DOUBLINGS = 200
+#: Smallest relative speed the search starts from [m/s] (the smallest normal double).
+MIN_SPEED = float(np.finfo(float).tiny)
+#: Doublings tried before a pair is declared never to rebound: 2^2100 spans every double.
+MAX_DOUBLINGS = 2100
 
 
 def viscous_lower_bound(m_i, m_j, r, H0, Ha, mu_l):
@@ -29,7 +31,7 @@ def viscous_lower_bound(m_i, m_j, r, H0, Ha, mu_l):
     """
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
-    delta = ln_f_array(H0, a2) - ln_f_array(Ha, a2)
+    delta = -ln_f_diff_array(H0, Ha, a2)
     plate_i, plate_j = np.isinf(m_i), np.isinf(m_j)
     # Finite stand-ins where a plate sits, so that no inf/inf is ever formed.
     mi_f, mj_f = np.where(plate_i, 1.0, m_i), np.where(plate_j, 1.0, m_j)
@@ -60,7 +62,10 @@ def first_rebound_speed(state, sticks, rtol):
     # 1. Double from the viscous bound (which sticks) until a rebound.
     w_lo = viscous_lower_bound(m_i[active], m_j[active], r[active], H0[active], Ha[active],
                                mu_l[active])
-    hi = w_lo.copy()
+    # Start from the bound itself, however small (a bridge barely thicker than the
+    # asperities can rebound at any practical speed); where H0 and Ha differ only by rounding
+    # the bound can be exactly 0, and the smallest normal double stands in.
+    hi = np.maximum(w_lo, MIN_SPEED)
     pending = np.arange(active.size)
     for _ in range(MAX_DOUBLINGS):
         if pending.size == 0:
@@ -92,7 +97,7 @@ def first_rebound_speed(state, sticks, rtol):
     for _ in range(64):
         if np.all(hi - lo <= rtol * hi):
             break
-        mid = np.sqrt(lo * hi)
+        mid = np.sqrt(lo) * np.sqrt(hi)  # no underflow of lo * hi at tiny speeds
         s = sticks(mid, active)
         lo = np.where(s, mid, lo)
         hi = np.where(s, hi, mid)

@@ -40,7 +40,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .bridge import bridge_volume, g_diff, ln_f, rupture_distance
+from .bridge import bridge_volume, g_diff, ln_f_diff, rupture_distance
 from .outcome import DETAIL_NAMES, Path, Stage
 
 __all__ = ["paper_kernel", "run_paper"]
@@ -92,7 +92,7 @@ def _viscous_loss(v, m, c_delta):
 
 
 @njit(cache=True)
-def _running_energy(D, d_start, lnf_start, k, share, v, m, force, c, kcap, a2):
+def _running_energy(D, d_start, k, share, v, m, force, c, kcap, a2):
     """Energy left [J] to a particle at gap ``D`` of a stage that began at ``d_start``, both
     particles moving (Eqs. 136-139 and their separation mirror).
 
@@ -100,12 +100,12 @@ def _running_energy(D, d_start, lnf_start, k, share, v, m, force, c, kcap, a2):
     projected on its direction of motion relative to the partner (Eqs. 118-119, 124-125).
     """
     cap = share * kcap * g_diff(d_start, D, a2)
-    vis = _viscous_loss(v, m, c * abs(ln_f(D, a2) - lnf_start))
+    vis = _viscous_loss(v, m, c * abs(ln_f_diff(d_start, D, a2)))
     return k - cap - vis + force * share * abs(D - d_start)
 
 
 @njit(cache=True)
-def _first_zero(d_start, d_end, lnf_start, k, share, v, m, force, c, kcap, a2):
+def _first_zero(d_start, d_end, k, share, v, m, force, c, kcap, a2):
     """The gap between ``d_start`` and ``d_end`` nearest ``d_start`` where the running energy
     of :func:`_running_energy` first reaches zero (Eq. 136).
 
@@ -117,11 +117,11 @@ def _first_zero(d_start, d_end, lnf_start, k, share, v, m, force, c, kcap, a2):
     ratio = (d_end / d_start) ** (1.0 / SCAN_POINTS)
     lo, f_lo = d_start, k  # energy > 0 here
     hi = d_end  # energy <= 0 here
-    f_hi = _running_energy(d_end, d_start, lnf_start, k, share, v, m, force, c, kcap, a2)
+    f_hi = _running_energy(d_end, d_start, k, share, v, m, force, c, kcap, a2)
     d = d_start
     for _ in range(SCAN_POINTS - 1):
         d = d * ratio
-        f_d = _running_energy(d, d_start, lnf_start, k, share, v, m, force, c, kcap, a2)
+        f_d = _running_energy(d, d_start, k, share, v, m, force, c, kcap, a2)
         if f_d <= 0.0:
             hi, f_hi = d, f_d
             break
@@ -133,7 +133,7 @@ def _first_zero(d_start, d_end, lnf_start, k, share, v, m, force, c, kcap, a2):
         x = hi - f_hi * (hi - lo) / (f_hi - f_lo)
         if not (min(lo, hi) < x < max(lo, hi)):
             x = 0.5 * (lo + hi)
-        f_x = _running_energy(x, d_start, lnf_start, k, share, v, m, force, c, kcap, a2)
+        f_x = _running_energy(x, d_start, k, share, v, m, force, c, kcap, a2)
         if f_x <= 0.0:
             hi, f_hi = x, f_x
             if side == -1:
@@ -160,9 +160,7 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
     (both moving over the whole stage).
     """
     nan = math.nan
-    lnf_start = ln_f(d_start, a2)
-    lnf_end = ln_f(d_end, a2)
-    c_delta = c * abs(lnf_end - lnf_start)
+    c_delta = c * abs(ln_f_diff(d_start, d_end, a2))
     dist = abs(d_end - d_start)
     share_i = v_i / (v_i + v_j)
     share_j = v_j / (v_i + v_j)
@@ -191,23 +189,20 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
         # Zero CM speed from the start (a plate): it never moves, the other takes every loss.
         d_stop = d_start
     else:
-        d_stop = _first_zero(
-            d_start, d_end, lnf_start, k_x, share_x, v_x, m_x, f_x, c, kcap, a2
-        )
-    lnf_stop = ln_f(d_stop, a2)
+        d_stop = _first_zero(d_start, d_end, k_x, share_x, v_x, m_x, f_x, c, kcap, a2)
     dist_1 = abs(d_stop - d_start)
     dist_2 = abs(d_end - d_stop)
     # Eqs. 39-42, 140-142 (Eq. 142 with particle j's own share, MODEL.md section 4).
     k_mid = (
         k_y
         - (share_y * kcap * g_diff(d_start, d_stop, a2) + kcap * g_diff(d_stop, d_end, a2))
-        - _viscous_loss(v_y, m_y, c * abs(lnf_stop - lnf_start))
+        - _viscous_loss(v_y, m_y, c * abs(ln_f_diff(d_start, d_stop, a2)))
         + f_y * (share_y * dist_1 + dist_2)
     )
     if k_mid <= 0.0:
         return 3, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
     v_mid = math.sqrt(2.0 * k_mid / m_y)  # Eqs. 40-41
-    c_delta_2 = c * abs(lnf_end - lnf_stop)
+    c_delta_2 = c * abs(ln_f_diff(d_stop, d_end, a2))
     if not c_delta_2 < m_y * v_mid:  # Eq. 144
         return 4, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
     k_end_y = k_mid - _viscous_loss(v_mid, m_y, c_delta_2)  # Eqs. 37b, 145

@@ -41,7 +41,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .bridge import bridge_volume, g_diff, ln_f, rupture_distance
+from .bridge import bridge_volume, g_diff, ln_f, ln_f_diff, rupture_distance
 from .outcome import DETAIL_NAMES, Path, Stage
 from .paper import _viscous_loss
 
@@ -169,9 +169,7 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
         det[_ST_APP] = m_r * w / c
 
     # ---- approach, H0 -> Ha
-    lnf_h0 = ln_f(H0, a2)
-    lnf_ha = ln_f(Ha, a2)
-    c_delta = c * (lnf_h0 - lnf_ha)
+    c_delta = c * -ln_f_diff(H0, Ha, a2)
     l_cap = kcap * g_diff(H0, Ha, a2)
     l_bdw = -f_b * (H0 - Ha)
     stage = _REBOUND
@@ -215,7 +213,7 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
                     path |= _P_BROKEN
                     k_end = k_s
                 else:
-                    c_delta = c * (ln_f(h_rupt, a2) - lnf_ha)
+                    c_delta = c * ln_f_diff(Ha, h_rupt, a2)
                     l_cap = kcap * g_diff(Ha, h_rupt, a2)
                     l_bdw = f_b * (h_rupt - Ha)
                     k_end = 0.0
