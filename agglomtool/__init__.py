@@ -8,12 +8,22 @@ from . import examples, materials
 from .api import MODES, CollisionResult, collide, critical_impact_speed
 from .collision.outcome import Path, Stage
 from .inputs import Bed, Gas, Liquid, Particle
+from .maps.grid import sweep
 from .properties import gas_properties, umf
+from .scene import Scene
+from .uncertainty import LogNormal, Normal, Uniform, monte_carlo, sobol_indices
 
 __version__ = "0.1.0"
 
 __all__ = [
     "Bed",
+    "LogNormal",
+    "Normal",
+    "Scene",
+    "Uniform",
+    "monte_carlo",
+    "sobol_indices",
+    "sweep",
     "CollisionResult",
     "Gas",
     "Liquid",
