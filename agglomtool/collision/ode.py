@@ -47,8 +47,40 @@ from functools import partial
 import numpy as np
 from numba import njit, prange
 
+from ._codes import (
+    APP_EN,
+    APP_VIS,
+    CA,
+    CONTACT,
+    H_RUPT,
+    K_APP_I,
+    K_APP_J,
+    K_FIN_I,
+    K_FIN_J,
+    K_INI_I,
+    K_INI_J,
+    K_SEP_I,
+    K_SEP_J,
+    L_BDW_APP_I,
+    L_BDW_APP_J,
+    L_BDW_SEP_I,
+    L_BDW_SEP_J,
+    L_C,
+    L_CAP_APP,
+    L_CAP_SEP,
+    L_VIS_APP,
+    L_VIS_SEP,
+    N_DETAILS,
+    P_BROKEN,
+    P_NO_BRIDGE,
+    REBOUND,
+    SEP_EN,
+    ST_APP,
+    W_BODY,
+    W_CONTACT,
+    W_VOLCORR,
+)
 from .bridge import bridge_volume, g_diff, ln_f, rupture_distance
-from .outcome import DETAIL_NAMES, Path, Stage
 from .relative import reduced_mass, relative_body_force, term_work_fractions
 
 __all__ = [
@@ -69,28 +101,7 @@ MAX_STEPS = 200_000
 #: How the rupture gap is taken: Ca from the opening speed at contact, or self-consistent.
 RUPTURE_MODES = ("contact", "self-consistent")
 
-_REBOUND = int(Stage.REBOUND)
-_APP_VIS = int(Stage.APPROACH_VISCOUS)
-_APP_EN = int(Stage.APPROACH_ENERGY)
-_CONTACT = int(Stage.CONTACT)
-_SEP_EN = int(Stage.SEPARATION_ENERGY)
-_P_NO_BRIDGE = int(Path.NO_BRIDGE)
-_P_BROKEN = int(Path.BRIDGE_BROKEN_AT_CONTACT)
 
-N_DETAILS = len(DETAIL_NAMES)
-_DI = {name: k for k, name in enumerate(DETAIL_NAMES)}
-_K_INI_I, _K_INI_J = _DI["K_ini_i"], _DI["K_ini_j"]
-_L_CAP_APP, _L_VIS_APP = _DI["L_cap_app"], _DI["L_vis_app"]
-_L_BDW_APP_I, _L_BDW_APP_J = _DI["L_bdw_app_i"], _DI["L_bdw_app_j"]
-_K_APP_I, _K_APP_J = _DI["K_app_i"], _DI["K_app_j"]
-_W_CONTACT, _L_C = _DI["w_contact"], _DI["L_c"]
-_K_SEP_I, _K_SEP_J = _DI["K_sep_i"], _DI["K_sep_j"]
-_CA, _H_RUPT = _DI["Ca"], _DI["h_rupt"]
-_L_CAP_SEP, _L_VIS_SEP = _DI["L_cap_sep"], _DI["L_vis_sep"]
-_L_BDW_SEP_I, _L_BDW_SEP_J = _DI["L_bdw_sep_i"], _DI["L_bdw_sep_j"]
-_K_FIN_I, _K_FIN_J = _DI["K_fin_i"], _DI["K_fin_j"]
-_ST_APP = _DI["St_app"]
-_W_BODY, _W_VOLCORR = _DI["W_body_frac"], _DI["W_volcorr_frac"]
 
 # Status codes of one integrated stage.
 _REACHED, _STOPPED, _CANNOT, _EVENT, _TOO_MANY = 0, 1, 2, 3, 4
@@ -242,11 +253,11 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if not H0 > Ha:
         if want:
-            det[_W_CONTACT] = w
-            det[_L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+            det[W_CONTACT] = w
+            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
-            return e, _REBOUND, _P_NO_BRIDGE, 0, 0
-        return 0.0, _CONTACT, _P_NO_BRIDGE, 0, 0
+            return e, REBOUND, P_NO_BRIDGE, 0, 0
+        return 0.0, CONTACT, P_NO_BRIDGE, 0, 0
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
     kcap = 2.0 * math.pi * gamma * r * cos_t
@@ -258,14 +269,14 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     vol = bridge_volume(r, a2)
     e2 = e * e
     if want:
-        det[_K_INI_I] = frac_j * k0
-        det[_K_INI_J] = frac_i * k0
-        det[_ST_APP] = m_r * w / c
-        det[_L_CAP_APP] = kcap * g_diff(H0, Ha, a2)
-        det[_L_BDW_APP_I] = -frac_j * f_b * (H0 - Ha)
-        det[_L_BDW_APP_J] = -frac_i * f_b * (H0 - Ha)
+        det[K_INI_I] = frac_j * k0
+        det[K_INI_J] = frac_i * k0
+        det[ST_APP] = m_r * w / c
+        det[L_CAP_APP] = kcap * g_diff(H0, Ha, a2)
+        det[L_BDW_APP_I] = -frac_j * f_b * (H0 - Ha)
+        det[L_BDW_APP_J] = -frac_i * f_b * (H0 - Ha)
     if not Ha > 0.0:  # an infinite lubrication loss before contact
-        return 0.0, _APP_VIS, 0, 0, 0
+        return 0.0, APP_VIS, 0, 0, 0
 
     # A lower bound of the opening energy any rebound needs: the bridge must at least be
     # stretched to h_min = h_rupt(Ca = 0). Capillary and (if F_b >= 0) body forces and
@@ -286,20 +297,20 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         e2, need, False, theta, 0.0, vol,
     )
     if status == _TOO_MANY:
-        return nan, _APP_EN, 0, steps, _TOO_MANY
+        return nan, APP_EN, 0, steps, _TOO_MANY
     if status == _STOPPED:
-        return 0.0, _APP_EN, 0, steps, 0
+        return 0.0, APP_EN, 0, steps, 0
     if status == _CANNOT:
-        return 0.0, _APP_VIS, 0, steps, 0
+        return 0.0, APP_VIS, 0, steps, 0
     w_c = w * math.sqrt(k_c)
     if want:
-        det[_K_APP_I] = frac_j * k_c * k0
-        det[_K_APP_J] = frac_i * k_c * k0
-        det[_L_VIS_APP] = k0 * (1.0 - k_c) - det[_L_CAP_APP] + f_b * (H0 - Ha)
-        det[_W_CONTACT] = w_c
-        det[_L_C] = 0.5 * m_r * (1.0 - e2) * w_c * w_c
+        det[K_APP_I] = frac_j * k_c * k0
+        det[K_APP_J] = frac_i * k_c * k0
+        det[L_VIS_APP] = k0 * (1.0 - k_c) - det[L_CAP_APP] + f_b * (H0 - Ha)
+        det[W_CONTACT] = w_c
+        det[L_C] = 0.5 * m_r * (1.0 - e2) * w_c * w_c
     if not e > 0.0:
-        return 0.0, _CONTACT, 0, steps, 0
+        return 0.0, CONTACT, 0, steps, 0
 
     # ---- separation
     k_s = e2 * k_c
@@ -308,7 +319,7 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     h_rupt = rupture_distance(theta, ca, vol)
     path = 0
     if not h_rupt > Ha:
-        path |= _P_BROKEN
+        path |= P_BROKEN
         k_end = k_s
         status = _REACHED
     else:
@@ -322,31 +333,31 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         )
         steps += steps_sep
         if status == _TOO_MANY:
-            return nan, _SEP_EN, path, steps, _TOO_MANY
+            return nan, SEP_EN, path, steps, _TOO_MANY
         if self_consistent and status == _EVENT:
             h_rupt = math.exp(y_stop)
             ca = mu_l * w * math.sqrt(k_end) / gamma
     if want:
-        det[_K_SEP_I] = frac_j * k_s * k0
-        det[_K_SEP_J] = frac_i * k_s * k0
-        det[_CA] = ca
-        det[_H_RUPT] = h_rupt
+        det[K_SEP_I] = frac_j * k_s * k0
+        det[K_SEP_J] = frac_i * k_s * k0
+        det[CA] = ca
+        det[H_RUPT] = h_rupt
         body, volc = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
-        det[_W_BODY] = body
-        det[_W_VOLCORR] = volc
+        det[W_BODY] = body
+        det[W_VOLCORR] = volc
         if h_rupt > Ha and status != _STOPPED:
             l_cap = kcap * g_diff(Ha, h_rupt, a2)
             l_bdw = f_b * (h_rupt - Ha)
-            det[_L_CAP_SEP] = l_cap
-            det[_L_BDW_SEP_I] = frac_j * l_bdw
-            det[_L_BDW_SEP_J] = frac_i * l_bdw
-            det[_L_VIS_SEP] = k0 * (k_s - k_end) - l_cap - l_bdw
+            det[L_CAP_SEP] = l_cap
+            det[L_BDW_SEP_I] = frac_j * l_bdw
+            det[L_BDW_SEP_J] = frac_i * l_bdw
+            det[L_VIS_SEP] = k0 * (k_s - k_end) - l_cap - l_bdw
     if status == _STOPPED:
-        return 0.0, _SEP_EN, path, steps, 0
+        return 0.0, SEP_EN, path, steps, 0
     if want:
-        det[_K_FIN_I] = frac_j * k_end * k0
-        det[_K_FIN_J] = frac_i * k_end * k0
-    return math.sqrt(k_end), _REBOUND, path, steps, 0
+        det[K_FIN_I] = frac_j * k_end * k0
+        det[K_FIN_J] = frac_i * k_end * k0
+    return math.sqrt(k_end), REBOUND, path, steps, 0
 
 
 @njit(parallel=True, cache=True)

@@ -40,43 +40,47 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ._codes import (
+    CA,
+    CONTACT,
+    D_STOP_APP,
+    D_STOP_SEP,
+    H_RUPT,
+    K_APP_I,
+    K_APP_J,
+    K_FIN_I,
+    K_FIN_J,
+    K_INI_I,
+    K_INI_J,
+    K_SEP_I,
+    K_SEP_J,
+    L_BDW_APP_I,
+    L_BDW_APP_J,
+    L_BDW_SEP_I,
+    L_BDW_SEP_J,
+    L_C,
+    L_CAP_APP,
+    L_CAP_SEP,
+    L_VIS_APP,
+    L_VIS_SEP,
+    N_DETAILS,
+    P_APP_I,
+    P_APP_J,
+    P_BROKEN,
+    P_NO_BRIDGE,
+    P_SEP_I,
+    P_SEP_J,
+    REBOUND,
+    SEP_VIS,
+    ST_APP,
+    W_CONTACT,
+)
 from .bridge import bridge_volume, g_diff, ln_f_diff, rupture_distance
-from .outcome import DETAIL_NAMES, Path, Stage
 
 __all__ = ["paper_kernel", "run_paper"]
 
 # Integer codes frozen into the compiled kernel.
-_REBOUND = int(Stage.REBOUND)
-_APP_VIS = int(Stage.APPROACH_VISCOUS)
-_APP_EN = int(Stage.APPROACH_ENERGY)
-_APP_ALONE = int(Stage.APPROACH_ALONE)
-_APP_ALONE_VIS = int(Stage.APPROACH_ALONE_VISCOUS)
-_CONTACT = int(Stage.CONTACT)
-_SEP_VIS = int(Stage.SEPARATION_VISCOUS)
-_SEP_EN = int(Stage.SEPARATION_ENERGY)
-_SEP_ALONE = int(Stage.SEPARATION_ALONE)
-_SEP_ALONE_VIS = int(Stage.SEPARATION_ALONE_VISCOUS)
-_P_APP_I = int(Path.APPROACH_I_STOPS)
-_P_APP_J = int(Path.APPROACH_J_STOPS)
-_P_SEP_I = int(Path.SEPARATION_I_STOPS)
-_P_SEP_J = int(Path.SEPARATION_J_STOPS)
-_P_NO_BRIDGE = int(Path.NO_BRIDGE)
-_P_BROKEN = int(Path.BRIDGE_BROKEN_AT_CONTACT)
 
-N_DETAILS = len(DETAIL_NAMES)
-_DI = {name: k for k, name in enumerate(DETAIL_NAMES)}
-_K_INI_I, _K_INI_J = _DI["K_ini_i"], _DI["K_ini_j"]
-_L_CAP_APP, _L_VIS_APP = _DI["L_cap_app"], _DI["L_vis_app"]
-_L_BDW_APP_I, _L_BDW_APP_J = _DI["L_bdw_app_i"], _DI["L_bdw_app_j"]
-_K_APP_I, _K_APP_J = _DI["K_app_i"], _DI["K_app_j"]
-_D_STOP_APP, _W_CONTACT, _L_C = _DI["D_stop_app"], _DI["w_contact"], _DI["L_c"]
-_K_SEP_I, _K_SEP_J = _DI["K_sep_i"], _DI["K_sep_j"]
-_CA, _H_RUPT = _DI["Ca"], _DI["h_rupt"]
-_L_CAP_SEP, _L_VIS_SEP = _DI["L_cap_sep"], _DI["L_vis_sep"]
-_L_BDW_SEP_I, _L_BDW_SEP_J = _DI["L_bdw_sep_i"], _DI["L_bdw_sep_j"]
-_D_STOP_SEP = _DI["D_stop_sep"]
-_K_FIN_I, _K_FIN_J = _DI["K_fin_i"], _DI["K_fin_j"]
-_ST_APP = _DI["St_app"]
 
 #: Points of the geometric scan that isolates the first zero of a running energy before the
 #: bracketed solve (Eq. 136 need not be monotonic). Adjacent points differ by the factor
@@ -234,13 +238,13 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
     path = 0
     # No bridge can form: a dry collision, no liquid losses at all.
     if not H0 > Ha:
-        path |= _P_NO_BRIDGE
+        path |= P_NO_BRIDGE
         if want:
-            det[_W_CONTACT] = w
-            det[_L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+            det[W_CONTACT] = w
+            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
-            return e, _REBOUND, path
-        return 0.0, _CONTACT, path
+            return e, REBOUND, path
+        return 0.0, CONTACT, path
 
     a2 = (H0 - Ha) * (H0 + Ha)  # Eq. 29-30, without cancellation
     c = 1.5 * math.pi * mu_l * r * r  # Eq. 26
@@ -251,36 +255,36 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
     k_i = 0.5 * p * frac_j * w
     k_j = 0.5 * p * frac_i * w
     if want:
-        det[_K_INI_I] = k_i
-        det[_K_INI_J] = k_j
-        det[_ST_APP] = p / c
+        det[K_INI_I] = k_i
+        det[K_INI_J] = k_j
+        det[ST_APP] = p / c
     code, ka_i, ka_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
         H0, Ha, k_i, k_j, frac_j * w, frac_i * w, m_i, m_j, fn_i, -fn_j, p, c, kcap, a2
     )
     if flags == 1:
-        path |= _P_APP_I
+        path |= P_APP_I
     elif flags == 2:
-        path |= _P_APP_J
+        path |= P_APP_J
     if want:
-        det[_L_CAP_APP] = l_cap
-        det[_L_VIS_APP] = l_vis
-        det[_L_BDW_APP_I] = lb_i
-        det[_L_BDW_APP_J] = lb_j
-        det[_D_STOP_APP] = d_stop
+        det[L_CAP_APP] = l_cap
+        det[L_VIS_APP] = l_vis
+        det[L_BDW_APP_I] = lb_i
+        det[L_BDW_APP_J] = lb_j
+        det[D_STOP_APP] = d_stop
     if code != 0:
         return 0.0, code, path  # codes 1-4 are the approach stages
     if want:
-        det[_K_APP_I] = ka_i
-        det[_K_APP_J] = ka_j
+        det[K_APP_I] = ka_i
+        det[K_APP_J] = ka_j
 
     # ---- contact (Eqs. 44-55, 131-135): new CM frame, restitution along n
     w_c = math.sqrt(2.0 * ka_i / m_i) + math.sqrt(2.0 * ka_j / m_j)
     w_s = e * w_c
     if want:
-        det[_W_CONTACT] = w_c
-        det[_L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+        det[W_CONTACT] = w_c
+        det[L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
     if not w_s > 0.0:
-        return 0.0, _CONTACT, path
+        return 0.0, CONTACT, path
     p_s = m_r * w_s
     ks_i = 0.5 * p_s * frac_j * w_s
     ks_j = 0.5 * p_s * frac_i * w_s
@@ -289,12 +293,12 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
     ca = mu_l * w_s / gamma
     h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
     if want:
-        det[_K_SEP_I] = ks_i
-        det[_K_SEP_J] = ks_j
-        det[_CA] = ca
-        det[_H_RUPT] = h_rupt
+        det[K_SEP_I] = ks_i
+        det[K_SEP_J] = ks_j
+        det[CA] = ca
+        det[H_RUPT] = h_rupt
     if not h_rupt > Ha:
-        path |= _P_BROKEN
+        path |= P_BROKEN
         kf_i, kf_j = ks_i, ks_j
     else:
         code, kf_i, kf_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
@@ -302,23 +306,23 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
             p_s, c, kcap, a2,
         )
         if flags == 1:
-            path |= _P_SEP_I
+            path |= P_SEP_I
         elif flags == 2:
-            path |= _P_SEP_J
+            path |= P_SEP_J
         if want:
-            det[_L_CAP_SEP] = l_cap
-            det[_L_VIS_SEP] = l_vis
-            det[_L_BDW_SEP_I] = lb_i
-            det[_L_BDW_SEP_J] = lb_j
-            det[_D_STOP_SEP] = d_stop
+            det[L_CAP_SEP] = l_cap
+            det[L_VIS_SEP] = l_vis
+            det[L_BDW_SEP_I] = lb_i
+            det[L_BDW_SEP_J] = lb_j
+            det[D_STOP_SEP] = d_stop
         if code != 0:
-            return 0.0, _SEP_VIS + code - 1, path
+            return 0.0, SEP_VIS + code - 1, path
     if want:
-        det[_K_FIN_I] = kf_i
-        det[_K_FIN_J] = kf_j
+        det[K_FIN_I] = kf_i
+        det[K_FIN_J] = kf_j
     # Eq. 31 with Eqs. 67-70: the final CM-frame speeds add up to the relative speed.
     v_rel = math.sqrt(2.0 * kf_i / m_i) + math.sqrt(2.0 * kf_j / m_j)
-    return v_rel / w, _REBOUND, path
+    return v_rel / w, REBOUND, path
 
 
 @njit(parallel=True, cache=True)

@@ -41,8 +41,41 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ._codes import (
+    APP_EN,
+    APP_VIS,
+    CA,
+    CONTACT,
+    H_RUPT,
+    K_APP_I,
+    K_APP_J,
+    K_FIN_I,
+    K_FIN_J,
+    K_INI_I,
+    K_INI_J,
+    K_SEP_I,
+    K_SEP_J,
+    L_BDW_APP_I,
+    L_BDW_APP_J,
+    L_BDW_SEP_I,
+    L_BDW_SEP_J,
+    L_C,
+    L_CAP_APP,
+    L_CAP_SEP,
+    L_VIS_APP,
+    L_VIS_SEP,
+    N_DETAILS,
+    P_BROKEN,
+    P_NO_BRIDGE,
+    REBOUND,
+    SEP_EN,
+    SEP_VIS,
+    ST_APP,
+    W_BODY,
+    W_CONTACT,
+    W_VOLCORR,
+)
 from .bridge import bridge_volume, g_diff, ln_f, ln_f_diff, rupture_distance
-from .outcome import DETAIL_NAMES, Path, Stage
 from .paper import _viscous_loss
 
 __all__ = [
@@ -58,29 +91,7 @@ __all__ = [
 #: bound is below this fraction of the initial relative kinetic energy.
 NEGLIGIBLE_FRACTION = 1e-3
 
-_REBOUND = int(Stage.REBOUND)
-_APP_VIS = int(Stage.APPROACH_VISCOUS)
-_APP_EN = int(Stage.APPROACH_ENERGY)
-_CONTACT = int(Stage.CONTACT)
-_SEP_VIS = int(Stage.SEPARATION_VISCOUS)
-_SEP_EN = int(Stage.SEPARATION_ENERGY)
-_P_NO_BRIDGE = int(Path.NO_BRIDGE)
-_P_BROKEN = int(Path.BRIDGE_BROKEN_AT_CONTACT)
 
-N_DETAILS = len(DETAIL_NAMES)
-_DI = {name: k for k, name in enumerate(DETAIL_NAMES)}
-_K_INI_I, _K_INI_J = _DI["K_ini_i"], _DI["K_ini_j"]
-_L_CAP_APP, _L_VIS_APP = _DI["L_cap_app"], _DI["L_vis_app"]
-_L_BDW_APP_I, _L_BDW_APP_J = _DI["L_bdw_app_i"], _DI["L_bdw_app_j"]
-_K_APP_I, _K_APP_J = _DI["K_app_i"], _DI["K_app_j"]
-_W_CONTACT, _L_C = _DI["w_contact"], _DI["L_c"]
-_K_SEP_I, _K_SEP_J = _DI["K_sep_i"], _DI["K_sep_j"]
-_CA, _H_RUPT = _DI["Ca"], _DI["h_rupt"]
-_L_CAP_SEP, _L_VIS_SEP = _DI["L_cap_sep"], _DI["L_vis_sep"]
-_L_BDW_SEP_I, _L_BDW_SEP_J = _DI["L_bdw_sep_i"], _DI["L_bdw_sep_j"]
-_K_FIN_I, _K_FIN_J = _DI["K_fin_i"], _DI["K_fin_j"]
-_ST_APP = _DI["St_app"]
-_W_BODY, _W_VOLCORR = _DI["W_body_frac"], _DI["W_volcorr_frac"]
 
 
 @njit(cache=True)
@@ -152,11 +163,11 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
     m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if not H0 > Ha:
         if want:
-            det[_W_CONTACT] = w
-            det[_L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+            det[W_CONTACT] = w
+            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
-            return e, _REBOUND, _P_NO_BRIDGE, e * e
-        return 0.0, _CONTACT, _P_NO_BRIDGE, 0.0
+            return e, REBOUND, P_NO_BRIDGE, e * e
+        return 0.0, CONTACT, P_NO_BRIDGE, 0.0
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
     kcap = 2.0 * math.pi * gamma * r * cos_t
@@ -164,53 +175,53 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
     k0 = 0.5 * m_r * w * w
     h_rupt = nan
     if want:
-        det[_K_INI_I] = frac_j * k0
-        det[_K_INI_J] = frac_i * k0
-        det[_ST_APP] = m_r * w / c
+        det[K_INI_I] = frac_j * k0
+        det[K_INI_J] = frac_i * k0
+        det[ST_APP] = m_r * w / c
 
     # ---- approach, H0 -> Ha
     c_delta = c * -ln_f_diff(H0, Ha, a2)
     l_cap = kcap * g_diff(H0, Ha, a2)
     l_bdw = -f_b * (H0 - Ha)
-    stage = _REBOUND
+    stage = REBOUND
     k_fin = 0.0
     path = 0
     if want:
-        det[_L_CAP_APP] = l_cap
-        det[_L_BDW_APP_I] = frac_j * l_bdw
-        det[_L_BDW_APP_J] = frac_i * l_bdw
+        det[L_CAP_APP] = l_cap
+        det[L_BDW_APP_I] = frac_j * l_bdw
+        det[L_BDW_APP_J] = frac_i * l_bdw
     if not c_delta < m_r * w:
-        stage = _APP_VIS
+        stage = APP_VIS
     else:
         l_vis = _viscous_loss(w, m_r, c_delta)
         k_app = k0 - l_cap - l_vis - l_bdw
         if want:
-            det[_L_VIS_APP] = l_vis
+            det[L_VIS_APP] = l_vis
         if not k_app > 0.0:
-            stage = _APP_EN
+            stage = APP_EN
         else:
             # ---- contact
             w_c = math.sqrt(2.0 * k_app / m_r)
             w_s = e * w_c
             if want:
-                det[_K_APP_I] = frac_j * k_app
-                det[_K_APP_J] = frac_i * k_app
-                det[_W_CONTACT] = w_c
-                det[_L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+                det[K_APP_I] = frac_j * k_app
+                det[K_APP_J] = frac_i * k_app
+                det[W_CONTACT] = w_c
+                det[L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
             if not w_s > 0.0:
-                stage = _CONTACT
+                stage = CONTACT
             else:
                 # ---- separation, Ha -> h_rupt
                 k_s = 0.5 * m_r * w_s * w_s
                 ca = mu_l * w_s / gamma
                 h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
                 if want:
-                    det[_K_SEP_I] = frac_j * k_s
-                    det[_K_SEP_J] = frac_i * k_s
-                    det[_CA] = ca
-                    det[_H_RUPT] = h_rupt
+                    det[K_SEP_I] = frac_j * k_s
+                    det[K_SEP_J] = frac_i * k_s
+                    det[CA] = ca
+                    det[H_RUPT] = h_rupt
                 if not h_rupt > Ha:
-                    path |= _P_BROKEN
+                    path |= P_BROKEN
                     k_end = k_s
                 else:
                     c_delta = c * ln_f_diff(Ha, h_rupt, a2)
@@ -218,30 +229,30 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
                     l_bdw = f_b * (h_rupt - Ha)
                     k_end = 0.0
                     if want:
-                        det[_L_CAP_SEP] = l_cap
-                        det[_L_BDW_SEP_I] = frac_j * l_bdw
-                        det[_L_BDW_SEP_J] = frac_i * l_bdw
+                        det[L_CAP_SEP] = l_cap
+                        det[L_BDW_SEP_I] = frac_j * l_bdw
+                        det[L_BDW_SEP_J] = frac_i * l_bdw
                     if not c_delta < m_r * w_s:
-                        stage = _SEP_VIS
+                        stage = SEP_VIS
                     else:
                         l_vis = _viscous_loss(w_s, m_r, c_delta)
                         k_end = k_s - l_cap - l_vis - l_bdw
                         if want:
-                            det[_L_VIS_SEP] = l_vis
+                            det[L_VIS_SEP] = l_vis
                         if not k_end > 0.0:
-                            stage = _SEP_EN
-                if stage == _REBOUND:
+                            stage = SEP_EN
+                if stage == REBOUND:
                     k_fin = k_end / k0
                     if want:
-                        det[_K_FIN_I] = frac_j * k_end
-                        det[_K_FIN_J] = frac_i * k_end
+                        det[K_FIN_I] = frac_j * k_end
+                        det[K_FIN_J] = frac_i * k_end
     if want:
         body, vol = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
-        det[_W_BODY] = body
-        det[_W_VOLCORR] = vol
-    if stage != _REBOUND:
+        det[W_BODY] = body
+        det[W_VOLCORR] = vol
+    if stage != REBOUND:
         return 0.0, stage, path, 0.0
-    return math.sqrt(k_fin), _REBOUND, path, k_fin
+    return math.sqrt(k_fin), REBOUND, path, k_fin
 
 
 @njit(parallel=True, cache=True)
