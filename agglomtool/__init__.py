@@ -5,6 +5,7 @@ Syamlal and Runstedtler (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e2
 """
 
 from . import examples, materials
+from ._version import __version__
 from .api import MODES, CollisionResult, collide, critical_impact_speed
 from .collision.outcome import Path, Stage
 from .inputs import Bed, Gas, Liquid, Particle
@@ -12,8 +13,6 @@ from .maps.grid import sweep
 from .properties import gas_properties, umf
 from .scene import Scene
 from .uncertainty import LogNormal, Normal, Uniform, monte_carlo, sobol_indices
-
-__version__ = "0.1.0"
 
 __all__ = [
     "Bed",

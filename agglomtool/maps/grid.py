@@ -10,12 +10,12 @@ expensive part (about 1e5 solves/s), so a grid whose speed axes are long is chea
 from __future__ import annotations
 
 import json
-from importlib.metadata import PackageNotFoundError, version
 
 import dask
 import numpy as np
 import xarray as xr
 
+from .._version import __version__
 from ..scene import (
     CATEGORICAL_FIELDS,
     NUMERIC_FIELDS,
@@ -50,13 +50,6 @@ GROUPS = {
                          "propensity", "margin"),
                   (float, float, float, bool, np.int8, float, float, float)),
 }
-
-
-def _version() -> str:
-    try:
-        return version("agglomtool")
-    except PackageNotFoundError:  # pragma: no cover
-        return "unknown"
 
 
 def _grid_values(scene: Scene, grid: dict) -> dict:
@@ -196,7 +189,7 @@ def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
                 sources["source: " + key] = " ".join(text.split())
     return {
         "title": "agglomtool operating map",
-        "agglomtool_version": _version(),
+        "agglomtool_version": __version__,
         "model_tier": ", ".join(tiers),
         "scene": json.dumps(base),
         "grid": json.dumps(list(grid)),

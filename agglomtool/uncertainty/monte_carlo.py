@@ -17,6 +17,7 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
+from .._version import __version__
 from ..collision.outcome import Stage
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, check_names, evaluate_e_w
 from .distributions import Distribution, to_si
@@ -102,17 +103,6 @@ def e_w_density(e_w: np.ndarray, edges: np.ndarray) -> np.ndarray:
 
 def _attrs(units: str, long_name: str, **extra) -> dict:
     return {"units": units, "long_name": long_name, **extra}
-
-
-def _version() -> str:
-    try:
-        import agglomtool
-
-        return str(agglomtool.__version__)
-    except (ImportError, AttributeError):  # pragma: no cover - partial install
-        from importlib.metadata import version
-
-        return version("agglomtool")
 
 
 def monte_carlo(
@@ -244,7 +234,7 @@ def monte_carlo(
     )
     ds.attrs.update(
         title="Monte Carlo propagation of input uncertainty to e_w",
-        agglomtool_version=_version(),
+        agglomtool_version=__version__,
         mode=str(mode),
         seed=entropy,
         seed_chosen_by_user=int(chosen),

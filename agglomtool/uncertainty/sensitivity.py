@@ -17,9 +17,10 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
+from .._version import __version__
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, check_names, evaluate_e_w
 from .distributions import Distribution, to_si
-from .monte_carlo import _attrs, _version, monte_carlo, resolve_seed
+from .monte_carlo import _attrs, monte_carlo, resolve_seed
 
 __all__ = ["sobol_indices", "spread_by_input"]
 
@@ -169,7 +170,7 @@ def sobol_indices(
                                                      "design"))
     ds.attrs.update(
         title="Sobol sensitivity indices of e_w",
-        agglomtool_version=_version(),
+        agglomtool_version=__version__,
         mode=str(mode),
         seed=entropy,
         n_base=int(n_base),
@@ -263,7 +264,7 @@ def spread_by_input(
         _DIMLESS, "e_w at the nominal inputs"))
     ds["e_w_std_all"] = ((), float(full["e_w_std"]), _attrs(
         _DIMLESS, "standard deviation of e_w with every input uncertain"))
-    ds.attrs.update(title="One-at-a-time spread of e_w", agglomtool_version=_version(),
+    ds.attrs.update(title="One-at-a-time spread of e_w", agglomtool_version=__version__,
                     mode=str(mode), seed=full.attrs["seed"], n_samples_per_factor=int(n))
     return ds
 
