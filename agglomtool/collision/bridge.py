@@ -19,6 +19,8 @@ _LN4 = math.log(4.0)
 __all__ = [
     "ln_f",
     "ln_f_diff",
+    "ln_f_diff_from",
+    "ln_f_parts",
     "ln_f_array",
     "ln_f_diff_array",
     "g_diff",
@@ -51,7 +53,7 @@ def ln_f(D, a2):
 
 
 @njit(cache=True)
-def _ln_f_parts(D, a2):
+def ln_f_parts(D, a2):
     """``(kind, value)``: kind 1 when ``ln f = value - ln 4`` (the log1p form), else 0 and
     ``ln f = value``."""
     if D <= 0.0:
@@ -72,8 +74,15 @@ def ln_f_diff(D1, D2, a2):
     the ``Delta`` of every viscous loss (Eqs. 72-75, 88-97). ``D1`` or ``D2`` of 0 gives an
     infinite difference.
     """
-    k1, v1 = _ln_f_parts(D1, a2)
-    k2, v2 = _ln_f_parts(D2, a2)
+    k1, v1 = ln_f_parts(D1, a2)
+    return ln_f_diff_from(k1, v1, D2, a2)
+
+
+@njit(cache=True)
+def ln_f_diff_from(k1, v1, D2, a2):
+    """:func:`ln_f_diff` from ``(k1, v1) = ln_f_parts(D1, a2)``, for callers that measure
+    many gaps from one start and compute its parts once."""
+    k2, v2 = ln_f_parts(D2, a2)
     return (v2 - v1) + (k1 - k2) * _LN4
 
 

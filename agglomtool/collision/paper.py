@@ -75,7 +75,14 @@ from ._codes import (
     ST_APP,
     W_CONTACT,
 )
-from .bridge import bridge_volume, g_diff, ln_f_diff, rupture_distance
+from .bridge import (
+    bridge_volume,
+    g_diff,
+    ln_f_diff,
+    ln_f_diff_from,
+    ln_f_parts,
+    rupture_distance,
+)
 
 __all__ = ["paper_kernel", "run_paper"]
 
@@ -96,7 +103,7 @@ def _viscous_loss(v, m, c_delta):
 
 
 @njit(cache=True)
-def _running_energy(D, d_start, k, share, v, m, force, c, kcap, a2):
+def _running_energy(D, d_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2):
     """Energy left [J] to a particle at gap ``D`` of a stage that began at ``d_start``, both
     particles moving (Eqs. 136-139 and their separation mirror).
 
@@ -104,12 +111,12 @@ def _running_energy(D, d_start, k, share, v, m, force, c, kcap, a2):
     projected on its direction of motion relative to the partner (Eqs. 118-119, 124-125).
     """
     cap = share * kcap * g_diff(d_start, D, a2)
-    vis = _viscous_loss(v, m, c * abs(ln_f_diff(d_start, D, a2)))
+    vis = _viscous_loss(v, m, c * abs(ln_f_diff_from(start_kind, start_val, D, a2)))
     return k - cap - vis + force * share * abs(D - d_start)
 
 
 @njit(cache=True)
-def _first_zero(d_start, d_end, k, share, v, m, force, c, kcap, a2):
+def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c, kcap, a2):
     """The gap between ``d_start`` and ``d_end`` nearest ``d_start`` where the running energy
     of :func:`_running_energy` first reaches zero (Eq. 136).
 
@@ -121,11 +128,15 @@ def _first_zero(d_start, d_end, k, share, v, m, force, c, kcap, a2):
     ratio = (d_end / d_start) ** (1.0 / SCAN_POINTS)
     lo, f_lo = d_start, k  # energy > 0 here
     hi = d_end  # energy <= 0 here
-    f_hi = _running_energy(d_end, d_start, k, share, v, m, force, c, kcap, a2)
+    f_hi = _running_energy(
+        d_end, d_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2
+    )
     d = d_start
     for _ in range(SCAN_POINTS - 1):
         d = d * ratio
-        f_d = _running_energy(d, d_start, k, share, v, m, force, c, kcap, a2)
+        f_d = _running_energy(
+            d, d_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2
+        )
         if f_d <= 0.0:
             hi, f_hi = d, f_d
             break
@@ -137,7 +148,9 @@ def _first_zero(d_start, d_end, k, share, v, m, force, c, kcap, a2):
         x = hi - f_hi * (hi - lo) / (f_hi - f_lo)
         if not (min(lo, hi) < x < max(lo, hi)):
             x = 0.5 * (lo + hi)
-        f_x = _running_energy(x, d_start, k, share, v, m, force, c, kcap, a2)
+        f_x = _running_energy(
+            x, d_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2
+        )
         if f_x <= 0.0:
             hi, f_hi = x, f_x
             if side == -1:
@@ -164,7 +177,8 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
     (both moving over the whole stage).
     """
     nan = math.nan
-    c_delta = c * abs(ln_f_diff(d_start, d_end, a2))
+    start_kind, start_val = ln_f_parts(d_start, a2)  # once: every gap below is measured from it
+    c_delta = c * abs(ln_f_diff_from(start_kind, start_val, d_end, a2))
     dist = abs(d_end - d_start)
     share_i = v_i / (v_i + v_j)
     share_j = v_j / (v_i + v_j)
@@ -193,14 +207,16 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
         # Zero CM speed from the start (a plate): it never moves, the other takes every loss.
         d_stop = d_start
     else:
-        d_stop = _first_zero(d_start, d_end, k_x, share_x, v_x, m_x, f_x, c, kcap, a2)
+        d_stop = _first_zero(
+            d_start, d_end, start_kind, start_val, k_x, share_x, v_x, m_x, f_x, c, kcap, a2
+        )
     dist_1 = abs(d_stop - d_start)
     dist_2 = abs(d_end - d_stop)
     # Eqs. 39-42, 140-142 (Eq. 142 with particle j's own share, MODEL.md section 4).
     k_mid = (
         k_y
         - (share_y * kcap * g_diff(d_start, d_stop, a2) + kcap * g_diff(d_stop, d_end, a2))
-        - _viscous_loss(v_y, m_y, c * abs(ln_f_diff(d_start, d_stop, a2)))
+        - _viscous_loss(v_y, m_y, c * abs(ln_f_diff_from(start_kind, start_val, d_stop, a2)))
         + f_y * (share_y * dist_1 + dist_2)
     )
     if k_mid <= 0.0:
