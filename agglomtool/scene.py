@@ -278,6 +278,20 @@ class Resolved:
         v["body_forces"] = bool(np.asarray(v["body_forces"]).reshape(-1)[0])
         self.v = v
 
+    def _default_hint(self, exc: Exception, *names) -> str:
+        """``"; T = ... is the Scene's default ..."`` for the fields among ``names`` that the
+        message of ``exc`` blames and that still hold the Scene's default (a value the user
+        may never have typed)."""
+        defaults = {f.name: f.default for f in dataclasses.fields(Scene)}
+        hints = []
+        for name in (n for n in names if f"{n} = " in str(exc)):
+            val = np.asarray(self.v.get(name)).reshape(-1)
+            if val.size == 1 and val.dtype.kind == "f" and float(val[0]) == defaults[name]:
+                unit = FIELD_META[name][0]
+                hints.append(f"{name} = {defaults[name]:g} {unit} is the Scene's default: "
+                             f"set {name}")
+        return ("; " + "; ".join(hints)) if hints else ""
+
     def num(self, name, default=None):
         """A numeric field as a float array (``default`` when it is ``None``)."""
         val = self.v.get(name)
@@ -317,7 +331,11 @@ class Resolved:
             src["s"] = g.source
             return g.mu, g.rho
 
-        mu, rho = _on_unique(f, self.num("T"), self.num("P"))
+        try:
+            mu, rho = _on_unique(f, self.num("T"), self.num("P"))
+        except ValueError as exc:
+            raise ValueError(f"gas {self.v['gas']!r}: {exc}"
+                             + self._default_hint(exc, "T", "P")) from None
         self._gas_source = src["s"]
         return mu, rho
 
@@ -351,7 +369,11 @@ class Resolved:
             liq = materials.liquid(self.v["liquid"])
             mu, gamma, rho, src["s"] = liq.mu, liq.gamma, liq.rho, liq.source
         else:
-            mu, gamma, rho = _on_unique(f, self.num("T"), self.num("P"))
+            try:
+                mu, gamma, rho = _on_unique(f, self.num("T"), self.num("P"))
+            except ValueError as exc:
+                raise ValueError(f"liquid {entry.name!r} ({entry.model} properties): {exc}"
+                                 + self._default_hint(exc, "T", "P")) from None
         theta = self.num("theta_deg", entry.theta_deg)
         return Liquid(mu=mu, gamma=gamma, rho=rho, theta_deg=theta, name=entry.name,
                       source=src["s"])
@@ -503,14 +525,16 @@ def collision_outputs(r: Resolved, u_star, nodes: int) -> dict:
     """Outcome at the typical speed, Stokes number, propensity and margin."""
     u_typ = r.u_typical
     res = r.collide(u_typ)
-    shape = res.e_w.shape
+    # The block's shape: names (solids, mode, ...) reach the kernel as one scalar each, so
+    # the collision's shape alone can miss their (size-1) axes and those of u0*.
+    shape = np.broadcast_shapes(res.e_w.shape, np.shape(u_star))
     prop = sticking_probability(r.speeds, u_star, r.collide, nodes=nodes, shape=shape)
     with np.errstate(divide="ignore"):
         margin = np.where(np.isinf(u_star), 0.0, u_typ / u_star)
     b = np.broadcast_to
     return {
-        "u_typical": b(u_typ, shape), "U": b(r.U, shape), "e_w": res.e_w,
-        "agglomerated": res.agglomerated, "stage": res.stage,
+        "u_typical": b(u_typ, shape), "U": b(r.U, shape), "e_w": b(res.e_w, shape),
+        "agglomerated": b(res.agglomerated, shape), "stage": b(res.stage, shape),
         "St": b(r.stokes(u_typ), shape), "propensity": b(prop, shape),
         "margin": b(margin, shape),
     }

@@ -77,6 +77,7 @@ def _grid_values(scene: Scene, grid: dict) -> dict:
         if len(np.unique(arr)) != arr.size:
             raise ValueError(f"grid {name} repeats a value; coordinates must be unique")
         out[name] = arr
+    _check_properties(base, out)
     speed = base["speed"]
     needs = {"u0": ("fixed", "lognormal"), "sigma_ln": ("lognormal",),
              "granular_temperature": ("maxwellian",), "fluctuation_ratio": ("excess-gas",)}
@@ -86,6 +87,25 @@ def _grid_values(scene: Scene, grid: dict) -> dict:
                 raise ValueError(f"grid {name} has no effect with speed = {speed!r}; set the "
                                  f"scene's speed to one of {list(families)}")
     return out
+
+
+def _check_properties(base: dict, grid: dict) -> None:
+    """Evaluate the gas and liquid properties on the swept (T, P) values of every swept gas
+    and liquid, so that a value outside a correlation's range fails now, naming the gas or
+    liquid, and not inside a dask task (nor at a default the sweep never uses)."""
+    T = np.asarray(grid.get("T", base["T"]), dtype=float)
+    P = np.asarray(grid.get("P", base["P"]), dtype=float)
+    T, P = T.reshape(-1, 1), P.reshape(1, -1)
+    for gas in np.atleast_1d(grid.get("gas", base["gas"])):
+        for liquid in np.atleast_1d(grid.get("liquid", base["liquid"])):
+            r = Resolved({**base, "T": T, "P": P, "gas": str(gas), "liquid": str(liquid)})
+            _ = r.mu_g, r.liquid
+
+
+def _first_point(base: dict, grid: dict) -> dict:
+    """The scene's values at the grid's first point (every swept field at its first value)."""
+    return {**base, **{k: (str(v[0]) if k in CATEGORICAL_FIELDS else float(v[0]))
+                       for k, v in grid.items()}}
 
 
 def _chunks(grid: dict, chunks) -> dict:
@@ -179,13 +199,14 @@ def build(scene: Scene, *, chunks="auto", nodes: int = 16, **grid) -> xr.Dataset
 
 def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
     base = scene.values()
+    first = _first_point(base, grid)  # properties are described where the grid has them
     tiers = list(grid["mode"]) if "mode" in grid else [base["mode"]]
     sources = {}
     for name in ("solid_i", "solid_j", "liquid", "gas"):
         for value in (list(grid[name]) if name in grid else [base[name]]):
             if value is None:
                 continue
-            for key, text in Resolved({**base, name: value}).sources.items():
+            for key, text in Resolved({**first, name: str(value)}).sources.items():
                 sources["source: " + key] = " ".join(text.split())
     return {
         "title": "agglomtool operating map",
