@@ -30,7 +30,8 @@ from .maps.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
 from .pair import DRAG_SLIP_MODES, wet_mass
 from .properties import gas_properties, umf, umf_methods
 
-__all__ = ["Scene", "evaluate", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CA_VISCOUS"]
+__all__ = ["Scene", "evaluate", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CA_VISCOUS",
+           "U_CEILING", "U_STAR_FLAGS"]
 
 #: Fields holding names (swept as categories, one value per grid block).
 CATEGORICAL_FIELDS = ("gas", "solid_i", "solid_j", "liquid", "speed", "mode", "drag_slip",
@@ -38,7 +39,7 @@ CATEGORICAL_FIELDS = ("gas", "solid_i", "solid_j", "liquid", "speed", "mode", "d
 #: Fields holding numbers (swept as numeric coordinates).
 NUMERIC_FIELDS = ("T", "P", "U", "U_Umf", "eps", "U_e_Umf", "d_i", "d_j", "h0", "h0_j",
                   "ha_i", "ha_j", "e", "theta_deg", "beta_deg", "u0", "sigma_ln",
-                  "granular_temperature", "fluctuation_ratio")
+                  "granular_temperature", "fluctuation_ratio", "u_ceiling")
 
 #: Capillary number at ``u0*`` above which the outcome is called viscous-limited.
 CA_VISCOUS = 1.0
@@ -64,6 +65,21 @@ FIELD_META = {
     "sigma_ln": ("dimensionless", "lognormal shape of the impact-speed distribution"),
     "granular_temperature": ("m**2/s**2", "granular temperature (Maxwellian speeds)"),
     "fluctuation_ratio": ("dimensionless", "r.m.s. particle velocity over U - U_mf"),
+    "u_ceiling": ("m/s", "u0* ceiling: above it the pair sticks at every bed speed"),
+}
+
+#: Default ceiling on the critical impact speed [m/s]: of the order of the fastest impacts
+#: in a bubbling bed (particles thrown by bursting bubbles move at a few m/s). A u0* above it
+#: would come from physics extrapolated far beyond any bed, so it is reported as ``inf``.
+U_CEILING = 10.0
+
+#: Values of the ``u_star_flag`` output and their meanings.
+U_STAR_FLAGS = {
+    0: ("rebounds_above_u_star", "the pair sticks below u0* and rebounds at u0*"),
+    1: ("no_bridge", "the coating is no thicker than the asperities: no bridge, never sticks "
+                     "(u0* = 0)"),
+    2: ("sticks_up_to_ceiling", "the pair sticks at every speed up to the ceiling u_ceiling "
+                                "(u0* reported as inf)"),
 }
 
 
@@ -124,6 +140,11 @@ class Scene:
         Slip velocity of the drag law (see :func:`agglomtool.collide`).
     umf_method : str
         Minimum fluidization correlation (:func:`agglomtool.properties.umf_methods`).
+    u_ceiling : float
+        Ceiling on the critical impact speed [m/s] (default :data:`U_CEILING`, 10 m/s):
+        where ``u0*`` exceeds it the pair sticks at every speed a bed can give it, and
+        ``u0*`` is reported as ``inf`` (flag ``u_star_flag = 2``) rather than as a number
+        from physics extrapolated far beyond any bed.
 
     Notes
     -----
@@ -160,6 +181,7 @@ class Scene:
     body_forces: bool = True
     drag_slip: str = "emulsion"
     umf_method: str = field(default="wen-yu")
+    u_ceiling: float = U_CEILING
 
     def __post_init__(self) -> None:
         if self.speed is None:
@@ -234,6 +256,7 @@ def validate(values: dict) -> None:
         "u0": (0.0, None, True, "m/s"), "sigma_ln": (0.0, None, True, "-"),
         "granular_temperature": (0.0, None, True, "m2/s2"),
         "fluctuation_ratio": (0.0, None, True, "-"),
+        "u_ceiling": (0.0, None, True, "m/s"),
     }
     for name, (lo, hi, lo_open, unit) in ranges.items():
         v = values.get(name)
@@ -514,11 +537,15 @@ def property_outputs(r: Resolved) -> dict:
 
 
 def critical_outputs(r: Resolved, u_star=None) -> dict:
-    """``u0*``, the capillary number at ``u0*`` and the regime it implies."""
+    """``u0*`` (``inf`` above the ceiling), its flag (:data:`U_STAR_FLAGS`), the capillary
+    number at ``u0*`` and the regime it implies."""
     us = r.u_star if u_star is None else np.asarray(u_star, dtype=float)
+    ceiling = r.num("u_ceiling")
+    flag = np.where(us == 0.0, 1, np.where(us > ceiling, 2, 0)).astype(np.int8)
+    us = np.where(flag == 2, np.inf, us)
     ca = capillary_number(r.liquid.mu, r.liquid.gamma, us)
     regime = np.where(ca > CA_VISCOUS, 1, 0).astype(np.int8)
-    return {"u_star": us, "Ca_star": ca, "regime": regime}
+    return {"u_star": us, "u_star_flag": flag, "Ca_star": ca, "regime": regime}
 
 
 def collision_outputs(r: Resolved, u_star, nodes: int) -> dict:

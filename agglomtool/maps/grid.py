@@ -45,7 +45,8 @@ GROUPS = {
     "fluid": (("T", "P", "gas", "liquid", "solid_i", "solid_j", "d_i", "d_j", "h0", "h0_j",
                "U_e_Umf", "umf_method"), ("Umf", "U_e"), (float, float)),
     "critical": (tuple(f for f in _ALL if f not in SPEED_FIELDS),
-                 ("u_star", "Ca_star", "regime"), (float, float, np.int8)),
+                 ("u_star", "u_star_flag", "Ca_star", "regime"),
+                 (float, np.int8, float, np.int8)),
     "collision": (_ALL, ("u_typical", "U", "e_w", "agglomerated", "stage", "St",
                          "propensity", "margin"),
                   (float, float, float, bool, np.int8, float, float, float)),
@@ -148,7 +149,7 @@ def _block_function(scene_values: dict, names: tuple, group: str, nodes: int):
             out = (r.Umf, r.U_e)
         elif group == "critical":
             c = critical_outputs(r)
-            out = (c["u_star"], c["Ca_star"], c["regime"])
+            out = tuple(c[k] for k in GROUPS["critical"][1])
         else:
             c = collision_outputs(r, arrays[-1], nodes)
             out = tuple(c[k] for k in GROUPS["collision"][1])

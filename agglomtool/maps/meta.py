@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..collision.outcome import Stage
-from ..scene import CA_VISCOUS, FIELD_META
+from ..scene import CA_VISCOUS, FIELD_META, U_STAR_FLAGS
 
 __all__ = ["VARIABLE_META", "FIELD_META", "variable_attrs", "field_attrs"]
 
@@ -21,7 +21,11 @@ VARIABLE_META = {
     "U_e": ("m/s", "emulsion gas velocity used in the drag", "U_e_Umf * Umf"),
     "U": ("m/s", "superficial gas velocity", "U, or U_Umf * Umf"),
     "u_star": ("m/s", "critical impact speed u0*",
-               "smallest head-on impact speed at which the pair rebounds; inf: never"),
+               "smallest head-on impact speed at which the pair rebounds; inf: the pair "
+               "sticks at every speed up to the ceiling u_ceiling (u_star_flag = 2); 0: no "
+               "bridge forms (u_star_flag = 1)"),
+    "u_star_flag": ("dimensionless", "what u0* means at this point",
+                    "; ".join(f"{k}: {v[1]}" for k, v in U_STAR_FLAGS.items())),
     "Ca_star": ("dimensionless", "capillary number at u0*", "mu_l * 2 u0* / gamma_l"),
     "regime": ("dimensionless", "regime at u0* (0 capillary-, 1 viscous-limited)",
                f"viscous-limited where Ca_star > {CA_VISCOUS:g}"),
@@ -47,6 +51,9 @@ def variable_attrs(name: str) -> dict:
     if name == "stage":
         attrs["flag_values"] = np.array([s.value for s in Stage], dtype=np.int8)
         attrs["flag_meanings"] = " ".join(s.name.lower() for s in Stage)
+    if name == "u_star_flag":
+        attrs["flag_values"] = np.array(list(U_STAR_FLAGS), dtype=np.int8)
+        attrs["flag_meanings"] = " ".join(v[0] for v in U_STAR_FLAGS.values())
     if name == "regime":
         attrs["flag_values"] = np.array([0, 1], dtype=np.int8)
         attrs["flag_meanings"] = "capillary_limited viscous_limited"
