@@ -554,7 +554,8 @@ def collision_outputs(r: Resolved, u_star, nodes: int) -> dict:
     res = r.collide(u_typ)
     # The block's shape: names (solids, mode, ...) reach the kernel as one scalar each, so
     # the collision's shape alone can miss their (size-1) axes and those of u0*.
-    shape = np.broadcast_shapes(res.e_w.shape, np.shape(u_star))
+    shape = np.broadcast_shapes(res.e_w.shape, np.shape(u_star), np.shape(r.U),
+                                np.shape(u_typ))
     prop = sticking_probability(r.speeds, u_star, r.collide, nodes=nodes, shape=shape)
     with np.errstate(divide="ignore"):
         margin = np.where(np.isinf(u_star), 0.0, u_typ / u_star)
