@@ -1,18 +1,30 @@
-"""Command line: ``agglomtool COMMAND``. Each command is one call of the Python API."""
+"""Command line: ``agglomtool COMMAND``. Each command is one call of the Python API.
+
+Start-up is kept fast: this module imports only the standard library and the light field
+specification; the package's heavy parts (CoolProp, Numba, xarray, dask, matplotlib) are
+imported by the command that needs them, so ``--help`` and ``--version`` answer at once.
+"""
 
 from __future__ import annotations
 
 import argparse
 import sys
 
-import numpy as np
+from ._fields import CATEGORICAL_FIELDS, CHOICES, DEFAULTS, DERIVED, FIELD_META
+from ._version import __version__
 
-from . import __version__
-from .examples import reference_cases
+#: Exit status for bad input, and for an interrupted command (128 + SIGINT).
+EXIT_BAD_INPUT, EXIT_INTERRUPTED = 2, 130
+
+
+class CommandError(Exception):
+    """A failure to report as one line (no traceback)."""
 
 
 def _cmd_reference(args: argparse.Namespace) -> int:
     """Evaluate the paper's two reference cases (Table 2) and print u0* and e_w."""
+    from .examples import reference_cases
+
     for case in reference_cases():
         print(case.report(beta_deg=args.beta, mode=args.mode))
         print()
@@ -20,46 +32,59 @@ def _cmd_reference(args: argparse.Namespace) -> int:
 
 
 def _cmd_map(args: argparse.Namespace) -> int:
-    """Sweep the scene and grid of a TOML file; write the map as netCDF."""
+    """Sweep the scene and grid of a TOML file; write the map as compressed netCDF."""
     import shutil
     from pathlib import Path
 
     from .maps.config import load_config
+    from .maps.export import write_map
     from .maps.grid import sweep
 
     cfg = load_config(args.config)
     out = Path(args.output)
+    if out.is_dir():
+        raise CommandError(f"output {str(out)!r} is a directory; give a file name (.nc)")
     store = Path(args.store) if args.store else out.with_name(out.name + ".parts")
+    args._store = store  # for the message if interrupted
     ds = sweep(cfg.scene, chunks=cfg.options["chunks"], nodes=cfg.options["nodes"],
                store=store, progress=not args.quiet, **cfg.grid)
-    tmp = out.with_name(out.name + ".tmp")
-    ds.to_netcdf(tmp)
+    write_map(ds, out, complevel=0 if args.no_compress else 4)
     ds.close()
-    tmp.replace(out)
     if not args.keep_parts:
-        shutil.rmtree(store)
+        shutil.rmtree(store, ignore_errors=True)
     sizes = " x ".join(f"{k} {v}" for k, v in ds.sizes.items())
-    print(f"wrote {out} ({sizes})")
+    print(f"wrote {out} ({sizes}; {out.stat().st_size / 1e6:.3g} MB)")
     return 0
+
+
+def _parse_sel(items) -> dict:
+    sel = {}
+    for item in items or []:
+        name, sep, value = item.partition("=")
+        if not sep or not name or not value:
+            raise CommandError(f"--sel {item!r}: write NAME=VALUE, e.g. --sel d_i=500e-6")
+        try:
+            sel[name.strip()] = float(value)
+        except ValueError:
+            sel[name.strip()] = value.strip()
+    return sel
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     """Draw the operating window of a map file."""
     from .plots import operating_window
 
-    operating_window(args.map, var=args.var, path=args.output)
-    print(f"wrote {args.output}")
+    fig = operating_window(args.map, var=args.var, x=args.x, y=args.y, col=args.col,
+                           row=args.row, sel=_parse_sel(args.sel), path=args.output)
+    print(f"wrote {args.output}: {fig.layout.describe()}")
     return 0
 
 
 def _scene_from_args(args: argparse.Namespace):
-    from .scene import Scene, field_names
+    from .scene import Scene
 
-    given = {}
-    for name in field_names():
-        value = getattr(args, f"scene_{name}", None)
-        if value is not None:
-            given[name] = value
+    given = {name: getattr(args, f"scene_{name}") for name in DEFAULTS
+             if getattr(args, f"scene_{name}", None) is not None}
     if "body_forces" in given:
         given["body_forces"] = given["body_forces"] == "on"
     return Scene(**given)
@@ -67,14 +92,14 @@ def _scene_from_args(args: argparse.Namespace):
 
 def _cmd_collide(args: argparse.Namespace) -> int:
     """One collision of a scene, as a readable report."""
-    from .scene import Resolved, capillary_number
+    from .scene import Resolved, critical_outputs
 
     scene = _scene_from_args(args)
     r = Resolved(scene.values())
     u0 = float(r.u_typical)
     res = r.collide(u0, details=True)
-    us = float(r.u_star)
-    ca = float(capillary_number(r.liquid.mu, r.liquid.gamma, us))
+    crit = critical_outputs(r)
+    us, flag, ca = float(crit["u_star"]), int(crit["u_star_flag"]), float(crit["Ca_star"])
     p_i, p_j = r.particles
     lines = [
         f"scene: {scene.solid_i} ({float(p_i.d) * 1e6:g} um) - {scene.solid_j or scene.solid_i}"
@@ -89,11 +114,17 @@ def _cmd_collide(args: argparse.Namespace) -> int:
         f"impact speed u0 = {u0:.4g} m/s ({scene.speed}"
         + (", the median" if scene.speed != "fixed" else "") + ")",
         res.explain(),
-        f"critical impact speed u0* = {us:.4g} m/s (margin u0/u0* = "
-        f"{u0 / us if us > 0 else float('inf'):.3g})",
-        f"capillary number at u0*: Ca = {ca:.3g} -> "
-        + ("viscous-limited" if ca > 1.0 else "capillary-limited"),
     ]
+    if flag == 2:
+        lines.append(f"critical impact speed: above the ceiling of {scene.u_ceiling:g} m/s: the "
+                     "pair sticks at every speed a bed can give it")
+    elif flag == 1:
+        lines.append("critical impact speed u0* = 0: the coating is no thicker than the "
+                     "asperities, no bridge forms, the pair never sticks")
+    else:
+        lines += [f"critical impact speed u0* = {us:.4g} m/s (margin u0/u0* = {u0 / us:.3g})",
+                  f"capillary number at u0*: Ca = {ca:.3g} -> "
+                  + ("viscous-limited" if ca > 1.0 else "capillary-limited")]
     print("\n".join(lines))
     return 0
 
@@ -114,25 +145,50 @@ def _cmd_materials(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_scene_options(p: argparse.ArgumentParser) -> None:
-    from .scene import CATEGORICAL_FIELDS, FIELD_META, Scene, field_names
+def _database_names(kind: str) -> str:
+    """The database's names of ``kind`` for a help text (reads TOML only)."""
+    try:
+        from . import materials
 
-    defaults = Scene(u0=0.5).values()
-    for name in field_names():
-        if name == "body_forces":
-            p.add_argument("--body-forces", dest="scene_body_forces", choices=["on", "off"])
-            continue
+        return ", ".join(materials.names(kind))
+    except Exception:  # noqa: BLE001 - a broken user file must not break --help
+        return f"see 'agglomtool materials' ({kind}s)"
+
+
+def _default_text(name: str) -> str:
+    value = DEFAULTS[name]
+    if value is None:
+        return DERIVED.get(name, "none")
+    if name == "T":
+        return f"{value:g} K = {value - 273.15:g} degC"
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def _add_scene_options(p: argparse.ArgumentParser) -> None:
+    kinds = {"gas": "gas", "solid_i": "solid", "solid_j": "solid", "liquid": "liquid"}
+    for name in DEFAULTS:
         flag = "--" + name.replace("_", "-")
-        if name in CATEGORICAL_FIELDS:
-            p.add_argument(flag, dest=f"scene_{name}", type=str,
-                           help=f"(default {defaults[name]})")
+        if name == "body_forces":
+            p.add_argument("--body-forces", dest="scene_body_forces", choices=["on", "off"],
+                           help="weight, buoyancy and drag (default: on)")
+        elif name in CHOICES:
+            p.add_argument(flag, dest=f"scene_{name}", choices=CHOICES[name], metavar="NAME",
+                           help=f"one of {', '.join(CHOICES[name])} "
+                                f"(default: {_default_text(name)})")
+        elif name in CATEGORICAL_FIELDS:
+            p.add_argument(flag, dest=f"scene_{name}", metavar="NAME",
+                           help=f"one of {_database_names(kinds[name])} "
+                                f"(default: {_default_text(name)})")
         else:
             unit, long_name = FIELD_META[name]
-            p.add_argument(flag, dest=f"scene_{name}", type=float,
-                           help=f"{long_name} [{unit}] (default {defaults[name]})")
+            unit = {"dimensionless": "-", "degree": "deg", "m**2/s**2": "m2/s2"}.get(unit, unit)
+            p.add_argument(flag, dest=f"scene_{name}", type=float, metavar=unit.upper(),
+                           help=f"{long_name} [{unit}] (default: {_default_text(name)})")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
+    """The parser; ``command`` is the sub-command about to run (the scene options of
+    ``collide``, whose help lists the database's names, are built only for it)."""
     parser = argparse.ArgumentParser(
         prog="agglomtool",
         description="Will wet or ash-coated particles in a fluidized bed stick together?",
@@ -144,8 +200,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="the paper's reference cases (water, slag): critical impact speed and e_w",
     )
     ref.add_argument("--beta", type=float, nargs="+", default=[0.0, 45.0, 90.0],
-                     help="collision angles [deg] (default: 0 45 90)")
-    ref.add_argument("--mode", default="paper", help="model tier (default: paper)")
+                     metavar="DEG", help="collision angles [deg] (default: 0 45 90)")
+    ref.add_argument("--mode", default="paper", choices=CHOICES["mode"], metavar="NAME",
+                     help=f"model tier, one of {', '.join(CHOICES['mode'])} (default: paper)")
     ref.set_defaults(func=_cmd_reference)
 
     mp = sub.add_parser("map", help="sweep a scene over a grid (TOML) into a netCDF map")
@@ -154,18 +211,33 @@ def build_parser() -> argparse.ArgumentParser:
     mp.add_argument("--store", help="directory of finished blocks (default OUTPUT.parts); "
                     "an interrupted map run again resumes from it")
     mp.add_argument("--keep-parts", action="store_true", help="keep the block directory")
+    mp.add_argument("--no-compress", action="store_true",
+                    help="write the netCDF uncompressed (default: zlib level 4)")
     mp.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     mp.set_defaults(func=_cmd_map)
 
-    pl = sub.add_parser("plot", help="operating-window picture of a map")
+    pl = sub.add_parser("plot", help="operating-window picture of a map",
+                        description="Draw a map. Every dimension of more than one value is "
+                        "an axis, a facet column or row, or fixed with --sel; dimensions left "
+                        "open are placed by the tool, which says where.")
     pl.add_argument("map", help="netCDF map written by 'agglomtool map'")
     pl.add_argument("-o", "--output", required=True, help="PNG file to write")
-    pl.add_argument("--var", default="propensity", help="variable to colour "
-                    "(default propensity)")
+    pl.add_argument("--var", default="propensity", metavar="NAME",
+                    help="variable to colour, e.g. propensity, u_star, e_w, stage, margin "
+                    "(default: propensity)")
+    for name, what in (("x", "the x axis"), ("y", "the y axis"), ("col", "facet columns"),
+                       ("row", "facet rows")):
+        pl.add_argument(f"--{name}", metavar="DIM", help=f"dimension for {what}")
+    pl.add_argument("--sel", action="append", metavar="DIM=VALUE",
+                    help="fix a dimension at a grid value (SI units, or a name), e.g. "
+                    "--sel d_i=500e-6 --sel solid_j=ilmenite; repeatable")
     pl.set_defaults(func=_cmd_plot)
 
-    co = sub.add_parser("collide", help="one collision of a scene, as a readable report")
-    _add_scene_options(co)
+    co = sub.add_parser("collide", help="one collision of a scene, as a readable report",
+                        description="One collision of a scene: properties, outcome, u0*. "
+                        "Numbers in SI units (T in K, lengths in m).")
+    if command == "collide":
+        _add_scene_options(co)
     co.set_defaults(func=_cmd_collide)
 
     ma = sub.add_parser("materials", help="what the materials database holds, with sources")
@@ -174,15 +246,28 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    try:
+        args = build_parser(command).parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a usage error argparse reported
+        return int(exc.code or 0)
     try:
         return args.func(args)
-    except (ValueError, KeyError) as exc:  # bad input: say what, not a traceback
+    except KeyboardInterrupt:
+        store = getattr(args, "_store", None)
+        hint = (f"; finished blocks are kept in {store}: run the same command again to resume"
+                if store is not None else "")
+        print(f"agglomtool: interrupted{hint}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except ImportError as exc:  # an optional package is missing: say which and how
         print(f"agglomtool: error: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_BAD_INPUT
+    except (CommandError, ValueError, KeyError, OSError) as exc:  # bad input: no traceback
+        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        print(f"agglomtool: error: {msg}", file=sys.stderr)
+        return EXIT_BAD_INPUT
 
 
 if __name__ == "__main__":  # pragma: no cover
-    np.set_printoptions(precision=4)
     sys.exit(main())

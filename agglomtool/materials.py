@@ -247,12 +247,12 @@ def _liquid(ctx, entry) -> LiquidEntry:
 
 
 def _gas(ctx, entry) -> GasEntry:
-    from .properties._gas_tables import species_info
+    from .properties._gas_tables import check_species
 
     _no_unknown(ctx, entry, ("composition",) + _COMMON)
     return GasEntry(
         name=ctx[2],
-        composition=_fractions(ctx, entry, "composition", species_info, 1.0, 1e-3),
+        composition=_fractions(ctx, entry, "composition", check_species, 1.0, 1e-3),
         source=_text(ctx, entry, "source"),
         confidence=_text(ctx, entry, "confidence"),
         file=str(ctx[0]),

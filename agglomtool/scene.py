@@ -17,12 +17,19 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
 from . import materials
+from ._fields import (
+    CATEGORICAL_FIELDS,
+    DEFAULTS,
+    FIELD_META,
+    NUMERIC_FIELDS,
+    U_CEILING,
+)
 from ._validate import check_range
 from .api import MODES, collide, critical_impact_speed
 from .inputs import Bed, Liquid, Particle
@@ -33,45 +40,8 @@ from .properties import gas_properties, umf, umf_methods
 __all__ = ["Scene", "evaluate", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CA_VISCOUS",
            "U_CEILING", "U_STAR_FLAGS"]
 
-#: Fields holding names (swept as categories, one value per grid block).
-CATEGORICAL_FIELDS = ("gas", "solid_i", "solid_j", "liquid", "speed", "mode", "drag_slip",
-                      "umf_method")
-#: Fields holding numbers (swept as numeric coordinates).
-NUMERIC_FIELDS = ("T", "P", "U", "U_Umf", "eps", "U_e_Umf", "d_i", "d_j", "h0", "h0_j",
-                  "ha_i", "ha_j", "e", "theta_deg", "beta_deg", "u0", "sigma_ln",
-                  "granular_temperature", "fluctuation_ratio", "u_ceiling")
-
 #: Capillary number at ``u0*`` above which the outcome is called viscous-limited.
 CA_VISCOUS = 1.0
-
-#: Units and long names of the scene's fields (pint-parsable units).
-FIELD_META = {
-    "T": ("K", "bed temperature"),
-    "P": ("Pa", "absolute pressure"),
-    "U": ("m/s", "superficial gas velocity"),
-    "U_Umf": ("dimensionless", "fluidization number U/U_mf"),
-    "eps": ("dimensionless", "local voidage around the colliding pair"),
-    "U_e_Umf": ("dimensionless", "emulsion gas velocity over U_mf (drag)"),
-    "d_i": ("m", "solid diameter of particle i"),
-    "d_j": ("m", "solid diameter of particle j"),
-    "h0": ("m", "coating thickness of particle i"),
-    "h0_j": ("m", "coating thickness of particle j"),
-    "ha_i": ("m", "asperity height of particle i"),
-    "ha_j": ("m", "asperity height of particle j"),
-    "e": ("dimensionless", "dry restitution coefficient of the pair"),
-    "theta_deg": ("degree", "contact angle of the coating liquid"),
-    "beta_deg": ("degree", "collision angle from the horizontal"),
-    "u0": ("m/s", "impact speed (fixed value, or lognormal median)"),
-    "sigma_ln": ("dimensionless", "lognormal shape of the impact-speed distribution"),
-    "granular_temperature": ("m**2/s**2", "granular temperature (Maxwellian speeds)"),
-    "fluctuation_ratio": ("dimensionless", "r.m.s. particle velocity over U - U_mf"),
-    "u_ceiling": ("m/s", "u0* ceiling: above it the pair sticks at every bed speed"),
-}
-
-#: Default ceiling on the critical impact speed [m/s]: of the order of the fastest impacts
-#: in a bubbling bed (particles thrown by bursting bubbles move at a few m/s). A u0* above it
-#: would come from physics extrapolated far beyond any bed, so it is reported as ``inf``.
-U_CEILING = 10.0
 
 #: Values of the ``u_star_flag`` output and their meanings.
 U_STAR_FLAGS = {
@@ -153,35 +123,35 @@ class Scene:
     2024, Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397).
     """
 
-    T: float = 1073.15
-    P: float = 101325.0
-    gas: str = "air"
-    U: float | None = None
-    U_Umf: float = 3.0
-    eps: float = 0.55
-    U_e_Umf: float = 1.1
-    solid_i: str = "silica-sand"
-    d_i: float = 500e-6
-    solid_j: str | None = None
-    d_j: float | None = None
-    liquid: str = "hypothetical-slag"
-    h0: float = 0.2e-6
-    h0_j: float | None = None
-    ha_i: float | None = None
-    ha_j: float | None = None
-    e: float | None = None
-    theta_deg: float | None = None
-    beta_deg: float = 0.0
-    u0: float | None = None
-    speed: str | None = None
-    sigma_ln: float = 0.5
-    granular_temperature: float | None = None
-    fluctuation_ratio: float = 1.0
-    mode: str = "paper"
-    body_forces: bool = True
-    drag_slip: str = "emulsion"
-    umf_method: str = field(default="wen-yu")
-    u_ceiling: float = U_CEILING
+    T: float = DEFAULTS["T"]
+    P: float = DEFAULTS["P"]
+    gas: str = DEFAULTS["gas"]
+    U: float | None = DEFAULTS["U"]
+    U_Umf: float = DEFAULTS["U_Umf"]
+    eps: float = DEFAULTS["eps"]
+    U_e_Umf: float = DEFAULTS["U_e_Umf"]
+    solid_i: str = DEFAULTS["solid_i"]
+    d_i: float = DEFAULTS["d_i"]
+    solid_j: str | None = DEFAULTS["solid_j"]
+    d_j: float | None = DEFAULTS["d_j"]
+    liquid: str = DEFAULTS["liquid"]
+    h0: float = DEFAULTS["h0"]
+    h0_j: float | None = DEFAULTS["h0_j"]
+    ha_i: float | None = DEFAULTS["ha_i"]
+    ha_j: float | None = DEFAULTS["ha_j"]
+    e: float | None = DEFAULTS["e"]
+    theta_deg: float | None = DEFAULTS["theta_deg"]
+    beta_deg: float = DEFAULTS["beta_deg"]
+    u0: float | None = DEFAULTS["u0"]
+    speed: str | None = DEFAULTS["speed"]
+    sigma_ln: float = DEFAULTS["sigma_ln"]
+    granular_temperature: float | None = DEFAULTS["granular_temperature"]
+    fluctuation_ratio: float = DEFAULTS["fluctuation_ratio"]
+    mode: str = DEFAULTS["mode"]
+    body_forces: bool = DEFAULTS["body_forces"]
+    drag_slip: str = DEFAULTS["drag_slip"]
+    umf_method: str = DEFAULTS["umf_method"]
+    u_ceiling: float = DEFAULTS["u_ceiling"]
 
     def __post_init__(self) -> None:
         if self.speed is None:

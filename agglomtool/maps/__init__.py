@@ -7,7 +7,7 @@ sweep functions are imported on first use.
 from .speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
 
 __all__ = ["SPEED_FAMILIES", "SpeedModel", "build", "open_store", "sticking_probability",
-           "sweep"]
+           "sweep", "write_map"]
 
 
 def __getattr__(name):
@@ -15,6 +15,10 @@ def __getattr__(name):
         from importlib import import_module
 
         return getattr(import_module(f"{__name__}.grid"), name)
+    if name == "write_map":
+        from .export import write_map
+
+        return write_map
     if name == "open_store":
         from .store import open_store
 

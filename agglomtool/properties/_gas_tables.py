@@ -8,7 +8,13 @@ is built from HEOS itself, and every cell is checked against HEOS at its centre,
 bilinear error of a smooth function peaks: a cell is used only if its four corners are gas
 and its centre error is below :data:`CELL_TOL` in both ``mu`` and ``rho``. States in other
 cells (close to a saturation line or a critical point) or outside the grid are sent to HEOS
-one by one. No disk cache is needed: a table takes a fraction of a second to build.
+one by one.
+
+A table takes about a second to build, and importing CoolProp takes one or two more, which a
+command-line call pays on every start. Each species' table and limits are therefore kept on
+disk (:func:`cache_dir`), keyed by the CoolProp version and the table's grid and tolerance;
+a state inside a valid cell of a cached table is then answered without importing CoolProp.
+Where no directory is writable, tables are built in memory as before.
 
 Species without a CoolProp viscosity model (carbon monoxide) take their dilute-gas viscosity
 from ``thermo`` (DIPPR correlation, Perry's 8th ed.), pressure independent.
@@ -16,14 +22,19 @@ from ``thermo`` (DIPPR correlation, Perry's 8th ed.), pressure independent.
 
 from __future__ import annotations
 
+import hashlib
 import math
+import os
+import tempfile
 from dataclasses import dataclass, field
 from functools import cache
+from importlib import metadata
+from pathlib import Path
 
-import CoolProp.CoolProp as CP
 import numpy as np
 
-__all__ = ["SPECIES", "CondensedPhaseError", "OutOfRangeError", "species_state", "species_info"]
+__all__ = ["SPECIES_FORMULAS", "CondensedPhaseError", "OutOfRangeError", "check_species",
+           "species_state", "species_info"]
 
 #: Molar gas constant [J/(mol K)], as used by CoolProp 8.
 R_GAS = 8.314462618
@@ -35,12 +46,19 @@ CELL_TOL = 2e-4
 T_GRID = (200.0, 2000.0, 121)
 P_GRID = (1.0e2, 1.0e7, 61)
 
-#: Phases CoolProp may report for a state this package accepts as a gas.
-_GAS_PHASES = {
-    CP.iphase_gas,
-    CP.iphase_supercritical_gas,
-    CP.iphase_supercritical,
-}
+
+@cache
+def _cp():
+    """CoolProp's low-level module, imported on first use (it costs about a second)."""
+    import CoolProp.CoolProp as CP
+
+    return CP
+
+
+def _gas_phases() -> set:
+    """Phases CoolProp may report for a state this package accepts as a gas."""
+    CP = _cp()
+    return {CP.iphase_gas, CP.iphase_supercritical_gas, CP.iphase_supercritical}
 
 
 class CondensedPhaseError(ValueError):
@@ -70,46 +88,129 @@ class Species:
     viscosity: str = "coolprop"
     #: Upper validity of the viscosity source when it is not CoolProp [K].
     viscosity_tmax: float = math.inf
-    molar_mass: float = field(init=False, default=0.0)
-    t_min: float = field(init=False, default=0.0)
-    t_max: float = field(init=False, default=0.0)
-    p_max: float = field(init=False, default=0.0)
+    #: Limits from CoolProp (molar mass [kg/mol], T [K], p [Pa]); asked for when 0.
+    molar_mass: float = field(default=0.0)
+    t_min: float = field(default=0.0)
+    t_max: float = field(default=0.0)
+    p_max: float = field(default=0.0)
 
     def __post_init__(self) -> None:
-        st = CP.AbstractState("HEOS", self.coolprop)
+        if self.molar_mass > 0.0:
+            return
+        st = _cp().AbstractState("HEOS", self.coolprop)
         object.__setattr__(self, "molar_mass", st.molar_mass())
         object.__setattr__(self, "t_min", st.Tmin())
         object.__setattr__(self, "t_max", min(st.Tmax(), self.viscosity_tmax))
         object.__setattr__(self, "p_max", st.pmax())
 
 
-#: The species a composition may name, keyed by formula. ``Air`` is Lemmon et al.'s
-#: pseudo-pure fluid (doi:10.1063/1.1285884), with the Lemmon-Jacobsen (2004) viscosity.
-SPECIES: dict[str, Species] = {
-    s.formula: s
-    for s in (
-        Species("Air", "Air"),
-        Species("N2", "Nitrogen"),
-        Species("O2", "Oxygen"),
-        Species("CO2", "CarbonDioxide"),
-        Species("H2O", "Water"),
-        Species("Ar", "Argon"),
-        Species("CO", "CarbonMonoxide", cas="630-08-0", viscosity="DIPPR_PERRY_8E",
-                viscosity_tmax=1250.0),
-        Species("H2", "Hydrogen"),
-        Species("CH4", "Methane"),
-    )
+#: The species a composition may name, keyed by formula: the arguments of :class:`Species`
+#: (whose records ask CoolProp for limits, so they are built on first use). ``Air`` is Lemmon
+#: et al.'s pseudo-pure fluid (doi:10.1063/1.1285884), with the Lemmon-Jacobsen (2004)
+#: viscosity.
+_SPECIES_ARGS = {
+    "Air": ("Air",),
+    "N2": ("Nitrogen",),
+    "O2": ("Oxygen",),
+    "CO2": ("CarbonDioxide",),
+    "H2O": ("Water",),
+    "Ar": ("Argon",),
+    "CO": ("CarbonMonoxide", "630-08-0", "DIPPR_PERRY_8E", 1250.0),
+    "H2": ("Hydrogen",),
+    "CH4": ("Methane",),
 }
+#: Formulas of the known species.
+SPECIES_FORMULAS = tuple(_SPECIES_ARGS)
 
 
+def check_species(formula: str) -> str:
+    """``formula`` if it names a known species, else a ValueError naming the known ones
+    (no CoolProp call: the materials loader validates gas entries with it)."""
+    if formula not in _SPECIES_ARGS:
+        raise ValueError(
+            f"unknown gas species {formula!r}; known: {', '.join(sorted(_SPECIES_ARGS))}"
+        )
+    return formula
+
+
+@cache
 def species_info(formula: str) -> Species:
     """The :class:`Species` record for ``formula``; ValueError naming the known ones."""
+    check_species(formula)
+    cached = _load_cached(formula)
+    if cached is not None:
+        return cached[0]
+    return Species(formula, *_SPECIES_ARGS[formula])
+
+
+# ---------------------------------------------------------------------------------------
+# The disk cache of tables
+
+
+def cache_dir() -> Path | None:
+    """Where tables are kept: ``$AGGLOMTOOL_CACHE_DIR``, else ``$XDG_CACHE_HOME/agglomtool``
+    or ``~/.cache/agglomtool``; ``None`` (no disk cache) if it cannot be created."""
+    env = os.environ.get("AGGLOMTOOL_CACHE_DIR")
+    if env:
+        path = Path(env)
+    else:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"),
+                                                                 ".cache")
+        path = Path(base) / "agglomtool"
     try:
-        return SPECIES[formula]
-    except KeyError:
-        raise ValueError(
-            f"unknown gas species {formula!r}; known: {', '.join(sorted(SPECIES))}"
-        ) from None
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return None
+    return path if os.access(path, os.W_OK) else None
+
+
+def _cache_file(formula: str) -> Path | None:
+    folder = cache_dir()
+    if folder is None:
+        return None
+    try:
+        version = metadata.version("CoolProp")
+    except metadata.PackageNotFoundError:  # pragma: no cover - CoolProp is a dependency
+        version = "unknown"
+    key = repr((formula, _SPECIES_ARGS[formula], version, T_GRID, P_GRID, CELL_TOL, 1))
+    digest = hashlib.sha256(key.encode()).hexdigest()[:16]
+    return folder / f"gas-table-{formula}-{digest}.npz"
+
+
+_LIMITS = ("molar_mass", "t_min", "t_max", "p_max")
+_TABLE_FIELDS = ("lnT0", "dlnT", "lnP0", "dlnP", "ln_mu", "z", "cell_ok")
+
+
+@cache
+def _load_cached(formula: str):
+    """``(Species, _Table)`` from the disk cache, or ``None`` (missing or unreadable)."""
+    path = _cache_file(formula)
+    if path is None or not path.is_file():
+        return None
+    try:
+        with np.load(path) as data:
+            limits = {k: float(data[k]) for k in _LIMITS}
+            arrays = {k: data[k] for k in _TABLE_FIELDS}
+    except (OSError, ValueError, KeyError):
+        return None  # corrupt or from another layout: rebuilt and rewritten
+    sp = Species(formula, *_SPECIES_ARGS[formula], **limits)
+    tab = _Table(**{k: (float(v) if v.ndim == 0 else v) for k, v in arrays.items()})
+    return sp, tab
+
+
+def _save_cached(formula: str, sp: Species, tab: _Table) -> None:
+    path = _cache_file(formula)
+    if path is None:
+        return
+    payload = {k: getattr(sp, k) for k in _LIMITS}
+    payload.update({k: getattr(tab, k) for k in _TABLE_FIELDS})
+    try:  # atomic: a reader sees the whole file or none
+        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz.tmp")
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, **payload)
+        os.replace(tmp, path)
+    except OSError:
+        return
 
 
 @cache
@@ -122,10 +223,11 @@ def _thermo_viscosity(cas: str, method: str):
 
 @cache
 def _state(coolprop: str):
-    return CP.AbstractState("HEOS", coolprop)
+    return _cp().AbstractState("HEOS", coolprop)
 
 
 def _phase_name(index: int) -> str:
+    CP = _cp()
     return {
         CP.iphase_liquid: "liquid",
         CP.iphase_twophase: "two-phase",
@@ -140,13 +242,13 @@ def heos_point(sp: Species, T: float, P: float) -> tuple[float, float]:
     """
     st = _state(sp.coolprop)
     try:
-        st.update(CP.PT_INPUTS, float(P), float(T))
+        st.update(_cp().PT_INPUTS, float(P), float(T))
     except ValueError as exc:
         raise OutOfRangeError(
             f"CoolProp HEOS cannot evaluate {sp.formula} at T = {T:g} K, p = {P:g} Pa: {exc}"
         ) from exc
     phase = st.phase()
-    if phase not in _GAS_PHASES:
+    if phase not in _gas_phases():
         raise CondensedPhaseError(sp.formula, float(T), float(P), _phase_name(phase))
     rho = st.rhomass()
     if sp.viscosity == "coolprop":
@@ -184,7 +286,16 @@ def _grid_values(sp: Species, T: np.ndarray, P: np.ndarray):
 
 @cache
 def _table(formula: str) -> _Table:
-    sp = SPECIES[formula]
+    cached = _load_cached(formula)
+    if cached is not None:
+        return cached[1]
+    sp = species_info(formula)
+    tab = _build_table(sp)
+    _save_cached(formula, sp, tab)
+    return tab
+
+
+def _build_table(sp: Species) -> _Table:
     t_lo = max(T_GRID[0], sp.t_min)
     lnT = np.linspace(math.log(t_lo), math.log(T_GRID[1]), T_GRID[2])
     lnP = np.linspace(math.log(P_GRID[0]), math.log(P_GRID[1]), P_GRID[2])

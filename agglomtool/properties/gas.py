@@ -12,16 +12,24 @@ and it evaluates a humid gas below its dew point inside the water dome without c
 from __future__ import annotations
 
 from collections.abc import Mapping
+from importlib import metadata
 
-import CoolProp
-import CoolProp.CoolProp as CP
 import numpy as np
 
 from .._validate import check_range
 from ..inputs import Gas
-from ._gas_tables import SPECIES, CondensedPhaseError, species_info, species_state
+from ._gas_tables import (
+    SPECIES_FORMULAS,
+    CondensedPhaseError,
+    _cp,
+    species_info,
+    species_state,
+)
 
-__all__ = ["gas_properties", "viscosity_wilke", "mixture_density_dalton", "SPECIES"]
+__all__ = ["gas_properties", "viscosity_wilke", "mixture_density_dalton", "SPECIES_FORMULAS"]
+
+#: CoolProp's version, for the source text (read without importing CoolProp).
+_COOLPROP = metadata.version("CoolProp")
 
 
 def viscosity_wilke(x, mu, molar_mass):
@@ -110,7 +118,7 @@ def _resolve(composition) -> tuple[dict[str, float], str]:
 def _dew_point_message(exc: CondensedPhaseError, x: float, P: float) -> str:
     sp = species_info(exc.species)
     try:
-        t_dew = CP.PropsSI("T", "P", exc.P, "Q", 1, sp.coolprop)
+        t_dew = _cp().PropsSI("T", "P", exc.P, "Q", 1, sp.coolprop)
         dew = f"; its dew point at that partial pressure is {t_dew:.2f} K"
     except ValueError:
         dew = ""
@@ -189,7 +197,7 @@ def gas_properties(
     if len(fractions) == 1:
         (formula,) = fractions
         mu, rho = species_state(formula, t1, p1, **opts)
-        source = f"CoolProp {CoolProp.__version__} HEOS ({SPECIES[formula].coolprop}), {method}"
+        source = f"CoolProp {_COOLPROP} HEOS ({species_info(formula).coolprop}), {method}"
     else:
         formulas = list(fractions)
         x = np.array([fractions[f] for f in formulas])
@@ -201,11 +209,11 @@ def gas_properties(
                 raise ValueError(_dew_point_message(exc, xi, exc.P / xi)) from None
             mus.append(mu_i)
             rhos.append(rho_i)
-        molar = np.array([SPECIES[f].molar_mass for f in formulas])
+        molar = np.array([species_info(f).molar_mass for f in formulas])
         mu = viscosity_wilke(x[:, None], np.array(mus), molar)
         rho = mixture_density_dalton(np.array(rhos))
         source = (
-            f"CoolProp {CoolProp.__version__} pure components ({method}) at partial pressures; "
+            f"CoolProp {_COOLPROP} pure components ({method}) at partial pressures; "
             "Wilke (1950) viscosity, Dalton density"
         )
     return Gas(mu=mu.reshape(shape), rho=rho.reshape(shape), name=name, source=source)

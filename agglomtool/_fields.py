@@ -1,0 +1,83 @@
+"""The fields of a :class:`~agglomtool.Scene`: names, units, defaults and allowed names.
+
+Kept free of heavy imports (no numpy kernels, CoolProp, xarray) so that the command line can
+state its options, true defaults and allowed names in well under a second. The modules that
+own each list (the tier registry, the speed models, the drag and ``U_mf`` correlations) are
+checked against these names by the tests.
+"""
+
+from __future__ import annotations
+
+__all__ = ["FIELD_META", "DEFAULTS", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CHOICES",
+           "U_CEILING"]
+
+#: Default ceiling on the critical impact speed [m/s]: of the order of the fastest impacts
+#: in a bubbling bed (particles thrown by bursting bubbles move at a few m/s). A u0* above it
+#: would come from physics extrapolated far beyond any bed, so it is reported as ``inf``.
+U_CEILING = 10.0
+
+#: Fields holding names (swept as categories, one value per grid block).
+CATEGORICAL_FIELDS = ("gas", "solid_i", "solid_j", "liquid", "speed", "mode", "drag_slip",
+                      "umf_method")
+#: Fields holding numbers (swept as numeric coordinates).
+NUMERIC_FIELDS = ("T", "P", "U", "U_Umf", "eps", "U_e_Umf", "d_i", "d_j", "h0", "h0_j",
+                  "ha_i", "ha_j", "e", "theta_deg", "beta_deg", "u0", "sigma_ln",
+                  "granular_temperature", "fluctuation_ratio", "u_ceiling")
+
+#: Units and long names of the numeric fields (pint-parsable units).
+FIELD_META = {
+    "T": ("K", "bed temperature"),
+    "P": ("Pa", "absolute pressure"),
+    "U": ("m/s", "superficial gas velocity"),
+    "U_Umf": ("dimensionless", "fluidization number U/U_mf"),
+    "eps": ("dimensionless", "local voidage around the colliding pair"),
+    "U_e_Umf": ("dimensionless", "emulsion gas velocity over U_mf (drag)"),
+    "d_i": ("m", "solid diameter of particle i"),
+    "d_j": ("m", "solid diameter of particle j"),
+    "h0": ("m", "coating thickness of particle i"),
+    "h0_j": ("m", "coating thickness of particle j"),
+    "ha_i": ("m", "asperity height of particle i"),
+    "ha_j": ("m", "asperity height of particle j"),
+    "e": ("dimensionless", "dry restitution coefficient of the pair"),
+    "theta_deg": ("degree", "contact angle of the coating liquid"),
+    "beta_deg": ("degree", "collision angle from the horizontal"),
+    "u0": ("m/s", "impact speed (fixed value, or lognormal median)"),
+    "sigma_ln": ("dimensionless", "lognormal shape of the impact-speed distribution"),
+    "granular_temperature": ("m**2/s**2", "granular temperature (Maxwellian speeds)"),
+    "fluctuation_ratio": ("dimensionless", "r.m.s. particle velocity over U - U_mf"),
+    "u_ceiling": ("m/s", "u0* ceiling: above it the pair sticks at every bed speed"),
+}
+
+#: Default of every Scene field; ``None`` means "derived" (see the Scene's docstring).
+DEFAULTS = {
+    "T": 1073.15, "P": 101325.0, "gas": "air", "U": None, "U_Umf": 3.0, "eps": 0.55,
+    "U_e_Umf": 1.1, "solid_i": "silica-sand", "d_i": 500e-6, "solid_j": None, "d_j": None,
+    "liquid": "hypothetical-slag", "h0": 0.2e-6, "h0_j": None, "ha_i": None, "ha_j": None,
+    "e": None, "theta_deg": None, "beta_deg": 0.0, "u0": None, "speed": None,
+    "sigma_ln": 0.5, "granular_temperature": None, "fluctuation_ratio": 1.0, "mode": "paper",
+    "body_forces": True, "drag_slip": "emulsion", "umf_method": "wen-yu",
+    "u_ceiling": U_CEILING,
+}
+
+#: Allowed names of the categorical fields that are not database entries.
+CHOICES = {
+    "speed": ("fixed", "lognormal", "maxwellian", "excess-gas"),
+    "mode": ("stokes", "paper", "relative", "ode", "ode_selfconsistent", "auto"),
+    "drag_slip": ("emulsion", "particle"),
+    "umf_method": ("wen-yu", "richardson", "saxena-vogel", "babu", "grace", "chitester"),
+}
+
+#: What a ``None`` default means, for help texts.
+DERIVED = {
+    "U": "U_Umf x U_mf",
+    "solid_j": "solid_i",
+    "d_j": "d_i",
+    "h0_j": "h0",
+    "ha_i": "the solid's database value",
+    "ha_j": "the solid's database value",
+    "e": "the mean of the two solids' database values",
+    "theta_deg": "the liquid's database value",
+    "u0": "none: the speed distribution is then estimated (see speed)",
+    "speed": "fixed with u0, maxwellian with granular_temperature, else excess-gas",
+    "granular_temperature": "none",
+}
