@@ -52,7 +52,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     ds.close()
     if not args.keep_parts:
         shutil.rmtree(store, ignore_errors=True)
-    sizes = " x ".join(f"{k} {v}" for k, v in ds.sizes.items())
+    sizes = " x ".join(f"{k} {v}" for k, v in ds["propensity"].sizes.items())
     print(f"wrote {out} ({sizes}; {out.stat().st_size / 1e6:.3g} MB)")
     return 0
 

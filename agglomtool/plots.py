@@ -254,8 +254,10 @@ def _u_star_overlay(ax, us: xr.DataArray, x: str, y: str, ceiling_label: str) ->
     for mask, hatch, label in ((np.isinf(z), "//", ceiling_label),
                                (z == 0.0, "..", "no bridge: coating thinner than asperities")):
         if mask.any():
-            ax.contourf(xv, yv, mask.astype(float), levels=[0.5, 1.5], colors="none",
-                        hatches=[hatch])
+            cf = ax.contourf(xv, yv, mask.astype(float), levels=[0.5, 1.5], colors="none",
+                             hatches=[hatch])
+            cf.set_edgecolor("0.55")  # hatch lines visible on dark and pale colours alike
+            cf.set_linewidth(0.0)
             handles.append((hatch, label))
     return handles
 
@@ -397,7 +399,9 @@ def _default_title(ds, var, sub, da) -> str:
     liquid, si, sj = name("liquid"), name("solid_i"), name("solid_j")
     parts = [what]
     if liquid:
-        parts.append(f"{liquid}" + (f" on {si}" if si else "") + (f" / {sj}" if sj else ""))
+        temp = name("T")
+        parts.append(f"{liquid}" + (f" at {_fmt_value('T', temp)}" if temp else "")
+                     + (f" on {si}" if si else "") + (f" / {sj}" if sj else ""))
     fixed = [f"{d} = {_fmt_value(d, sub[d].values.item())}" for d in da.coords
              if d in ds.dims and sub[d].ndim == 0]
     title = ": ".join(parts[:1]) + (f" ({parts[1]})" if len(parts) > 1 else "")
