@@ -4,7 +4,8 @@ Silica sand coated by a potassium-silicate ash melt in biomass flue gas: tempera
 against coating thickness at U/U_mf = 2, 4 and 8, coloured by the agglomeration
 propensity, with u0* contours. The database's melt is so viscous (GRD: 1e2-1e7 Pa s here)
 that any coating thicker than the 0.1 um asperities sticks at every speed up to the u0*
-ceiling: the picture hatches that region; the window is only where no bridge forms. The scene and grid are ``configs/biomass_window.toml``;
+ceiling: the picture hatches that region; the window is only where no bridge forms.
+The scene and grid are ``configs/biomass_window.toml``;
 the same picture from the command line::
 
     agglomtool map examples/configs/biomass_window.toml -o biomass_window.nc

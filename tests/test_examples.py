@@ -9,7 +9,8 @@ import pytest
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
-@pytest.mark.parametrize("name", ["fig6_curves", "silica_ilmenite", "biomass_window", "granulator_window"])
+@pytest.mark.parametrize("name", ["fig6_curves", "silica_ilmenite", "biomass_window",
+                                  "granulator_window"])
 def test_example_runs(name, tmp_path, monkeypatch):
     monkeypatch.setenv("AGGLOMTOOL_EXAMPLE_OUT", str(tmp_path))
     monkeypatch.setenv("AGGLOMTOOL_EXAMPLE_N", "4")
