@@ -258,7 +258,7 @@ def main(argv: list[str] | None = None) -> int:
         store = getattr(args, "_store", None)
         hint = (f"; finished blocks are kept in {store}: run the same command again to resume"
                 if store is not None else "")
-        print(f"agglomtool: interrupted{hint}", file=sys.stderr)
+        print(f"\nagglomtool: interrupted{hint}", file=sys.stderr)  # after a progress line
         return EXIT_INTERRUPTED
     except ImportError as exc:  # an optional package is missing: say which and how
         print(f"agglomtool: error: {exc}", file=sys.stderr)
