@@ -164,6 +164,11 @@ def _default_text(name: str) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
+#: An example quantity per unit, for help texts.
+_EXAMPLES = {"K": "850 degC", "Pa": "1.5 bar", "m": "5 um", "m/s": "30 cm/s", "-": "3",
+             "deg": "30 deg", "m2/s2": "0.01 m**2/s**2"}
+
+
 def _add_scene_options(p: argparse.ArgumentParser) -> None:
     kinds = {"gas": "gas", "solid_i": "solid", "solid_j": "solid", "liquid": "liquid"}
     for name in DEFAULTS:
@@ -182,8 +187,10 @@ def _add_scene_options(p: argparse.ArgumentParser) -> None:
         else:
             unit, long_name = FIELD_META[name]
             unit = {"dimensionless": "-", "degree": "deg", "m**2/s**2": "m2/s2"}.get(unit, unit)
-            p.add_argument(flag, dest=f"scene_{name}", type=float, metavar=unit.upper(),
-                           help=f"{long_name} [{unit}] (default: {_default_text(name)})")
+            p.add_argument(flag, dest=f"scene_{name}", metavar=unit.upper(),
+                           help=f"{long_name} [{unit}, or a quantity such as "
+                                f"\"{_EXAMPLES.get(unit, '1 ' + unit)}\"] "
+                                f"(default: {_default_text(name)})")
 
 
 def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
@@ -194,6 +201,9 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
         description="Will wet or ash-coated particles in a fluidized bed stick together?",
     )
     parser.add_argument("--version", action="version", version=f"agglomtool {__version__}")
+    parser.add_argument("--strict", action="store_true",
+                        help="treat plausibility warnings (unit slips, sizes outside a "
+                        "solid's range, ...) as errors")
     sub = parser.add_subparsers(dest="command", required=True)
     ref = sub.add_parser(
         "reference",
@@ -252,8 +262,21 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser(command).parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a usage error argparse reported
         return int(exc.code or 0)
+    import warnings
+
+    from .plausibility import PlausibilityWarning
+
+    def show(message, category, *rest, **kw):  # one readable line, not file:line: source
+        print(f"agglomtool: warning: {message}", file=sys.stderr)
+
     try:
-        return args.func(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = show
+            warnings.simplefilter("error" if args.strict else "default", PlausibilityWarning)
+            return args.func(args)
+    except PlausibilityWarning as exc:
+        print(f"agglomtool: error (--strict): {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         store = getattr(args, "_store", None)
         hint = (f"; finished blocks are kept in {store}: run the same command again to resume"

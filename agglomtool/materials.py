@@ -68,6 +68,8 @@ class Solid:
     source: str
     confidence: str
     file: str
+    #: Fields of this entry that are assumptions (not measured or published values).
+    assumed: tuple[str, ...] = ()
 
     def particle(self, d, h0=0.0, ha=None) -> Particle:
         """A :class:`~agglomtool.Particle` of this solid with diameter ``d`` [m].
@@ -92,6 +94,8 @@ class LiquidEntry:
     rho: float | None = None  #: [kg/m3], fixed liquids
     composition_wt: MappingProxyType | None = None  #: oxide -> wt %, melts
     viscosity_model: str = "auto"  #: melts
+    #: Fields of this entry that are assumptions (not measured or published values).
+    assumed: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -174,7 +178,20 @@ def _fractions(ctx, entry, field, check_key, total, tol):
     return MappingProxyType(out)
 
 
-_COMMON = ("source", "confidence", "description")
+_COMMON = ("source", "confidence", "description", "assumed")
+
+
+def _assumed(ctx, entry, fields) -> tuple[str, ...]:
+    """The optional ``assumed = [field, ...]`` list: which values are assumptions."""
+    value = entry.get("assumed", [])
+    file, kind, key = ctx
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise _fail(file, kind, key, "assumed", f"must be a list of field names, got {value!r}")
+    unknown = sorted(set(value) - set(fields))
+    if unknown:
+        raise _fail(file, kind, key, "assumed",
+                    f"{unknown[0]!r} is not a field of a {kind}; fields: {', '.join(fields)}")
+    return tuple(value)
 
 
 def _solid(ctx, entry) -> Solid:
@@ -202,6 +219,8 @@ def _solid(ctx, entry) -> Solid:
         source=_text(ctx, entry, "source"),
         confidence=_text(ctx, entry, "confidence"),
         file=str(file),
+        assumed=_assumed(ctx, entry, ("density", "asperity_height", "restitution_dry",
+                                      "size_range")),
     )
 
 
@@ -217,6 +236,8 @@ def _liquid(ctx, entry) -> LiquidEntry:
         "source": _text(ctx, entry, "source"),
         "confidence": _text(ctx, entry, "confidence"),
         "file": str(file),
+        "assumed": _assumed(ctx, entry, ("theta_deg", "mu", "gamma", "rho", "composition_wt",
+                                         "viscosity_model")),
     }
     if model == "fixed":
         _no_unknown(ctx, entry, ("model", "theta_deg", "mu", "gamma", "rho") + _COMMON)

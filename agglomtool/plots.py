@@ -379,6 +379,13 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
     if legend:  # below the panels; saved with a tight bounding box
         fig.legend(handles=legend, loc="upper center", ncol=min(3, len(legend)), fontsize=8,
                    frameon=False, bbox_to_anchor=(0.5, 0.0))
+    assumed = ds.attrs.get("assumed_inputs", "none")
+    if assumed and assumed != "none":  # the answer depends on these: say so on the picture
+        import textwrap
+
+        note = textwrap.fill("Assumed values (materials database): " + assumed, 140)
+        fig.text(0.5, -0.03 - 0.05 * (-(-len(legend) // 3)), note, ha="center", va="top",
+                 fontsize=7, color="0.3")
     if title is None:
         title = _default_title(ds, var, sub, da)
     fig.suptitle(title, fontsize=10, y=1.0 + 0.03 * title.count("\n"), va="bottom")

@@ -35,10 +35,12 @@ from .api import MODES, collide, critical_impact_speed
 from .inputs import Bed, Liquid, Particle
 from .maps.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
 from .pair import DRAG_SLIP_MODES, wet_mass
+from .plausibility import scene_findings, warn_findings
 from .properties import gas_properties, umf, umf_methods
+from .units import to_si
 
-__all__ = ["Scene", "evaluate", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CA_VISCOUS",
-           "U_CEILING", "U_STAR_FLAGS"]
+__all__ = ["Scene", "evaluate", "provenance", "assumed_inputs", "CATEGORICAL_FIELDS",
+           "NUMERIC_FIELDS", "CA_VISCOUS", "U_CEILING", "U_STAR_FLAGS"]
 
 #: Capillary number at ``u0*`` above which the outcome is called viscous-limited.
 CA_VISCOUS = 1.0
@@ -154,6 +156,11 @@ class Scene:
     u_ceiling: float = DEFAULTS["u_ceiling"]
 
     def __post_init__(self) -> None:
+        for name in NUMERIC_FIELDS:  # Quantities and unit strings -> SI, once, here
+            value = getattr(self, name)
+            if value is not None and not isinstance(value, int | float):
+                unit, long_name = FIELD_META[name]
+                object.__setattr__(self, name, to_si(name, value, unit, long_name))
         if self.speed is None:
             if self.u0 is not None:
                 chosen = "fixed"
@@ -163,6 +170,7 @@ class Scene:
                 chosen = "excess-gas"
             object.__setattr__(self, "speed", chosen)
         validate(self.values())
+        warn_findings(scene_findings(self.values()), stacklevel=3)
 
     def values(self) -> dict:
         """The fields as a plain dict (the form :func:`evaluate` and sweeps take)."""
@@ -178,6 +186,26 @@ class Scene:
     def evaluate(self, *, nodes: int = 16) -> dict:
         """Derived numbers of this scene (see :func:`evaluate`), as 0-d arrays."""
         return evaluate(self.values(), nodes=nodes)
+
+    def provenance(self) -> dict:
+        """Every resolved input: ``{name: (value, units, origin, confidence)}``.
+
+        ``origin`` is ``"given"`` (differs from the default), ``"default"`` (the Scene's
+        default), ``"database: <entry>"`` or ``"derived: <rule>"``; ``confidence`` is
+        ``"assumed"`` where the database marks the value as an assumption, ``"database"``
+        for its other values, ``"user"`` or ``"default"``.
+        """
+        return provenance(self.values())
+
+    def describe(self) -> str:
+        """A table of every resolved input with its unit and origin (see
+        :meth:`provenance`); assumed values are marked."""
+        rows = []
+        for name, (value, units, origin, conf) in self.provenance().items():
+            shown = f"{value:.6g}" if isinstance(value, float) else str(value)
+            flag = "  <- assumed" if conf == "assumed" else ""
+            rows.append(f"  {name:20s} {shown:>14s} {units:14s} {origin}{flag}")
+        return "resolved inputs (value, unit, origin):\n" + "\n".join(rows)
 
     def collide(self, u0=None, *, details: bool = True):
         """:func:`agglomtool.collide` at this scene; ``u0=None`` = the typical speed."""
@@ -239,6 +267,88 @@ def validate(values: dict) -> None:
         raise ValueError(f"speed = {speed!r} needs u0 [m/s] (the value, or the median)")
     if speed == "maxwellian" and values.get("granular_temperature") is None:
         raise ValueError("speed = 'maxwellian' needs granular_temperature [m2/s2]")
+
+
+def provenance(values: dict) -> dict:
+    """Origin of every input a scene resolves (see :meth:`Scene.provenance`)."""
+    v = dict(values)
+    out = {}
+    unit = {k: FIELD_META[k][0] for k in FIELD_META}
+    for name, default in DEFAULTS.items():
+        value = v.get(name)
+        if value is None:
+            continue
+        if isinstance(value, np.ndarray | list | tuple):
+            continue  # swept: the map's coordinates say it
+        if name == "speed" and default is None:
+            out[name] = (value, "name", "derived: fixed with u0, maxwellian with "
+                         "granular_temperature, else excess-gas", "derived")
+            continue
+        given = not (value == default)
+        out[name] = (value if not isinstance(value, np.generic) else value.item(),
+                     unit.get(name, "name"), "given" if given else "default",
+                     "user" if given else "default")
+    si_name = str(v["solid_i"])
+    sj_name = str(v["solid_j"] or v["solid_i"])
+    si, sj = materials.solid(si_name), materials.solid(sj_name)
+    entry = materials.liquid_entry(str(v["liquid"]))
+
+    def db(entry_obj, kind, field):
+        conf = "assumed" if field in entry_obj.assumed else "database"
+        return f"database: {kind} {entry_obj.name}.{field}", conf
+
+    if v.get("solid_j") is None:
+        out["solid_j"] = (sj_name, "name", "derived: solid_i", "derived")
+    if v.get("d_j") is None:
+        out["d_j"] = (float(v["d_i"]), "m", "derived: d_i", "derived")
+    if v.get("h0_j") is None:
+        out["h0_j"] = (float(v["h0"]), "m", "derived: h0", "derived")
+    for side, sol in (("i", si), ("j", sj)):
+        if v.get(f"ha_{side}") is None:
+            out[f"ha_{side}"] = (sol.asperity_height, "m", *db(sol, "solid",
+                                                                "asperity_height"))
+        out[f"rho_{side}"] = (sol.density, "kg/m**3", *db(sol, "solid", "density"))
+    if v.get("e") is None:
+        conf = ("assumed" if {"restitution_dry"} & (set(si.assumed) | set(sj.assumed))
+                else "database")
+        out["e"] = (0.5 * (si.restitution_dry + sj.restitution_dry), "dimensionless",
+                    f"database: mean of solid {si.name}.restitution_dry and "
+                    f"{sj.name}.restitution_dry", conf)
+    if v.get("theta_deg") is None:
+        out["theta_deg"] = (entry.theta_deg, "degree", *db(entry, "liquid", "theta_deg"))
+    if entry.model == "melt" and "composition_wt" in entry.assumed:
+        out["liquid composition"] = (", ".join(f"{k} {w:g}" for k, w in
+                                               entry.composition_wt.items()), "wt %",
+                                     f"database: liquid {entry.name}.composition_wt",
+                                     "assumed")
+    return out
+
+
+def assumed_inputs(values: dict) -> list[str]:
+    """``"<entry> <field> = <value>"`` for every database value a scene uses that the database
+    marks as an assumption (and the scene does not override)."""
+    si = materials.solid(str(values["solid_i"]))
+    sj = materials.solid(str(values.get("solid_j") or values["solid_i"]))
+    liquid = materials.liquid_entry(str(values["liquid"]))
+    overridden = {"asperity_height": ("ha_i", "ha_j"), "restitution_dry": ("e",),
+                  "theta_deg": ("theta_deg",)}
+    shown = {"asperity_height": lambda x: f"{x * 1e6:g} um", "density": lambda x: f"{x:g} kg/m3",
+             "theta_deg": lambda x: f"{x:g} deg"}
+    out = []
+    for entry, which in ((si, "ha_i"), (sj, "ha_j"), (liquid, None)):
+        for field_name in entry.assumed:
+            keys = overridden.get(field_name, ())
+            if field_name == "asperity_height":
+                keys = (which,)
+            if keys and all(values.get(k) is not None for k in keys):
+                continue  # the user gave the value
+            val = getattr(entry, field_name)
+            text = shown.get(field_name, lambda x: f"{x:g}" if isinstance(x, float) else
+                             ", ".join(f"{k} {w:g}" for k, w in dict(x).items()))(val)
+            item = f"{entry.name} {field_name} = {text}"
+            if item not in out:
+                out.append(item)
+    return out
 
 
 def _on_unique(func, *arrays):

@@ -2,12 +2,12 @@
 
 Example::
 
-    [scene]                      # any Scene field; SI units (T in K, h0 in m)
-    liquid = "k-silicate-ash-melt"
-    d_i = 500e-6
+    [scene]                      # any Scene field; numbers are SI (T in K, h0 in m),
+    liquid = "k-silicate-ash-melt"   # or quantities with units as strings
+    d_i = "500 um"
 
     [grid]                       # one dimension per key, in this order
-    T = { start = 1073.15, stop = 1473.15, num = 41 }          # evenly spaced
+    T = { start = "800 degC", stop = "1200 degC", num = 41 }   # evenly spaced
     h0 = { start = 0.12e-6, stop = 10e-6, num = 41, log = true } # evenly spaced in log
     U_Umf = [2.0, 4.0, 8.0]                                     # explicit values
     solid_j = ["silica-sand", "ilmenite"]                       # names
@@ -22,11 +22,15 @@ Every error names the file, the table and the key.
 from __future__ import annotations
 
 import tomllib
+import warnings
 from pathlib import Path
 
 import numpy as np
 
+from .._fields import FIELD_META
+from ..plausibility import PlausibilityWarning
 from ..scene import CATEGORICAL_FIELDS, Scene, field_names
+from ..units import to_si
 
 __all__ = ["ConfigError", "MapConfig", "load_config", "parse_config"]
 
@@ -42,14 +46,28 @@ class MapConfig:
         self.scene, self.grid, self.options = scene, grid, options
 
 
-def _axis(where: str, value):
+def _number(where: str, key: str, value):
+    """A numeric field's value: a number (SI) or a unit string ("5 um", "850 degC")."""
+    if isinstance(value, bool) or not isinstance(value, int | float | str):
+        raise ConfigError(f"{where}: must be a number or a quantity with units, got {value!r}")
+    if isinstance(value, str):
+        unit, long_name = FIELD_META[key]
+        try:
+            return to_si(key, value, unit, long_name)
+        except ValueError as exc:
+            raise ConfigError(f"{where}: {exc}") from None
+    return float(value)
+
+
+def _axis(where: str, value, key: str = ""):
+    numeric = key in FIELD_META
     if isinstance(value, list):
         if not value:
             raise ConfigError(f"{where}: the list of values is empty")
+        if numeric:
+            return np.asarray([_number(where, key, v) for v in value], dtype=float)
         if all(isinstance(v, str) for v in value):
             return list(value)
-        if all(isinstance(v, int | float) and not isinstance(v, bool) for v in value):
-            return np.asarray(value, dtype=float)
         raise ConfigError(f"{where}: values must be all numbers or all names, got {value!r}")
     if isinstance(value, dict):
         unknown = sorted(set(value) - {"start", "stop", "num", "log"})
@@ -59,22 +77,28 @@ def _axis(where: str, value):
         for k in ("start", "stop", "num"):
             if k not in value:
                 raise ConfigError(f"{where}: a range needs {k!r}")
-            if not isinstance(value[k], int | float) or isinstance(value[k], bool):
-                raise ConfigError(f"{where}.{k}: must be a number, got {value[k]!r}")
+        if not numeric:
+            raise ConfigError(f"{where}: a range (start, stop, num) needs a numeric field")
+        start = _number(f"{where}.start", key, value["start"])
+        stop = _number(f"{where}.stop", key, value["stop"])
         num = value["num"]
-        if not isinstance(num, int) or num < 1:
+        if isinstance(num, bool) or not isinstance(num, int) or num < 1:
             raise ConfigError(f"{where}.num: must be an integer >= 1, got {num!r}")
+        if num == 1 and start != stop:
+            raise ConfigError(f"{where}: num = 1 with start != stop would ignore stop; give "
+                              "num >= 2, or one value")
         log = value.get("log", False)
         if not isinstance(log, bool):
             raise ConfigError(f"{where}.log: must be true or false, got {log!r}")
-        start, stop = float(value["start"]), float(value["stop"])
         if log:
             if start <= 0.0 or stop <= 0.0:
                 raise ConfigError(f"{where}: log = true needs start and stop > 0")
             return np.geomspace(start, stop, num)
         return np.linspace(start, stop, num)
     if isinstance(value, int | float | str) and not isinstance(value, bool):
-        return [value] if isinstance(value, str) else np.asarray([float(value)])
+        if numeric:
+            return np.asarray([_number(where, key, value)])
+        return [value]
     raise ConfigError(f"{where}: must be a list of values or a table start/stop/num, "
                       f"got {value!r}")
 
@@ -97,7 +121,14 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
             raise ConfigError(f"{source}: [scene] {key}: must be a single value; put ranges "
                               "in [grid]")
     try:
-        scene = Scene(**scene_data)
+        with warnings.catch_warnings():  # say where: re-issued below with the file's name
+            warnings.simplefilter("error", PlausibilityWarning)
+            scene = Scene(**scene_data)
+    except PlausibilityWarning as warning:
+        warnings.warn(f"{source}: [scene]: {warning}", PlausibilityWarning, stacklevel=3)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            scene = Scene(**scene_data)
     except (ValueError, TypeError) as exc:
         raise ConfigError(f"{source}: [scene]: {exc}") from None
     grid_data = data.get("grid", {})
@@ -108,7 +139,7 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
         where = f"{source}: [grid] {key}"
         if key not in fields:
             raise ConfigError(f"{where}: not a Scene field; fields: {', '.join(fields)}")
-        axis = _axis(where, value)
+        axis = _axis(where, value, key)
         if key in CATEGORICAL_FIELDS and not isinstance(axis, list):
             raise ConfigError(f"{where}: {key} takes names, e.g. [\"silica-sand\"]")
         if key not in CATEGORICAL_FIELDS and isinstance(axis, list):
@@ -122,7 +153,8 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
     if not isinstance(nodes, int) or isinstance(nodes, bool) or nodes < 1:
         raise ConfigError(f"{source}: [options] nodes: must be an integer >= 1, got {nodes!r}")
     chunks = opts.get("chunks", "auto")
-    if chunks != "auto" and (not isinstance(chunks, int) or chunks < 1):
+    if chunks != "auto" and (isinstance(chunks, bool) or not isinstance(chunks, int)
+                             or chunks < 1):
         raise ConfigError(f"{source}: [options] chunks: must be \"auto\" or an integer >= 1, "
                           f"got {chunks!r}")
     # Validate the grid against the scene now, so the error names the key.
@@ -130,7 +162,9 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
 
     for key, axis in grid.items():
         try:
-            _grid_values(scene, {key: axis})
+            with warnings.catch_warnings():  # plausibility is the sweep's to say, once
+                warnings.simplefilter("ignore", PlausibilityWarning)
+                _grid_values(scene, {key: axis})
         except ValueError as exc:
             raise ConfigError(f"{source}: [grid] {key}: {exc}") from None
     return MapConfig(scene, grid, {"nodes": nodes, "chunks": chunks})

@@ -16,16 +16,20 @@ import numpy as np
 import xarray as xr
 
 from .._version import __version__
+from ..plausibility import scene_findings, warn_findings
 from ..scene import (
     CATEGORICAL_FIELDS,
     NUMERIC_FIELDS,
     Resolved,
     Scene,
+    assumed_inputs,
     collision_outputs,
     critical_outputs,
+    provenance,
     validate,
 )
-from .meta import field_attrs, variable_attrs
+from ..units import to_si_array
+from .meta import FIELD_META, field_attrs, variable_attrs
 
 __all__ = ["sweep", "build", "GROUPS", "DEFAULT_BLOCK"]
 
@@ -70,7 +74,13 @@ def _grid_values(scene: Scene, grid: dict) -> dict:
                 validate({**base, name: v})
             arr = np.array(vals)
         else:
-            arr = np.atleast_1d(np.asarray(values, dtype=float))
+            unit, long_name = FIELD_META[name]
+            values = to_si_array(name, values, unit, long_name)
+            try:
+                arr = np.atleast_1d(np.asarray(values, dtype=float))
+            except (TypeError, ValueError):
+                raise ValueError(f"grid {name} must be numbers (SI) or quantities with units, "
+                                 f"got {values!r}") from None
             if arr.ndim != 1 or arr.size == 0:
                 raise ValueError(f"grid {name} must be a non-empty 1-D list of numbers, "
                                  f"got shape {arr.shape}")
@@ -79,6 +89,13 @@ def _grid_values(scene: Scene, grid: dict) -> dict:
             raise ValueError(f"grid {name} repeats a value; coordinates must be unique")
         out[name] = arr
     _check_properties(base, out)
+    numeric = {k: v for k, v in out.items() if k not in CATEGORICAL_FIELDS}
+    before = set(scene_findings(base))  # the Scene warned of these already
+    found = scene_findings({**base, **numeric})
+    for name in (k for k in out if k in CATEGORICAL_FIELDS):  # names: check each value
+        for v in out[name]:
+            found += scene_findings({**base, **numeric, name: str(v)})
+    warn_findings([f for f in dict.fromkeys(found) if f not in before], stacklevel=4)
     speed = base["speed"]
     needs = {"u0": ("fixed", "lognormal"), "sigma_ln": ("lognormal",),
              "granular_temperature": ("maxwellian",), "fluctuation_ratio": ("excess-gas",)}
@@ -209,8 +226,20 @@ def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
                 continue
             for key, text in Resolved({**first, name: str(value)}).sources.items():
                 sources["source: " + key] = " ".join(text.split())
+    prov = {f"provenance: {name}": f"{val} {units}; {origin}; {conf}"
+            for name, (val, units, origin, conf) in provenance(first).items()
+            if name not in grid}
+    assumed = []
+    combos = [first] + [{**first, k: str(v)} for k in grid if k in CATEGORICAL_FIELDS
+                        for v in grid[k]]
+    for values in combos:
+        for text in assumed_inputs(values):
+            if text not in assumed:
+                assumed.append(text)
     return {
         "title": "agglomtool operating map",
+        "assumed_inputs": "; ".join(assumed) if assumed else "none",
+        **prov,
         "agglomtool_version": __version__,
         "model_tier": ", ".join(tiers),
         "scene": json.dumps(base),

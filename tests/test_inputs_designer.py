@@ -1,0 +1,112 @@
+"""Inputs a designer cannot get silently wrong (issue 10): units at the edge, plausibility
+warnings naming the field, provenance of every resolved input."""
+
+import tomllib
+import warnings
+
+import numpy as np
+import pint
+import pytest
+import xarray as xr
+
+import agglomtool as at
+from agglomtool.maps.config import parse_config
+from agglomtool.plausibility import PlausibilityWarning
+
+UREG = pint.get_application_registry()
+
+
+def test_quantities_and_unit_strings_equal_si_floats():
+    si = at.Scene(T=1123.15, h0=5e-6, d_i=500e-6, P=1.5e5)
+    q = at.Scene(T=UREG.Quantity(850.0, "degC"), h0=5 * UREG.um, d_i=0.5 * UREG.mm,
+                 P=1.5 * UREG.bar)
+    s = at.Scene(T="850 degC", h0="5 um", d_i="500 um", P="1.5 bar")
+    assert q.values() == si.values() == s.values()  # exactly: 5 um is 5e-6 m
+    assert float(q.evaluate()["u_star"]) == float(si.evaluate()["u_star"])
+
+
+def test_quantity_grid_equals_si_grid():
+    T = np.array([800.0, 850.0, 900.0])
+    a = at.sweep(at.Scene(u0=0.3), T=T + 273.15, h0=[1e-6, 2e-6])
+    b = at.sweep(at.Scene(u0=0.3), T=T * UREG.degC, h0=["1 um", "2 um"])
+    xr.testing.assert_identical(a, b)
+
+
+def test_toml_with_unit_strings_gives_the_same_map():
+    si = parse_config(tomllib.loads(
+        '[scene]\nT = 1123.15\nd_i = 500e-6\n[grid]\nh0 = { start = 1e-6, stop = 4e-6, num = 3 }'
+        '\nU_Umf = [2.0, 4.0]'))
+    units = parse_config(tomllib.loads(
+        '[scene]\nT = "850 degC"\nd_i = "500 um"\n[grid]\nh0 = { start = "1 um", stop = '
+        '"4 um", num = 3 }\nU_Umf = ["2", 4.0]'))
+    assert si.scene == units.scene
+    for k in si.grid:
+        np.testing.assert_array_equal(si.grid[k], units.grid[k])
+    xr.testing.assert_identical(at.sweep(si.scene, **si.grid),
+                                at.sweep(units.scene, **units.grid))
+
+
+@pytest.mark.parametrize("value,needle", [("5 kg", r"units of \[mass\]"),
+                                          ("5 umm", "not a unit pint knows"),
+                                          ("five um", "not a number with a unit")])
+def test_bad_unit_strings_name_the_field(value, needle):
+    with pytest.raises(ValueError, match=rf"h0 = .*{needle}"):
+        at.Scene(h0=value)
+
+
+@pytest.mark.parametrize("kwargs,field", [
+    (dict(h0=5), "h0"),                     # meant 5 um
+    (dict(d_i=500), "d_i"),                 # meant 500 um
+    (dict(P=1.5), "P"),                     # meant 1.5 bar
+    (dict(ha_i=1e-12), "ha_i"),
+    (dict(u0=50.0), "u0"),                  # above the 10 m/s ceiling
+    (dict(solid_j="ilmenite", d_i=800e-6), "d_j (= d_i)"),
+])
+def test_slips_warn_naming_the_field(kwargs, field):
+    with pytest.warns(PlausibilityWarning, match=rf"^{field.replace('(', '.').replace(')', '.')}"
+                      " = "):
+        at.Scene(**kwargs)
+
+
+def test_plausible_scene_is_silent_and_warnings_can_be_errors():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        at.Scene(liquid="water", T="25 degC", h0="5 um", d_i="300 um")
+        warnings.simplefilter("error", PlausibilityWarning)
+        with pytest.raises(PlausibilityWarning):
+            at.Scene(h0=5)
+
+
+def test_sweep_warns_once_for_implausible_grid_values():
+    with pytest.warns(PlausibilityWarning) as record:
+        at.sweep(at.Scene(u0=0.3), d_i=[300e-6, 0.5], T=[1000.0, 1100.0])
+    msgs = [str(w.message) for w in record if w.category is PlausibilityWarning]
+    assert len(msgs) == len(set(msgs)) >= 1 and any(m.startswith("d_i = 0.5") for m in msgs)
+
+
+def test_every_resolved_input_has_an_origin():
+    s = at.Scene(liquid="water", T=298.15, solid_j="ilmenite", h0=5e-6, d_i=300e-6)
+    prov = s.provenance()
+    assert prov["T"][2] == "given" and prov["P"][2] == "default"
+    assert prov["ha_j"][:4] == (1e-6, "m", "database: solid ilmenite.asperity_height",
+                                "assumed")
+    assert prov["rho_i"][3] == "database"
+    assert prov["d_j"][2] == "derived: d_i"
+    text = s.describe()
+    assert "ha_j" in text and "<- assumed" in text and "kg/m**3" in text
+    given = at.Scene(liquid="water", T=298.15, solid_j="ilmenite", h0=5e-6, ha_j=2e-6,
+                     d_i=300e-6)
+    assert given.provenance()["ha_j"][2] == "given"
+
+
+def test_map_lists_origins_and_assumptions():
+    ds = at.sweep(at.Scene(liquid="water", T=298.15, h0=5e-6, d_i=300e-6),
+                  solid_j=["silica-sand", "ilmenite"], U_Umf=[2.0, 4.0])
+    assert ds.attrs["provenance: T"].startswith("298.15 K; given")
+    assert "provenance: solid_j" not in ds.attrs  # swept: its coordinate says it
+    assert "ilmenite asperity_height = 1 um" in ds.attrs["assumed_inputs"]
+    from agglomtool.plots import operating_window
+
+    fig = operating_window(ds)
+    notes = [t.get_text() for t in fig.texts]
+    assert any("ilmenite asperity_height = 1 um" in n for n in notes)
