@@ -20,6 +20,7 @@ _LAZY = {
     "sweep": ".maps.grid", "write_map": ".maps.export",
     "gas_properties": ".properties", "umf": ".properties",
     "Scene": ".scene",
+    "PlausibilityWarning": ".plausibility",
     "LogNormal": ".uncertainty", "Normal": ".uncertainty", "Uniform": ".uncertainty",
     "monte_carlo": ".uncertainty", "sobol_indices": ".uncertainty",
 }

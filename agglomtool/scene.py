@@ -213,6 +213,23 @@ class Scene:
         return r.collide(r.u_typical if u0 is None else u0, details=details)
 
 
+#: Valid range of every numeric field: (lo, hi, lo_open, hi_open, unit); None = unbounded.
+FIELD_RANGES = {
+    "T": (0.0, None, True, False, "K"), "P": (0.0, None, True, False, "Pa"),
+    "U": (0.0, None, False, False, "m/s"), "U_Umf": (0.0, None, True, False, "-"),
+    "eps": (0.0, 1.0, True, True, "-"), "U_e_Umf": (0.0, None, False, False, "-"),
+    "d_i": (0.0, None, True, False, "m"), "d_j": (0.0, None, True, False, "m"),
+    "h0": (0.0, None, False, False, "m"), "h0_j": (0.0, None, False, False, "m"),
+    "ha_i": (0.0, None, False, False, "m"), "ha_j": (0.0, None, False, False, "m"),
+    "e": (0.0, 1.0, False, False, "-"), "theta_deg": (0.0, 90.0, False, True, "deg"),
+    "beta_deg": (-90.0, 90.0, False, False, "deg"), "u0": (0.0, None, True, False, "m/s"),
+    "sigma_ln": (0.0, None, True, False, "-"),
+    "granular_temperature": (0.0, None, True, False, "m2/s2"),
+    "fluctuation_ratio": (0.0, None, True, False, "-"),
+    "u_ceiling": (0.0, None, True, False, "m/s"),
+}
+
+
 def field_names() -> list[str]:
     """Names of the :class:`Scene` fields."""
     return [f.name for f in dataclasses.fields(Scene)]
@@ -243,24 +260,10 @@ def validate(values: dict) -> None:
     _check_name("umf_method", values.get("umf_method"), umf_methods())
     if not isinstance(values.get("body_forces"), bool | np.bool_):
         raise ValueError(f"body_forces = {values.get('body_forces')!r} must be true or false")
-    ranges = {
-        "T": (0.0, None, True, "K"), "P": (0.0, None, True, "Pa"), "U": (0.0, None, False, "m/s"),
-        "U_Umf": (0.0, None, True, "-"), "eps": (0.0, 1.0, True, "-"),
-        "U_e_Umf": (0.0, None, False, "-"), "d_i": (0.0, None, True, "m"),
-        "d_j": (0.0, None, True, "m"), "h0": (0.0, None, False, "m"),
-        "h0_j": (0.0, None, False, "m"), "ha_i": (0.0, None, False, "m"),
-        "ha_j": (0.0, None, False, "m"), "e": (0.0, 1.0, False, "-"),
-        "theta_deg": (0.0, 90.0, False, "deg"), "beta_deg": (-90.0, 90.0, False, "deg"),
-        "u0": (0.0, None, True, "m/s"), "sigma_ln": (0.0, None, True, "-"),
-        "granular_temperature": (0.0, None, True, "m2/s2"),
-        "fluctuation_ratio": (0.0, None, True, "-"),
-        "u_ceiling": (0.0, None, True, "m/s"),
-    }
-    for name, (lo, hi, lo_open, unit) in ranges.items():
+    for name, (lo, hi, lo_open, hi_open, unit) in FIELD_RANGES.items():
         v = values.get(name)
         if v is None:
             continue
-        hi_open = name in ("eps", "theta_deg")
         check_range(name, v, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
     speed = values["speed"]
     if speed in ("fixed", "lognormal") and values.get("u0") is None:

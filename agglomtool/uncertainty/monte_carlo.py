@@ -107,12 +107,12 @@ def _attrs(units: str, long_name: str, **extra) -> dict:
 
 def monte_carlo(
     p_i,
-    p_j,
+    p_j=None,
     *,
-    liquid,
-    gas,
+    liquid=None,
+    gas=None,
     bed=None,
-    u0,
+    u0=None,
     uncertain: Mapping[str, Distribution],
     n: int = 1_000_000,
     seed: int | None = None,
@@ -129,9 +129,19 @@ def monte_carlo(
 ) -> xr.Dataset:
     """Propagate input uncertainty to ``e_w`` by Monte Carlo sampling.
 
+    Two ways to ask. Of a :class:`~agglomtool.Scene` (an operating point), with uncertain
+    inputs named as the Scene names them::
+
+        at.monte_carlo(scene, uncertain={"h0": at.Normal(5e-6, 1e-6), "T": ...}, n=10**5)
+
+    every draw's properties are derived as for a map, and ``e_w`` is evaluated at the
+    scene's impact speed (see :func:`agglomtool.uncertainty.scene_mc.scene_monte_carlo`).
+    Or of the collision core's own inputs (Particle, Liquid, Gas, Bed), named as below.
+
     Parameters
     ----------
     p_i, p_j, liquid, gas, bed, u0, u0_j, beta_deg, e, body_forces, drag_slip
+        A :class:`~agglomtool.Scene` as ``p_i`` (and nothing else of these), or
         The fixed (nominal) collision, as for :func:`agglomtool.collide` (scalars). Inputs
         named in ``uncertain`` replace the matching field.
     uncertain : mapping of str to Distribution
@@ -179,6 +189,23 @@ def monte_carlo(
     """
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ValueError(f"n = {n!r} must be a positive integer")
+    from ..scene import Scene
+
+    if isinstance(p_i, Scene):
+        given = [k for k, v in (("p_j", p_j), ("liquid", liquid), ("gas", gas), ("bed", bed),
+                                ("u0", u0), ("u0_j", u0_j)) if v is not None]
+        if given:
+            raise ValueError(f"{given[0]} is given with a Scene: the Scene holds it (use "
+                             "scene.replace(...))")
+        from .scene_mc import scene_monte_carlo
+
+        return scene_monte_carlo(p_i, uncertain=uncertain, n=int(n), seed=seed,
+                                 chunk_size=int(chunk_size), quantiles=quantiles, bins=bins,
+                                 keep_samples=keep_samples)
+    missing = [k for k, v in (("p_j", p_j), ("liquid", liquid), ("gas", gas), ("u0", u0))
+               if v is None]
+    if missing:
+        raise ValueError(f"{missing[0]} is required (or pass a Scene as the first argument)")
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, int | np.integer) or (
         chunk_size < 1
     ):
