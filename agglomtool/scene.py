@@ -216,16 +216,16 @@ class Scene:
 #: Valid range of every numeric field: (lo, hi, lo_open, hi_open, unit); None = unbounded.
 FIELD_RANGES = {
     "T": (0.0, None, True, False, "K"), "P": (0.0, None, True, False, "Pa"),
-    "U": (0.0, None, False, False, "m/s"), "U_Umf": (0.0, None, True, False, "-"),
-    "eps": (0.0, 1.0, True, True, "-"), "U_e_Umf": (0.0, None, False, False, "-"),
+    "U": (0.0, None, False, False, "m/s"), "U_Umf": (0.0, None, True, False, ""),
+    "eps": (0.0, 1.0, True, True, ""), "U_e_Umf": (0.0, None, False, False, ""),
     "d_i": (0.0, None, True, False, "m"), "d_j": (0.0, None, True, False, "m"),
     "h0": (0.0, None, False, False, "m"), "h0_j": (0.0, None, False, False, "m"),
     "ha_i": (0.0, None, False, False, "m"), "ha_j": (0.0, None, False, False, "m"),
-    "e": (0.0, 1.0, False, False, "-"), "theta_deg": (0.0, 90.0, False, True, "deg"),
+    "e": (0.0, 1.0, False, False, ""), "theta_deg": (0.0, 90.0, False, True, "deg"),
     "beta_deg": (-90.0, 90.0, False, False, "deg"), "u0": (0.0, None, True, False, "m/s"),
-    "sigma_ln": (0.0, None, True, False, "-"),
+    "sigma_ln": (0.0, None, True, False, ""),
     "granular_temperature": (0.0, None, True, False, "m2/s2"),
-    "fluctuation_ratio": (0.0, None, True, False, "-"),
+    "fluctuation_ratio": (0.0, None, True, False, ""),
     "u_ceiling": (0.0, None, True, False, "m/s"),
 }
 
@@ -252,8 +252,9 @@ def validate(values: dict) -> None:
         kind = "solid" if name.startswith("solid") else name
         known = materials.names(kind)
         if not isinstance(v, str) or materials._key(v) not in known:
+            plural = {"gas": "gases", "solid": "solids", "liquid": "liquids"}[kind]
             raise ValueError(f"{name} = {v!r} is not in the materials database; known "
-                             f"{kind}s: {', '.join(known)}")
+                             f"{plural}: {', '.join(known)}")
     _check_name("speed", values.get("speed"), SPEED_FAMILIES)
     _check_name("mode", values.get("mode"), MODES)
     _check_name("drag_slip", values.get("drag_slip"), DRAG_SLIP_MODES)
@@ -439,8 +440,8 @@ class Resolved:
 
         try:
             mu, rho = _on_unique(f, self.num("T"), self.num("P"))
-        except ValueError as exc:
-            raise ValueError(f"gas {self.v['gas']!r}: {exc}"
+        except ValueError as exc:  # a Scene cannot extrapolate: no remedy offered
+            raise ValueError(f"gas {self.v['gas']!r}: {getattr(exc, 'problem', exc)}"
                              + self._default_hint(exc, "T", "P")) from None
         self._gas_source = src["s"]
         return mu, rho

@@ -178,6 +178,13 @@ def load_config(path) -> MapConfig:
             data = tomllib.load(fh)
     except FileNotFoundError:
         raise ConfigError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise ConfigError(f"{path}: is a directory, not a TOML file") from None
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{path}: not UTF-8 text (byte {exc.start}): TOML files are "
+                          "UTF-8") from None
+    except RecursionError:
+        raise ConfigError(f"{path}: nested too deeply to be a map configuration") from None
     return parse_config(data, str(path))

@@ -73,7 +73,15 @@ class CondensedPhaseError(ValueError):
 
 
 class OutOfRangeError(ValueError):
-    """A requested state lies outside the validated range of the species' models."""
+    """A requested state lies outside the validated range of the species' models.
+
+    ``remedy`` is the part of the message that tells a caller of :func:`gas_properties`
+    how to go on (callers that do not offer that option leave it out: ``str(exc.problem)``).
+    """
+
+    def __init__(self, problem: str, remedy: str = ""):
+        self.problem, self.remedy = problem, remedy
+        super().__init__(problem + (f"; {remedy}" if remedy else ""))
 
 
 @dataclass(frozen=True)
@@ -332,8 +340,8 @@ def _check_range(sp: Species, T: np.ndarray, P: np.ndarray, beyond_range: str) -
         raise OutOfRangeError(
             f"T = {T[high].flat[0]:g} K is above {sp.t_max:g} K, the upper limit of the "
             f"validated models for {sp.formula} (CoolProp equation of state"
-            + ("" if sp.viscosity == "coolprop" else f", {sp.viscosity} viscosity")
-            + "); pass beyond_range='extrapolate' to extrapolate them (documented fallback)"
+            + ("" if sp.viscosity == "coolprop" else f", {sp.viscosity} viscosity") + ")",
+            "pass beyond_range='extrapolate' to extrapolate them (documented fallback)",
         )
     if (T > T_GRID[1]).any():
         raise OutOfRangeError(
