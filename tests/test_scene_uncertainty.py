@@ -40,3 +40,17 @@ def test_errors_and_warnings_name_the_field():
     # a standard deviation meant as a log-space spread: draws of 1e-20 m asperities
     with pytest.warns(PlausibilityWarning, match=r"^ha_i = .* outside the plausible"):
         at.monte_carlo(SCENE, uncertain={"ha_i": at.LogNormal(0.1e-6, 0.5)}, n=1000, seed=1)
+
+
+def test_sobol_of_a_scene_in_its_own_names():
+    ds = at.sobol_indices(SCENE, uncertain={"h0": at.Normal(5e-6, 1e-6),
+                                            "u0": at.Normal(0.1, 0.02),
+                                            "theta_deg": at.Uniform(0.0, 1.0)},
+                          n_base=2**8, seed=2)
+    assert list(ds.factor.values) == ["h0", "u0", "theta_deg"]
+    st = dict(zip(ds.factor.values, ds.ST.values, strict=True))
+    assert np.all(np.isfinite(ds.ST.values))
+    assert st["u0"] > st["theta_deg"]  # impact speed matters; a 1-degree angle does not
+    with pytest.raises(ValueError, match="gas is given with a Scene"):
+        at.sobol_indices(SCENE, gas=at.Gas(mu=1.8e-5, rho=1.2),
+                         uncertain={"h0": at.Normal(5e-6, 1e-6)}, n_base=4)

@@ -25,7 +25,7 @@ from ..plausibility import scene_findings, warn_findings
 from ..scene import FIELD_RANGES, Resolved, Scene, provenance
 from .distributions import Distribution, to_si
 
-__all__ = ["scene_monte_carlo", "SCENE_TO_CORE"]
+__all__ = ["scene_monte_carlo", "scene_e_w", "field_law", "check_fields", "SCENE_TO_CORE"]
 
 #: Scene name -> the core input name whose random stream it shares (where they differ).
 SCENE_TO_CORE = {"h0": "h0_i"}
@@ -36,6 +36,38 @@ UNCERTAIN_FIELDS = tuple(f for f in NUMERIC_FIELDS if f != "u_ceiling")
 
 def _attrs(units: str, long_name: str, **extra) -> dict:
     return {"units": units, "long_name": long_name, **extra}
+
+
+def check_fields(uncertain) -> None:
+    """Raise ``ValueError`` naming any key of ``uncertain`` that is not an uncertain field."""
+    if not isinstance(uncertain, Mapping) or not uncertain:
+        raise ValueError("uncertain must be a non-empty mapping of Scene field -> "
+                         "distribution")
+    for name in uncertain:
+        if name not in UNCERTAIN_FIELDS:
+            raise ValueError(f"uncertain input {name!r} is not a numeric Scene field; "
+                             f"fields: {', '.join(UNCERTAIN_FIELDS)}")
+
+
+def field_law(name: str, dist: Distribution):
+    """``(dist in SI, lo, hi, lo_open, hi_open)``: the law of Scene field ``name`` and the
+    range its draws are truncated to (the Scene's valid range)."""
+    unit = FIELD_META[name][0]
+    d_si = to_si(name, dist, {"m**2/s**2": "m^2/s^2"}.get(unit, unit))
+    lo, hi, lo_open, hi_open, _ = FIELD_RANGES[name]
+    return (d_si, -np.inf if lo is None else lo, np.inf if hi is None else hi, lo_open,
+            hi_open)
+
+
+def scene_e_w(base: dict, draws: dict):
+    """``(e_w, stage)`` of the scene ``base`` with the fields in ``draws`` replaced (1-D
+    arrays of one length), at its impact speed (``u0`` if drawn or fixed, else the median
+    of its speed distribution)."""
+    r = Resolved({**base, **draws})
+    u0 = draws["u0"] if "u0" in draws else r.u_typical
+    res = r.collide(u0, details=False)
+    shape = np.broadcast_shapes(*[np.shape(v) for v in draws.values()])
+    return np.broadcast_to(res.e_w, shape), np.broadcast_to(res.stage, shape)
 
 
 def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n: int,
@@ -50,26 +82,15 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
     """
     from .monte_carlo import _stream, _summary, resolve_seed
 
-    if not isinstance(uncertain, Mapping) or not uncertain:
-        raise ValueError("uncertain must be a non-empty mapping of Scene field -> "
-                         "distribution")
-    for name in uncertain:
-        if name not in UNCERTAIN_FIELDS:
-            raise ValueError(f"uncertain input {name!r} is not a numeric Scene field; "
-                             f"fields: {', '.join(UNCERTAIN_FIELDS)}")
+    check_fields(uncertain)
     base = scene.values()
     entropy, chosen = resolve_seed(seed)
     values, resampled, dists = {}, {}, {}
     for name, dist in uncertain.items():
-        unit, long_name = FIELD_META[name]
-        d_si = to_si(name, dist, {"degree": "degree", "dimensionless": "dimensionless",
-                                  "m**2/s**2": "m^2/s^2"}.get(unit, unit))
-        lo, hi, lo_open, hi_open, _ = FIELD_RANGES[name]
+        d_si, lo, hi, lo_open, hi_open = field_law(name, dist)
         rng = _stream(entropy, SCENE_TO_CORE.get(name, name))
         try:
-            x, k = d_si.sample(rng, n, -np.inf if lo is None else lo,
-                               np.inf if hi is None else hi, lo_open=lo_open,
-                               hi_open=hi_open)
+            x, k = d_si.sample(rng, n, lo, hi, lo_open=lo_open, hi_open=hi_open)
         except ValueError as exc:
             raise ValueError(f"uncertain[{name!r}]: {exc}") from None
         values[name], resampled[name], dists[name] = x, k, d_si
@@ -79,11 +100,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
                    if f not in set(scene_findings(base))], stacklevel=3)
 
     def run(draws: dict):
-        r = Resolved({**base, **draws})
-        u0 = draws["u0"] if "u0" in draws else r.u_typical
-        res = r.collide(u0, details=False)
-        shape = np.broadcast_shapes(*[np.shape(v) for v in draws.values()])
-        return np.broadcast_to(res.e_w, shape), np.broadcast_to(res.stage, shape)
+        return scene_e_w(base, draws)
 
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)

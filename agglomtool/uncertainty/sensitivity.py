@@ -51,12 +51,12 @@ def _group_list(names: list[str], groups: Mapping[str, tuple[str, ...]] | None):
 
 def sobol_indices(
     p_i,
-    p_j,
+    p_j=None,
     *,
-    liquid,
-    gas,
+    liquid=None,
+    gas=None,
     bed=None,
-    u0,
+    u0=None,
     uncertain: Mapping[str, Distribution],
     groups: Mapping[str, tuple[str, ...]] | None = None,
     n_base: int = 2**13,
@@ -76,7 +76,8 @@ def sobol_indices(
     Parameters
     ----------
     p_i, p_j, liquid, gas, bed, u0, u0_j, beta_deg, e, body_forces, drag_slip, uncertain, mode
-        As for :func:`agglomtool.uncertainty.monte_carlo`.
+        As for :func:`agglomtool.uncertainty.monte_carlo`: a :class:`~agglomtool.Scene` as
+        ``p_i`` with uncertain inputs in the Scene's names, or the core's inputs.
     groups : mapping of str to tuple of str, optional
         Group name -> the inputs that vary together as one factor (SALib groups); every
         uncertain input in exactly one group. Default: each input is its own factor.
@@ -118,15 +119,46 @@ def sobol_indices(
         n_base & (n_base - 1)
     ):
         raise ValueError(f"n_base = {n_base!r} must be a power of 2, >= 2")
-    if not isinstance(uncertain, Mapping) or not uncertain:
-        raise ValueError("uncertain must be a non-empty mapping of input name -> distribution")
-    check_names(uncertain)
-    base = base_inputs(p_i, p_j, liquid, gas, bed, u0, u0_j, beta_deg, e, body_forces,
-                       drag_slip)
+    from ..scene import Scene
+    from . import scene_mc
+
+    if isinstance(p_i, Scene):  # the Scene's names, properties re-derived per run
+        given = [k for k, v in (("p_j", p_j), ("liquid", liquid), ("gas", gas), ("bed", bed),
+                                ("u0", u0), ("u0_j", u0_j)) if v is not None]
+        if given:
+            raise ValueError(f"{given[0]} is given with a Scene: the Scene holds it")
+        scene_mc.check_fields(uncertain)
+        laws = {k: scene_mc.field_law(k, uncertain[k]) for k in uncertain}
+        scene_base = p_i.values()
+        mode = scene_base["mode"]
+
+        def model(draws):
+            return scene_mc.scene_e_w(scene_base, draws)[0]
+
+        units = {k: scene_mc.FIELD_META[k][0] for k in uncertain}
+    else:
+        if not isinstance(uncertain, Mapping) or not uncertain:
+            raise ValueError("uncertain must be a non-empty mapping of input name -> "
+                             "distribution")
+        check_names(uncertain)
+        missing = [k for k, v in (("p_j", p_j), ("liquid", liquid), ("gas", gas), ("u0", u0))
+                   if v is None]
+        if missing:
+            raise ValueError(f"{missing[0]} is required (or pass a Scene as the first "
+                             "argument)")
+        base = base_inputs(p_i, p_j, liquid, gas, bed, u0, u0_j, beta_deg, e, body_forces,
+                           drag_slip)
+        laws = {k: (to_si(k, uncertain[k], UNCERTAIN_INPUTS[k].units), UNCERTAIN_INPUTS[k].lo,
+                    UNCERTAIN_INPUTS[k].hi) for k in uncertain}
+
+        def model(draws):
+            return evaluate_e_w(base, draws, mode).e_w
+
+        units = {k: UNCERTAIN_INPUTS[k].units for k in uncertain}
     entropy, _ = resolve_seed(seed)
     names = list(uncertain)
     per_input, factors = _group_list(names, groups)
-    dists = {k: to_si(k, uncertain[k], UNCERTAIN_INPUTS[k].units) for k in names}
+    dists = {k: laws[k][0] for k in names}
 
     problem = {"num_vars": len(names), "names": names, "bounds": [[0.0, 1.0]] * len(names)}
     if groups is not None:
@@ -139,16 +171,17 @@ def sobol_indices(
     u = np.clip(u, tiny, 1.0 - tiny)
     values = {}
     for k, name in enumerate(names):
-        spec = UNCERTAIN_INPUTS[name]
+        lo, hi = laws[name][1], laws[name][2]
         try:
-            values[name] = dists[name].ppf(u[:, k], spec.lo, spec.hi)
+            values[name] = dists[name].ppf(u[:, k], lo, hi)
         except ValueError as exc:
-            raise ValueError(f"uncertain[{name!r}] ({spec.range_text()}): {exc}") from None
+            raise ValueError(f"uncertain[{name!r}] (range [{lo:g}, {hi:g}] {units[name]}): "
+                             f"{exc}") from None
     n_runs = u.shape[0]
     y = np.empty(n_runs)
     for start in range(0, n_runs, chunk_size):
         sl = slice(start, min(start + chunk_size, n_runs))
-        y[sl] = evaluate_e_w(base, {k: v[sl] for k, v in values.items()}, mode).e_w
+        y[sl] = model({k: v[sl] for k, v in values.items()})
     si = salib_analyze.analyze(problem, y, calc_second_order=False,
                                num_resamples=int(num_resamples), conf_level=float(conf_level),
                                seed=int(entropy % 2**32))
@@ -179,8 +212,7 @@ def sobol_indices(
                "truncated inverse CDFs",
         estimator="SALib.analyze.sobol: S1 after Saltelli et al. (2010), ST after Jansen "
                   "(1999)",
-        distributions="; ".join(f"{k} = {dists[k]!r} [{UNCERTAIN_INPUTS[k].units}]"
-                                for k in names),
+        distributions="; ".join(f"{k} = {dists[k]!r} [{units[k]}]" for k in names),
         salib_version=_salib_version(),
         references="Sobol' (2001) doi:10.1016/S0378-4754(00)00270-6; Saltelli et al. "
                    "(2010) doi:10.1016/j.cpc.2009.09.018; SALib doi:10.21105/joss.00097",
