@@ -17,3 +17,28 @@ def output_dir() -> Path:
 
 def points(default: int) -> int:
     return int(os.environ.get("AGGLOMTOOL_EXAMPLE_N", default))
+
+
+def map_from_config(name: str):
+    """The map of ``configs/<name>.toml``, written to ``<output>/<name>.nc``.
+
+    With ``AGGLOMTOOL_EXAMPLE_N`` set, every numeric axis longer than that is resampled to
+    that many points between its ends (evenly, or evenly in log where the config's axis is
+    geometric), so that the smoke tests run the same example on a small grid.
+    """
+    import numpy as np
+
+    from agglomtool.maps import sweep, write_map
+    from agglomtool.maps.config import load_config
+
+    cfg = load_config(Path(__file__).parent / "configs" / f"{name}.toml")
+    grid = dict(cfg.grid)
+    for key, axis in grid.items():
+        if isinstance(axis, np.ndarray) and axis.size > 2:
+            n = points(axis.size)
+            geometric = np.all(axis > 0) and np.allclose(np.diff(np.log(axis)),
+                                                         np.log(axis[1] / axis[0]))
+            grid[key] = (np.geomspace if geometric else np.linspace)(axis[0], axis[-1], n)
+    ds = sweep(cfg.scene, nodes=cfg.options["nodes"], **grid)
+    write_map(ds, output_dir() / f"{name}.nc")
+    return ds

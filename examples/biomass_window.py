@@ -12,24 +12,13 @@ the same picture from the command line::
     agglomtool plot biomass_window.nc -o biomass_window.png
 """
 
-from pathlib import Path
+from _output import map_from_config, output_dir
 
-import numpy as np
-from _output import output_dir, points
-
-from agglomtool.maps import sweep, write_map
-from agglomtool.maps.config import load_config
 from agglomtool.plots import operating_window
 
 
 def main() -> str:
-    cfg = load_config(Path(__file__).parent / "configs" / "biomass_window.toml")
-    grid = dict(cfg.grid)
-    n = points(len(grid["T"]))
-    grid["T"] = np.linspace(grid["T"][0], grid["T"][-1], n)
-    grid["h0"] = np.geomspace(grid["h0"][0], grid["h0"][-1], n)
-    ds = sweep(cfg.scene, nodes=cfg.options["nodes"], **grid)
-    write_map(ds, output_dir() / "biomass_window.nc")
+    ds = map_from_config("biomass_window")
     path = output_dir() / "biomass_window.png"
     operating_window(ds, path=path)
     return str(path)

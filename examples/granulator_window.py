@@ -13,24 +13,13 @@ Assumed: the impact speeds are the default excess-gas estimate (Maxwellian, r.m.
 component U - U_mf), an order of magnitude; glass's 0.5 um asperity height.
 """
 
-from pathlib import Path
+from _output import map_from_config, output_dir
 
-import numpy as np
-from _output import output_dir, points
-
-from agglomtool.maps import sweep, write_map
-from agglomtool.maps.config import load_config
 from agglomtool.plots import operating_window
 
 
 def main() -> str:
-    cfg = load_config(Path(__file__).parent / "configs" / "granulator_window.toml")
-    grid = dict(cfg.grid)
-    n = points(len(grid["h0"]))
-    grid["U_Umf"] = np.linspace(grid["U_Umf"][0], grid["U_Umf"][-1], n)
-    grid["h0"] = np.geomspace(grid["h0"][0], grid["h0"][-1], n)
-    ds = sweep(cfg.scene, nodes=cfg.options["nodes"], **grid)
-    write_map(ds, output_dir() / "granulator_window.nc")
+    ds = map_from_config("granulator_window")
     path = output_dir() / "granulator_window.png"
     operating_window(ds, path=path)
     return str(path)

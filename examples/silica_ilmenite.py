@@ -12,24 +12,13 @@ Assumed (database entries say so): ilmenite's and olivine's 1 um asperity height
 restitution 0.85; the impact speeds are the default excess-gas estimate.
 """
 
-from pathlib import Path
+from _output import map_from_config, output_dir
 
-import numpy as np
-from _output import output_dir, points
-
-from agglomtool.maps import sweep, write_map
-from agglomtool.maps.config import load_config
 from agglomtool.plots import operating_window
 
 
 def main() -> str:
-    cfg = load_config(Path(__file__).parent / "configs" / "sand_vs_ilmenite.toml")
-    grid = dict(cfg.grid)
-    n = points(len(grid["h0"]))
-    grid["U_Umf"] = np.linspace(grid["U_Umf"][0], grid["U_Umf"][-1], n)
-    grid["h0"] = np.geomspace(grid["h0"][0], grid["h0"][-1], n)
-    ds = sweep(cfg.scene, nodes=cfg.options["nodes"], **grid)
-    write_map(ds, output_dir() / "sand_vs_ilmenite.nc")
+    ds = map_from_config("sand_vs_ilmenite")
     for name in ds.solid_j.values:  # the numbers behind the picture, per material
         us = ds.u_star.sel(solid_j=name)
         print(f"{name:12s} u0* = {float(us.min()):.3f}-{float(us.max()):.3f} m/s, mean "
