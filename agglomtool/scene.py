@@ -389,7 +389,7 @@ class Resolved:
         """``"; T = ... is the Scene's default ..."`` for the fields among ``names`` that the
         message of ``exc`` blames and that still hold the Scene's default (a value the user
         may never have typed)."""
-        defaults = {f.name: f.default for f in dataclasses.fields(Scene)}
+        defaults = DEFAULTS
         hints = []
         for name in (n for n in names if f"{n} = " in str(exc)):
             val = np.asarray(self.v.get(name)).reshape(-1)

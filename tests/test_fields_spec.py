@@ -12,8 +12,10 @@ from agglomtool.properties import umf_methods
 from agglomtool.scene import Scene
 
 
-def test_defaults_are_the_scenes():
-    assert {f.name: f.default for f in dataclasses.fields(Scene)} == _fields.DEFAULTS
+def test_every_scene_field_has_a_spec_and_a_default():
+    fields = dataclasses.fields(Scene)
+    assert [f.name for f in fields] == list(_fields.DEFAULTS)  # same fields, same order
+    assert Scene().values() == {**_fields.DEFAULTS, "speed": "excess-gas"}
 
 
 def test_allowed_names_are_the_registries():
