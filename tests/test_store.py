@@ -289,3 +289,39 @@ def test_open_store_of_something_else_names_it(tmp_path):
     (tmp_path / "sweep.json").write_text(json.dumps({"fingerprint": {"format": ["x", 1]}}))
     with pytest.raises(ValueError, match="layout"):
         open_store(tmp_path)
+
+
+KILLED = """
+import sys
+import numpy as np
+from agglomtool.maps import sweep
+from agglomtool.scene import Scene
+sweep(Scene(liquid="hypothetical-slag", h0=0.15e-6, d_i=1000e-6), chunks=2,
+      store=sys.argv[1], T=np.linspace(950.0, 1250.0, 3), solid_j=["silica-sand", "ilmenite"],
+      h0=[0.15e-6, 0.6e-6], U_Umf=[2.0, 6.0])
+"""
+
+
+def test_a_run_killed_midway_is_resumed(ref, tmp_path):
+    store = tmp_path / "s"
+    proc = subprocess.Popen([sys.executable, "-c", KILLED, str(store)], env=_env())
+    try:
+        deadline = time.monotonic() + 300
+        while proc.poll() is None and time.monotonic() < deadline:
+            if len(list((store / "done").glob("*.json"))) >= 3:
+                break
+            time.sleep(0.01)
+    finally:
+        proc.kill()
+        proc.wait()
+    got = sweep(SCENE, chunks=2, store=store, **GRID)  # same sweep: resumes, never refuses
+    _same(ref, got)
+
+
+def test_a_layout_interrupted_before_its_record_is_laid_out_again(ref, tmp_path):
+    store = tmp_path / "s"
+    _run(store)
+    shutil.rmtree(store / "done")
+    (store / "sweep.json").unlink()
+    shutil.rmtree(store / "map.zarr" / "propensity")  # arrays not all written yet
+    _same(ref, _clean(_run, store))

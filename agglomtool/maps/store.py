@@ -449,8 +449,12 @@ def _prepare(ds: xr.Dataset, path: Path, fp: dict, overwrite: bool) -> None:
         _layout(ds, path, fp)
         return
     if stored is None:
+        if not ((path / _DONE).is_dir() and any((path / _DONE).iterdir())):
+            _layout(ds, path, fp)  # a layout interrupted before its record: lay it out again
+            return
+        # the record was deleted after the layout was finished (blocks were recorded): the
+        # zarr metadata says it is this sweep, so write the record again
         _atomic_write(path / _RECORD, json.dumps({"fingerprint": fp, "sha256": sha}, indent=1))
-    (path / _DONE).mkdir(exist_ok=True)
 
 
 def _check_blocks(ds: xr.Dataset, path: Path, sha: str, blocks: list, var_dims: dict
