@@ -364,8 +364,22 @@ def _dirs(extra_dirs) -> list[Path]:
     return dirs
 
 
+def _state(dirs: tuple[Path, ...]) -> tuple:
+    """The TOML files of ``dirs`` with their modification times and sizes: a file edited,
+    added or removed gives another state, so :func:`_load` reads the files again."""
+    out = []
+    for d in dirs:
+        for path in sorted(d.glob("*.toml")):
+            try:
+                st = path.stat()
+                out.append((str(path), st.st_mtime_ns, st.st_size))
+            except OSError:
+                out.append((str(path), None, None))
+    return tuple(out)
+
+
 @cache
-def _load(dirs: tuple[Path, ...]) -> MappingProxyType:
+def _load(dirs: tuple[Path, ...], state: tuple = ()) -> MappingProxyType:
     merged: dict[str, dict[str, object]] = {k: {} for k in KINDS}
     for d in dirs:
         for path in sorted(d.glob("*.toml")):
@@ -388,8 +402,13 @@ def _load(dirs: tuple[Path, ...]) -> MappingProxyType:
 
 
 def load(extra_dirs=None) -> MappingProxyType:
-    """All entries, validated: ``{kind: {name: entry}}`` (cached per set of directories)."""
-    return _load(tuple(p.resolve() for p in _dirs(extra_dirs)))
+    """All entries, validated: ``{kind: {name: entry}}``.
+
+    Cached per set of directories and read again when one of their TOML files is edited,
+    added or removed (so a long session sees the files as they are now).
+    """
+    dirs = tuple(p.resolve() for p in _dirs(extra_dirs))
+    return _load(dirs, _state(dirs))
 
 
 def _key(name: str) -> str:

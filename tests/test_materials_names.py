@@ -74,3 +74,10 @@ def test_fingerprint_follows_the_file_contents(tmp_path):
     after = materials.fingerprint(used, extra_dirs=d)
     assert after["solid silica-sand"] == before["solid silica-sand"]
     assert after["solid my-sand"] != before["solid my-sand"]
+
+
+def test_an_edited_file_is_read_again(tmp_path):
+    d = _dir(tmp_path, "[solid.my-sand]" + SOLID.format(density=1500.0))
+    assert materials.solid("my-sand", extra_dirs=d).density == 1500.0
+    (d / "user.toml").write_text("[solid.my-sand]" + SOLID.format(density=2650.0) + "\n")
+    assert materials.solid("my-sand", extra_dirs=d).density == 2650.0
