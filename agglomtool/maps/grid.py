@@ -259,17 +259,20 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     every core of the process running it, and its threading layer does not allow calls
     from several threads; so give a cluster process workers with one thread each. A block
     is one task, computed inside one worker, so blocks should be large (the default
-    ``chunks="auto"``, about 2.6e5 points, takes seconds). On one machine a cluster only
-    adds overhead (the default already uses all cores); it pays off when the workers are
-    on several machines, with the store on a file system they share::
+    ``chunks="auto"``, about 2.6e5 points, takes seconds), and a map needs several blocks
+    per worker to keep them all busy. On one machine a cluster gains little or nothing
+    (the default already runs the kernel on every core); it pays off when the workers
+    are on several machines, with the store on a file system they all share::
 
         from dask.distributed import Client, LocalCluster
         cluster = LocalCluster(n_workers=2, processes=True, threads_per_worker=1)
         with Client(cluster) as client:
-            ds = at.sweep(scene, store="map.zarr.d", client=client, T=..., h0=...)
+            ds = at.sweep(scene, store="map-store", client=client, T=..., h0=...)
 
-        # or a remote scheduler, its workers started with `dask worker ... --nthreads 1`:
+        # or a remote scheduler, its workers started on each machine with
+        #   dask worker tcp://scheduler-host:8786 --nworkers 1 --nthreads 1
         client = Client("tcp://scheduler-host:8786")
+        ds = at.sweep(scene, store="/shared/map-store", client=client, T=..., h0=...)
 
     Every worker needs the same agglomtool version and the same user materials files
     (``AGGLOMTOOL_MATERIALS``); a worker whose materials files differ refuses its blocks.
