@@ -324,3 +324,11 @@ def test_a_layout_interrupted_before_its_record_is_laid_out_again(ref, tmp_path)
     (store / "sweep.json").unlink()
     shutil.rmtree(store / "map.zarr" / "propensity")  # arrays not all written yet
     _same(ref, _clean(_run, store))
+
+
+def test_outputs_that_do_not_vary_over_the_grid_are_stored(tmp_path):
+    """A grid over U_Umf only: gas, liquid and u0* outputs are 0-d variables."""
+    ref = sweep(SCENE, chunks=None, U_Umf=[2.0, 4.0, 8.0])
+    assert ref.mu_g.ndim == 0
+    _same(ref, _clean(sweep, SCENE, chunks=1, store=tmp_path / "s", U_Umf=[2.0, 4.0, 8.0]))
+    _same(ref, _clean(sweep, SCENE, chunks=1, store=tmp_path / "s", U_Umf=[2.0, 4.0, 8.0]))

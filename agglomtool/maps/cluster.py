@@ -83,7 +83,7 @@ def _compute_block(part: xr.Dataset) -> dict:
 
     with dask.config.set(scheduler="synchronous"):
         values = part.compute()
-    return {k: np.ascontiguousarray(v.values) for k, v in values.data_vars.items()}
+    return {k: np.asarray(v.values) for k, v in values.data_vars.items()}
 
 
 def compute_on_cluster(ds: xr.Dataset, client) -> xr.Dataset:

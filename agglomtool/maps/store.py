@@ -305,7 +305,7 @@ def _write_block(part: xr.Dataset, data_path: str, region: dict, used: dict,
     group = zarr.open_group(data_path, mode="r+")
     crcs = {}
     for name, var in values.data_vars.items():
-        a = np.ascontiguousarray(var.values)
+        a = np.asarray(var.values).copy(order="C")  # (ascontiguousarray makes 0-d 1-d)
         group[name][tuple(region[d] for d in var.dims)] = a
         crcs[name] = _crc(a)
     return crcs
