@@ -282,7 +282,9 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     >>> import numpy as np, agglomtool as at                         # doctest: +SKIP
     >>> ds = at.sweep(at.Scene(), T=np.linspace(1000, 1300, 31), h0=[0.2e-6, 1e-6])
     """
-    _check_chunks(chunks)
+    from .checks import check_chunks
+
+    check_chunks(chunks)
     if store is not None:
         from .store import _check_path
 
@@ -311,15 +313,3 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
                 return ds.compute()
         return ds.compute()
 
-
-def _check_chunks(chunks) -> None:
-    """Refuse block sizes that would otherwise be rounded or read as numbers silently."""
-    if chunks is None or (isinstance(chunks, str) and chunks == "auto"):
-        return
-    items = chunks.items() if isinstance(chunks, dict) else [(None, chunks)]
-    for dim, size in items:
-        field = "chunks" if dim is None else f"chunks[{dim!r}]"
-        if isinstance(size, bool) or not isinstance(size, int | np.integer) or size < 1:
-            raise ValueError(
-                f"{field} = {size!r} must be a whole number of points >= 1"
-                + ("" if dim is not None else ', "auto", None or a {dimension: size} dict'))
