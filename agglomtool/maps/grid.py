@@ -312,4 +312,3 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
             with progress_callback():
                 return ds.compute()
         return ds.compute()
-
