@@ -275,7 +275,9 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         ds = at.sweep(scene, store="/shared/map-store", client=client, T=..., h0=...)
 
     Every worker needs the same agglomtool version and the same user materials files
-    (``AGGLOMTOOL_MATERIALS``); a worker whose materials files differ refuses its blocks.
+    (``AGGLOMTOOL_MATERIALS``, at the same paths); a worker whose materials files differ
+    refuses its blocks. With several workers on one machine, set ``NUMBA_NUM_THREADS`` in
+    their environment to that machine's cores divided by its workers.
 
     Examples
     --------
