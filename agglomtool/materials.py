@@ -12,18 +12,27 @@ The package's own files are found inside an installed wheel (``agglomtool/_mater
 in a source checkout or editable install, in the repository's top-level ``materials/``.
 A user adds entries, without touching the package, with TOML files in directories passed as
 ``extra_dirs`` or listed in the environment variable ``AGGLOMTOOL_MATERIALS`` (separated by
-``os.pathsep``). A name defined twice is an error that names both files.
+``os.pathsep``). A name defined twice is an error that names both files; a user entry
+cannot replace a built-in one (give it a name of its own).
+
+Names are normalised when a file is loaded: lower case, with runs of spaces, hyphens and
+underscores turned into one hyphen (``[solid.My_Sand]`` is the solid ``my-sand``, and
+``[solid.silica_sand]`` clashes with the built-in ``silica-sand``). :func:`names` lists the
+normalised names, and every look-up accepts any spelling that normalises to one of them.
 
 Loading validates every entry: an error names the file, the entry and the field. Files are
-read with :mod:`tomllib` only.
+read with :mod:`tomllib` only, as UTF-8; a file that is not UTF-8 or not TOML is an error
+naming it.
 """
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
+import re
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -43,6 +52,7 @@ __all__ = [
     "gas",
     "load",
     "builtin_dir",
+    "fingerprint",
     "ENV_VAR",
 ]
 
@@ -282,6 +292,9 @@ def _gas(ctx, entry) -> GasEntry:
 
 _BUILDERS = {"solid": _solid, "liquid": _liquid, "gas": _gas}
 
+#: What a normalised entry name may hold (see :func:`_key`).
+_NAME = re.compile(r"[a-z0-9][a-z0-9.+()-]*")
+
 
 # ---------------------------------------------------------------------------------------
 # Files and directories
@@ -305,10 +318,23 @@ def load_file(path: Path) -> dict[str, dict[str, object]]:
     """Parse and validate one TOML file: ``{kind: {name: entry}}``."""
     path = Path(path)
     try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise MaterialsError(f"{path}: cannot be read: {exc.strerror or exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise MaterialsError(
+            f"{path}: is not UTF-8 text (byte {raw[exc.start]:#04x} at offset {exc.start}); "
+            "TOML files must be saved as UTF-8") from None
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise MaterialsError(f"{path}: not valid TOML: {exc}") from None
+    except RecursionError:
+        raise MaterialsError(
+            f"{path}: tables or arrays are nested too deeply to read; a materials file needs "
+            "two levels ([kind.name]) plus one for composition tables") from None
     out: dict[str, dict[str, object]] = {k: {} for k in KINDS}
     for kind, entries in data.items():
         if kind not in KINDS:
@@ -321,8 +347,28 @@ def load_file(path: Path) -> dict[str, dict[str, object]]:
         for key, entry in entries.items():
             if not isinstance(entry, dict):
                 raise MaterialsError(f"{path}: [{kind}.{key}] must be a table of fields")
-            out[kind][key] = _BUILDERS[kind]((path, kind, key), entry)
+            name = _check_name(path, kind, key)
+            if name in out[kind]:
+                raise MaterialsError(
+                    f"{path}: [{kind}.{key}] and another entry of this file are both named "
+                    f"{name!r} (case, spaces, hyphens and underscores are interchangeable)")
+            out[kind][name] = replace(_BUILDERS[kind]((path, kind, key), entry), name=name)
+            _SPELLING[(str(path), kind, name)] = key
     return out
+
+
+#: (file, kind, normalised name) -> the name as written in the file, for messages.
+_SPELLING: dict[tuple[str, str, str], str] = {}
+
+
+def _check_name(path, kind: str, key: str) -> str:
+    """The normalised name of entry ``[kind.key]``: lower case, words joined by hyphens."""
+    name = _key(key)
+    if not _NAME.fullmatch(name):
+        raise MaterialsError(
+            f"{path}: [{kind}.{key}]: the name {key!r} must start with a letter or digit and "
+            "hold only letters, digits, spaces, '-', '_', '.', '+' and parentheses")
+    return name
 
 
 def _dirs(extra_dirs) -> list[Path]:
@@ -339,25 +385,51 @@ def _dirs(extra_dirs) -> list[Path]:
     return dirs
 
 
+def _state(dirs: tuple[Path, ...]) -> tuple:
+    """The TOML files of ``dirs`` with their modification times and sizes: a file edited,
+    added or removed gives another state, so :func:`_load` reads the files again."""
+    out = []
+    for d in dirs:
+        for path in sorted(d.glob("*.toml")):
+            try:
+                st = path.stat()
+                out.append((str(path), st.st_mtime_ns, st.st_size))
+            except OSError:
+                out.append((str(path), None, None))
+    return tuple(out)
+
+
 @cache
-def _load(dirs: tuple[Path, ...]) -> MappingProxyType:
+def _load(dirs: tuple[Path, ...], state: tuple = ()) -> MappingProxyType:
     merged: dict[str, dict[str, object]] = {k: {} for k in KINDS}
     for d in dirs:
         for path in sorted(d.glob("*.toml")):
             for kind, entries in load_file(path).items():
                 for key, entry in entries.items():
                     if key in merged[kind]:
+                        first = merged[kind][key].file
+                        builtin = Path(first).parent == dirs[0]
+                        written = _SPELLING.get((str(path), kind, key), key)
                         raise MaterialsError(
-                            f"{path}: [{kind}.{key}] is already defined in "
-                            f"{merged[kind][key].file}; choose another name"
+                            f"{path}: [{kind}.{written}] is already defined in {first}"
+                            + (f" as [{kind}.{key}]" if written != key else "")
+                            + (" (a built-in entry, which a user file cannot replace)"
+                               if builtin else "")
+                            + "; choose another name (case, spaces, hyphens and underscores "
+                            "are interchangeable in names)"
                         )
                     merged[kind][key] = entry
     return MappingProxyType({k: MappingProxyType(v) for k, v in merged.items()})
 
 
 def load(extra_dirs=None) -> MappingProxyType:
-    """All entries, validated: ``{kind: {name: entry}}`` (cached per set of directories)."""
-    return _load(tuple(p.resolve() for p in _dirs(extra_dirs)))
+    """All entries, validated: ``{kind: {name: entry}}``.
+
+    Cached per set of directories and read again when one of their TOML files is edited,
+    added or removed (so a long session sees the files as they are now).
+    """
+    dirs = tuple(p.resolve() for p in _dirs(extra_dirs))
+    return _load(dirs, _state(dirs))
 
 
 def _key(name: str) -> str:
@@ -371,6 +443,37 @@ def _get(kind: str, name: str, extra_dirs):
         raise KeyError(f"no {kind} named {name!r} in the materials database; known: "
                        f"{', '.join(sorted(entries))}")
     return entries[key]
+
+
+def fingerprint(used: dict, extra_dirs=None) -> dict[str, str]:
+    """Where the materials ``used`` come from and what those files hold.
+
+    Parameters
+    ----------
+    used : dict of str to list of str
+        ``{kind: [names]}`` of the entries a computation uses.
+    extra_dirs : optional
+        As for :func:`load`.
+
+    Returns
+    -------
+    dict of str to str
+        ``"kind name" -> "file sha256"``: the file defining each entry (built-in files as
+        ``agglomtool:<file name>``) and the SHA-256 of its bytes as they are now.
+    """
+    builtin = builtin_dir().resolve()
+    out = {}
+    for kind in sorted(used):
+        for name in sorted(used[kind]):
+            file = Path(_get(kind, name, extra_dirs).file)
+            label = (f"agglomtool:{file.name}" if file.resolve().parent == builtin
+                     else str(file.resolve()))
+            try:
+                digest = hashlib.sha256(file.read_bytes()).hexdigest()
+            except OSError as exc:
+                digest = f"unreadable ({exc.strerror or exc})"
+            out[f"{kind} {_key(name)}"] = f"{label} {digest}"
+    return out
 
 
 def names(kind: str, extra_dirs=None) -> list[str]:

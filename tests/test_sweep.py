@@ -1,6 +1,4 @@
-"""Sweeps: units everywhere, netCDF round trip, chunking, resuming."""
-
-import shutil
+"""Sweeps: units everywhere, netCDF round trip, chunking (stores: test_store.py)."""
 
 import numpy as np
 import pint
@@ -8,7 +6,6 @@ import pytest
 import xarray as xr
 
 from agglomtool.maps import sweep
-from agglomtool.maps.store import open_store
 from agglomtool.scene import Scene
 
 SCENE = Scene(liquid="hypothetical-slag", h0=0.15e-6, d_i=1000e-6)
@@ -55,29 +52,6 @@ def test_netcdf_round_trip(ds, tmp_path):
 
 def test_chunked_equals_unchunked(ds):
     xr.testing.assert_identical(ds, sweep(SCENE, chunks=7, **GRID))
-
-
-def test_resume_after_interruption(ds, tmp_path):
-    store = tmp_path / "store"
-    sweep(SCENE, chunks=7, store=store, **GRID).close()
-    blocks = sorted(store.glob("block_*.nc"))
-    assert len(blocks) > 4
-    for b in blocks[::2]:  # an interrupted run: some blocks never written,
-        b.unlink()
-    (store / "block_99.nc.tmp").write_text("half-written")  # one written halfway
-    with pytest.raises(ValueError, match="incomplete"):
-        open_store(store)
-    again = sweep(SCENE, chunks=7, store=store, **GRID)
-    xr.testing.assert_identical(ds, again.compute())
-    again.close()
-
-
-def test_store_of_another_sweep_is_refused(tmp_path):
-    store = tmp_path / "s"
-    sweep(SCENE, chunks=7, store=store, T=[900.0, 1000.0], h0=[0.2e-6, 0.3e-6]).close()
-    with pytest.raises(ValueError, match="different sweep"):
-        sweep(SCENE, chunks=7, store=store, T=[900.0, 1100.0], h0=[0.2e-6, 0.3e-6])
-    shutil.rmtree(store)
 
 
 def test_bad_grids_name_the_field():

@@ -255,7 +255,7 @@ def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
 
 
 def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=False,
-          compute: bool = True, **grid) -> xr.Dataset:
+          compute: bool = True, overwrite: bool = False, client=None, **grid) -> xr.Dataset:
     """Evaluate ``scene`` over a grid of its fields.
 
     Parameters
@@ -269,13 +269,27 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     nodes : int
         Quadrature nodes of the impact-speed distribution for the propensity.
     store : path, optional
-        A directory where finished blocks are written as netCDF files; an interrupted
-        sweep run again with the same store skips them. The result is then opened lazily
-        from the store (bounded memory for grids larger than memory).
+        A directory holding a resumable zarr store of the sweep
+        (:mod:`agglomtool.maps.store`): every finished block is written to it with a
+        checksum and a completion record, and a sweep run again with the same store checks
+        and reuses them, recomputing any block that is missing or damaged. The store records
+        a fingerprint of the sweep (scene, grid, chunks, nodes, materials files, version); a
+        different sweep is refused with a ValueError saying what differs. Only one process
+        writes a store at a time. The result is opened lazily from the store (bounded
+        memory for grids larger than memory); ``.to_netcdf(path)`` writes one file.
     progress : bool
         Show progress on stderr (``tqdm`` if installed, else a text bar).
     compute : bool
         ``False`` returns the lazy dask-backed Dataset (ignored with ``store``).
+    overwrite : bool
+        With ``store``: discard a store that holds a different sweep and start again.
+    client : distributed.Client or False, optional
+        Run the blocks as tasks on the workers of this dask.distributed cluster. ``None``
+        (the default) uses the active client if one has been created in this process, else
+        computes here; ``False`` always computes here. With ``store`` each worker writes
+        its blocks' regions of the store, which must then be on a file system that the
+        workers and this process share; the client holds only completion records. Without
+        ``store`` the blocks are gathered into one in-memory Dataset.
     **grid
         ``field=values``: one dimension per field, in the order given, with the values
         as coordinates (numbers in the units of :class:`Scene`, or names).
@@ -290,18 +304,60 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         dimensions it depends on. Attributes record the agglomtool version, model tier,
         base scene and material sources.
 
+    Notes
+    -----
+    **Running on a cluster.** The collision kernel is compiled (Numba) and already uses
+    every core of the process running it, and its threading layer does not allow calls
+    from several threads; so give a cluster process workers with one thread each. A block
+    is one task, computed inside one worker, so blocks should be large (the default
+    ``chunks="auto"``, about 2.6e5 points, takes seconds), and a map needs several blocks
+    per worker to keep them all busy. On one machine a cluster gains little or nothing
+    (the default already runs the kernel on every core); it pays off when the workers
+    are on several machines, with the store on a file system they all share::
+
+        from dask.distributed import Client, LocalCluster
+        cluster = LocalCluster(n_workers=2, processes=True, threads_per_worker=1)
+        with Client(cluster) as client:
+            ds = at.sweep(scene, store="map-store", client=client, T=..., h0=...)
+
+        # or a remote scheduler, its workers started on each machine with
+        #   dask worker tcp://scheduler-host:8786 --nworkers 1 --nthreads 1
+        client = Client("tcp://scheduler-host:8786")
+        ds = at.sweep(scene, store="/shared/map-store", client=client, T=..., h0=...)
+
+    Every worker needs the same agglomtool version and the same user materials files
+    (``AGGLOMTOOL_MATERIALS``, at the same paths); a worker whose materials files differ
+    refuses its blocks. With several workers on one machine, set ``NUMBA_NUM_THREADS`` in
+    their environment to that machine's cores divided by its workers.
+
     Examples
     --------
     >>> import numpy as np, agglomtool as at                         # doctest: +SKIP
     >>> ds = at.sweep(at.Scene(), T=np.linspace(1000, 1300, 31), h0=[0.2e-6, 1e-6])
     """
+    from .checks import check_chunks
+
+    check_chunks(chunks)
+    if store is not None:
+        from .store import _check_path
+
+        _check_path(store)  # before any work: a file is not a store
     ds = build(scene, chunks=chunks, nodes=nodes, **grid)
+    if client is None and (store is not None or compute):
+        from .store import _active_client
+
+        client = _active_client()
     if store is not None:
         from .store import run_with_store
 
-        return run_with_store(ds, store, progress=progress)
+        return run_with_store(ds, store, progress=progress, overwrite=overwrite,
+                              client=client)
     if not compute:
         return ds
+    if client is not None and client is not False:
+        from .cluster import compute_on_cluster
+
+        return compute_on_cluster(ds, client)
     with dask.config.set(scheduler="synchronous"):
         if progress:
             from .store import progress_callback

@@ -1,29 +1,77 @@
-"""Resumable sweeps: finished blocks are written to a directory and skipped on restart.
+"""Resumable sweeps: a zarr store written block by block, with provenance and a writer lock.
 
 Layout of a store directory::
 
-    manifest.json            what the sweep is (grid, chunks, scene, version)
-    block_<i>_<j>_....nc     one netCDF file per finished block (written atomically)
+    sweep.json        what the sweep is: its fingerprint (see :func:`fingerprint`)
+    map.zarr/         the grid, laid out once (zarr v3); every block writes its own region
+    done/<i_j_..>.json  one completion record per finished block: its checksums
+    writer.lock       held (an OS file lock) by the process writing the store
+    writer.json       who holds it: process id, host, start time
 
-A block file is written to ``*.nc.tmp`` and renamed when complete, so an interrupted run
-leaves no half-written block behind. The result is opened lazily from the block files.
+How nothing is lost or mixed:
+
+* **Provenance.** The fingerprint covers everything that determines the numbers: the base
+  scene, the grid (dimensions, values, order), the chunks, the quadrature nodes, the output
+  variables, the contents (SHA-256) of every materials file the sweep uses (user files
+  included) and the agglomtool version. A run whose fingerprint differs from the store's
+  is refused with a :class:`ValueError` listing what differs, unless ``overwrite=True``.
+* **Integrity.** Every zarr chunk goes through a CRC32C checksum codec, and each completion
+  record holds a CRC-32 of every array region the block wrote. On every run the finished
+  blocks are read back and checked; a block that cannot be read, fails its checksum or
+  belongs to another sweep is recomputed, with a :class:`StoreWarning` saying so.
+* **One writer.** A second process writing the same store is refused
+  (:class:`StoreLockedError`) while the first runs. The lock is an operating-system file
+  lock (:mod:`filelock`): the kernel releases it when its holder dies, so a killed run
+  never leaves the store locked.
+* **Crash safety.** A block's record is written (atomically) only after its data, so an
+  interrupted run leaves at most blocks without records, which the next run recomputes.
+
+Each variable is written by exactly one block per zarr chunk: a variable over fewer
+dimensions than the grid (``mu_g`` over ``T``, say) is written by the blocks whose index is
+0 along the dimensions it lacks. Blocks therefore never write the same chunk, and can run
+at the same time on the workers of a dask.distributed cluster (:func:`run_with_store` with
+``client=``). The final Dataset is opened lazily from the store; ``open_store(path)
+.to_netcdf(file)`` (or :func:`export_netcdf`) writes one netCDF file.
 """
 
 from __future__ import annotations
 
 import contextlib
+import datetime
+import hashlib
 import itertools
 import json
 import os
+import shutil
+import socket
 import sys
 import time
+import warnings
+import zlib
 from pathlib import Path
 
 import dask
 import numpy as np
 import xarray as xr
 
-__all__ = ["run_with_store", "open_store", "progress_callback", "Progress"]
+__all__ = ["run_with_store", "open_store", "export_netcdf", "fingerprint", "progress_callback",
+           "Progress", "StoreWarning", "StoreLockedError", "FORMAT_VERSION"]
+
+#: Version of the store layout; a store of another layout version is refused.
+FORMAT_VERSION = 2
+_FORMAT = "agglomtool sweep store"
+_RECORD, _DATA, _DONE = "sweep.json", "map.zarr", "done"
+_LOCK, _OWNER = "writer.lock", "writer.json"
+#: Files of a store; a non-empty directory holding none of them is not a store.
+_OURS = {_RECORD, _DATA, _DONE, _LOCK, _OWNER}
+
+
+class StoreWarning(UserWarning):
+    """A store was repaired: unreadable or mismatching blocks or records are recomputed."""
+
+
+class StoreLockedError(ValueError):
+    """Another process is writing the store."""
 
 
 class Progress:
@@ -90,12 +138,107 @@ def progress_callback():
         yield
 
 
-def _manifest(ds: xr.Dataset) -> dict:
-    chunks = {k: [int(c) for c in v] for k, v in ds.chunks.items()}
-    coords = {k: np.asarray(ds[k].values).tolist() for k in ds.dims}
-    return {"dims": list(ds.dims), "chunks": chunks, "coords": coords,
-            "scene": ds.attrs.get("scene"), "nodes": ds.attrs.get("quadrature_nodes"),
-            "agglomtool_version": ds.attrs.get("agglomtool_version")}
+# ---------------------------------------------------------------------------------------
+# Fingerprint
+
+
+def _digest(values: np.ndarray) -> dict:
+    a = np.ascontiguousarray(values)
+    out = {"size": int(a.size), "dtype": a.dtype.str,
+           "sha256": hashlib.sha256(a.tobytes()).hexdigest()}
+    if a.size:
+        out["first"], out["last"] = a.flat[0].item(), a.flat[-1].item()
+    return out
+
+
+def _used_materials(ds: xr.Dataset) -> dict:
+    """``{kind: sorted names}`` of the materials the sweep ``ds`` evaluates."""
+    scene = json.loads(ds.attrs.get("scene", "{}"))
+    kinds = {"solid_i": "solid", "solid_j": "solid", "liquid": "liquid", "gas": "gas"}
+    used: dict[str, set] = {}
+    for field, kind in kinds.items():
+        values = ds[field].values.tolist() if field in ds.dims else [scene.get(field)]
+        used.setdefault(kind, set()).update(str(v) for v in values if v is not None)
+    return {k: sorted(v) for k, v in used.items()}
+
+
+def fingerprint(ds: xr.Dataset) -> dict:
+    """Everything that determines the numbers of the lazy sweep ``ds``, as a JSON-able dict.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep built by :func:`agglomtool.maps.build` (dask-backed).
+
+    Returns
+    -------
+    dict
+        ``format``, ``agglomtool_version``, ``scene`` (the base scene without the swept
+        fields), ``dims``, ``grid`` (per dimension: size, dtype, SHA-256, first and last
+        value), ``chunks``, ``nodes``, ``variables`` (dims and dtype of every output) and
+        ``materials`` (``"kind name" -> "file sha256"`` for every material used).
+    """
+    from .. import materials
+
+    dims = list(ds.dims)
+    scene = json.loads(ds.attrs.get("scene", "{}"))
+    return {
+        "format": [_FORMAT, FORMAT_VERSION],
+        "agglomtool_version": ds.attrs.get("agglomtool_version"),
+        "scene": {k: v for k, v in scene.items() if k not in dims},
+        "dims": dims,
+        "grid": {d: _digest(ds[d].values) for d in dims},
+        "chunks": {d: [int(c) for c in ds.chunks[d]] for d in dims} if ds.chunks else {},
+        "nodes": ds.attrs.get("quadrature_nodes"),
+        "variables": {k: [list(v.dims), v.dtype.str] for k, v in ds.data_vars.items()},
+        "materials": materials.fingerprint(_used_materials(ds)),
+    }
+
+
+def _sha(fp: dict) -> str:
+    return hashlib.sha256(json.dumps(fp, sort_keys=True).encode()).hexdigest()
+
+
+def _short(value) -> str:
+    text = json.dumps(value, sort_keys=True)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _differences(old: dict, new: dict) -> list[str]:
+    """What differs between two fingerprints, one readable line per leaf."""
+    out = []
+
+    def walk(a, b, path):
+        if isinstance(a, dict) and isinstance(b, dict):
+            for k in sorted(set(a) | set(b), key=str):
+                if k not in a:
+                    out.append((path, f"{path}{k}: not in the store, now {_short(b[k])}"))
+                elif k not in b:
+                    out.append((path, f"{path}{k}: stored {_short(a[k])}, now absent"))
+                else:
+                    walk(a[k], b[k], f"{path}{k} ")
+        elif a != b:
+            leaf = path.strip()
+            if leaf.startswith("materials ") and isinstance(a, str) and isinstance(b, str):
+                (fa, _, _), (fb, _, _) = a.rpartition(" "), b.rpartition(" ")
+                what = (f"{fa} has changed since the store was made" if fa == fb
+                        else f"stored from {fa}, now from {fb}")
+                out.append((leaf.rpartition(" ")[0], f"{leaf}: {what}"))
+                return
+            out.append((leaf.rpartition(" ")[0], f"{leaf}: stored {_short(a)}, now {_short(b)}"))
+
+    walk(old, new, "")
+    # a grid dimension's hash is only worth a line when its size, first and last agree
+    parents = {}
+    for parent, line in out:
+        parents.setdefault(parent, []).append(line)
+    return [line for parent, line in out
+            if not (line.split(":")[0].endswith(" sha256")
+                    and len(parents[parent]) > 1)]
+
+
+# ---------------------------------------------------------------------------------------
+# Blocks
 
 
 def _blocks(chunks: dict):
@@ -103,78 +246,409 @@ def _blocks(chunks: dict):
     dims = list(chunks)
     starts = {d: np.concatenate([[0], np.cumsum(chunks[d])]) for d in dims}
     for idx in itertools.product(*[range(len(chunks[d])) for d in dims]):
-        sl = {d: slice(int(starts[d][i]), int(starts[d][i + 1])) for d, i in zip(dims, idx,
-                                                                                strict=True)}
+        sl = {d: slice(int(starts[d][i]), int(starts[d][i + 1]))
+              for d, i in zip(dims, idx, strict=True)}
         yield idx, sl
 
 
-def run_with_store(ds: xr.Dataset, store, *, progress: bool = False) -> xr.Dataset:
-    """Compute the lazy sweep ``ds`` block by block into ``store``; skip finished blocks.
+def _owned(var_dims: dict, dims: list, idx: tuple) -> list:
+    """Variables block ``idx`` writes: those over whose missing dimensions it is first."""
+    at = dict(zip(dims, idx, strict=True))
+    return [v for v, vd in var_dims.items() if all(at[d] == 0 for d in dims if d not in vd)]
+
+
+def _block_name(idx: tuple) -> str:
+    return "_".join(str(i) for i in idx) + ".json"
+
+
+def _crc(a: np.ndarray) -> int:
+    return zlib.crc32(np.ascontiguousarray(a).tobytes())
+
+
+def _atomic_write(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{socket.gethostname()}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+@contextlib.contextmanager
+def _quiet_zarr():
+    """Silence zarr's note that fixed-length strings (names as coordinates) have no v3 spec
+    yet: the store is read back by agglomtool only; the netCDF export is the exchange file."""
+    with warnings.catch_warnings():
+        try:
+            from zarr.errors import UnstableSpecificationWarning
+
+            warnings.simplefilter("ignore", UnstableSpecificationWarning)
+        except ImportError:  # pragma: no cover - older zarr
+            pass
+        yield
+
+
+def _write_block(part: xr.Dataset, data_path: str, region: dict, used: dict,
+                 expected_materials: dict) -> dict:
+    """Compute one block and write its region of the store; runs locally or on a worker.
+
+    Returns ``{variable: crc32}`` of the data written.
+    """
+    import zarr
+
+    from .. import materials
+
+    found = materials.fingerprint(used)
+    if found != expected_materials:
+        diff = "; ".join(_differences(expected_materials, found))
+        raise ValueError(f"on host {socket.gethostname()} the materials files differ from "
+                         f"those of the process that started the sweep: {diff}")
+    with dask.config.set(scheduler="synchronous"):
+        values = part.compute()
+    group = zarr.open_group(data_path, mode="r+")
+    crcs = {}
+    for name, var in values.data_vars.items():
+        a = np.asarray(var.values).copy(order="C")  # (ascontiguousarray makes 0-d 1-d)
+        group[name][tuple(region[d] for d in var.dims)] = a
+        crcs[name] = _crc(a)
+    return crcs
+
+
+# ---------------------------------------------------------------------------------------
+# The store
+
+
+def _check_path(store) -> Path:
+    if not isinstance(store, str | os.PathLike):
+        raise ValueError(f"store = {store!r} must be a directory path (str or Path)")
+    path = Path(store)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"store = '{path}' is an existing file, not a directory; give the path "
+                         "of a directory (created if missing) for the sweep's blocks")
+    return path
+
+
+@contextlib.contextmanager
+def _writer_lock(path: Path):
+    from filelock import FileLock, Timeout
+
+    lock = FileLock(str(path / _LOCK), timeout=0)
+    try:
+        lock.acquire()
+    except Timeout:
+        try:
+            who = json.loads((path / _OWNER).read_text())
+            by = f"process {who['pid']} on host {who['host']} (since {who['started']})"
+        except (OSError, ValueError, KeyError, TypeError):
+            by = "another process"
+        raise StoreLockedError(
+            f"store '{path}' is being written by {by}; wait for it to finish (then run "
+            "again: finished blocks are reused) or use another store") from None
+    try:
+        _atomic_write(path / _OWNER, json.dumps({
+            "pid": os.getpid(), "host": socket.gethostname(),
+            "started": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")}))
+        yield
+    finally:
+        lock.release()
+
+
+def _encoding(ds: xr.Dataset) -> dict:
+    from zarr.codecs import Crc32cCodec, ZstdCodec
+
+    enc = {}
+    for name, var in ds.data_vars.items():
+        chunks = tuple(c[0] for c in var.chunks) if var.chunks else var.shape
+        enc[name] = {"chunks": chunks,
+                     "compressors": [ZstdCodec(level=1), Crc32cCodec()]}
+    return enc
+
+
+def _layout(ds: xr.Dataset, path: Path, fp: dict) -> None:
+    """Clear the store and lay out the grid: coordinates, metadata, empty arrays."""
+    _clear(path)
+    (path / _DONE).mkdir()
+    template = ds.copy()
+    template.attrs["store_fingerprint_sha256"] = _sha(fp)
+    with _quiet_zarr():
+        template.to_zarr(path / _DATA, mode="w", compute=False, encoding=_encoding(ds),
+                         zarr_format=3, consolidated=False)
+    _atomic_write(path / _RECORD, json.dumps({"fingerprint": fp, "sha256": _sha(fp)},
+                                             indent=1))
+
+
+def _clear(path: Path) -> None:
+    for name in (_DATA, _DONE):
+        if (path / name).exists():
+            shutil.rmtree(path / name)
+    (path / _RECORD).unlink(missing_ok=True)
+
+
+def _read_json(path: Path):
+    """The JSON in ``path``; ``None`` if missing; a :class:`StoreWarning` and ``None`` if
+    unreadable."""
+    try:
+        return json.loads(path.read_text())
+    except FileNotFoundError:
+        return None
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        warnings.warn(f"{path} is unreadable ({exc}); it is rebuilt", StoreWarning, stacklevel=4)
+        return None
+
+
+def _zarr_sha(path: Path):
+    """The fingerprint SHA-256 kept in the zarr metadata, or ``None``."""
+    try:
+        meta = json.loads((path / _DATA / "zarr.json").read_text())
+        return meta["attributes"]["store_fingerprint_sha256"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+def _refuse_foreign(path: Path) -> None:
+    """Refuse a non-empty directory holding none of a store's files (never touch it)."""
+    entries = {p.name for p in path.iterdir()} if path.is_dir() else set()
+    if entries and not entries & _OURS:
+        old = " written by an older agglomtool" if "manifest.json" in entries else ""
+        raise ValueError(
+            f"store = '{path}' is a directory that is not a sweep store{old} and is not "
+            f"empty (it holds {', '.join(sorted(entries)[:3])}"
+            f"{', ...' if len(entries) > 3 else ''}); give a new or empty directory"
+            + (", or delete it" if old else ""))
+
+
+def _prepare(ds: xr.Dataset, path: Path, fp: dict, overwrite: bool) -> None:
+    """Make ``path`` a store of the sweep ``ds``: new, resumed, or refused."""
+    sha = _sha(fp)
+    entries = {p.name for p in path.iterdir()} - {_LOCK, _OWNER}
+    if not entries:
+        _layout(ds, path, fp)
+        return
+    if not entries & _OURS:
+        _refuse_foreign(path)
+    if overwrite:
+        _layout(ds, path, fp)
+        return
+    record = _read_json(path / _RECORD)
+    stored = None
+    if isinstance(record, dict) and isinstance(record.get("fingerprint"), dict):
+        stored = record["fingerprint"]
+    if stored is not None and _sha(stored) != sha:
+        lines = _differences(stored, fp)
+        raise ValueError(
+            f"store '{path}' holds a different sweep; what differs: " + "; ".join(lines)
+            + ". Use another store, or pass overwrite=True to discard it and start again")
+    zsha = _zarr_sha(path)
+    if stored is None and zsha is not None and zsha != sha:
+        raise ValueError(
+            f"store '{path}' holds a different sweep (its fingerprint {zsha[:12]} is not "
+            f"this sweep's {sha[:12]}; its record {_RECORD} is missing or unreadable, so the "
+            "differences cannot be listed). Use another store, or pass overwrite=True to "
+            "discard it and start again")
+    if zsha != sha:
+        if (path / _DONE).exists() and any((path / _DONE).iterdir()):
+            warnings.warn(f"store '{path}': the zarr layout is missing or unreadable; every "
+                          "block is recomputed", StoreWarning, stacklevel=3)
+        _layout(ds, path, fp)
+        return
+    if stored is None:
+        if not ((path / _DONE).is_dir() and any((path / _DONE).iterdir())):
+            _layout(ds, path, fp)  # a layout interrupted before its record: lay it out again
+            return
+        # the record was deleted after the layout was finished (blocks were recorded): the
+        # zarr metadata says it is this sweep, so write the record again
+        _atomic_write(path / _RECORD, json.dumps({"fingerprint": fp, "sha256": sha}, indent=1))
+
+
+def _check_blocks(ds: xr.Dataset, path: Path, sha: str, blocks: list, var_dims: dict
+                  ) -> tuple[set, list]:
+    """Read back every recorded block; ``(good indices, [(index, reason)] of bad ones)``."""
+    import zarr
+
+    dims = list(ds.dims)
+    good, bad = set(), []
+    try:
+        with _quiet_zarr():
+            group = zarr.open_group(str(path / _DATA), mode="r")
+    except Exception as exc:  # noqa: BLE001 - any damage means: recompute everything
+        return set(), [(None, f"the zarr group cannot be opened ({exc})")]
+    for idx, sl in blocks:
+        rec_path = path / _DONE / _block_name(idx)
+        if not rec_path.exists():
+            continue
+        reason = None
+        try:
+            rec = json.loads(rec_path.read_text())
+            owned = _owned(var_dims, dims, idx)
+            if rec.get("fingerprint") != sha:
+                reason = "its record belongs to another sweep"
+            elif sorted(rec.get("crc32", {})) != sorted(owned):
+                reason = "its record lists other variables"
+            else:
+                for name in owned:
+                    a = group[name][tuple(sl[d] for d in var_dims[name])]
+                    if _crc(np.asarray(a)) != rec["crc32"][name]:
+                        reason = f"{name} fails its checksum"
+                        break
+        except Exception as exc:  # noqa: BLE001 - unreadable for any reason: recompute
+            reason = f"it cannot be read ({type(exc).__name__}: {exc})"
+        if reason is None:
+            good.add(idx)
+        else:
+            bad.append((idx, reason))
+            rec_path.unlink(missing_ok=True)
+    return good, bad
+
+
+def _active_client():
+    """The dask.distributed Client in effect, if distributed is in use; else ``None``."""
+    if "distributed" not in sys.modules:
+        return None
+    from distributed import default_client
+
+    try:
+        return default_client()
+    except ValueError:
+        return None
+
+
+def run_with_store(ds: xr.Dataset, store, *, progress: bool = False, overwrite: bool = False,
+                   client=None, verify: bool = True) -> xr.Dataset:
+    """Compute the lazy sweep ``ds`` block by block into the zarr store ``store``.
+
+    Finished blocks of an earlier run of the same sweep are checked and reused; blocks that
+    are missing, unreadable or fail their checksum are computed.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A lazy sweep (:func:`agglomtool.maps.build`).
+    store : str or path
+        A directory (created if missing): new, empty, or a store of the same sweep.
+    progress : bool
+        Show a progress bar of blocks on stderr.
+    overwrite : bool
+        Discard a store of a different sweep and start again (only a directory that is a
+        sweep store is ever cleared).
+    client : distributed.Client, optional
+        Run the blocks as tasks on this cluster's workers, each writing its own region; the
+        store must be a path the workers can reach (a shared file system). ``None``: the
+        active client if there is one, else this process.
+    verify : bool
+        Read back and check every finished block of an earlier run (the default).
+
+    Returns
+    -------
+    xarray.Dataset
+        The sweep, opened lazily from the store (:func:`open_store`).
 
     Raises
     ------
     ValueError
-        If ``store`` holds blocks of a different sweep (another grid, chunking or scene).
+        If ``store`` is a file or a non-empty directory that is not a sweep store, or holds
+        a different sweep (the message lists what differs) and ``overwrite`` is False.
+    StoreLockedError
+        If another process is writing the store.
+
+    Warns
+    -----
+    StoreWarning
+        When finished blocks are unreadable, fail their checksum or belong to another
+        sweep: they are recomputed.
     """
-    store = Path(store)
-    store.mkdir(parents=True, exist_ok=True)
-    manifest = _manifest(ds)
-    mpath = store / "manifest.json"
-    if mpath.exists():
-        old = json.loads(mpath.read_text())
-        if old != json.loads(json.dumps(manifest)):
-            raise ValueError(
-                f"store {store} holds a different sweep (grid, chunks or scene differ); "
-                "use another directory or delete it"
-            )
-    else:
-        mpath.write_text(json.dumps(manifest))
-    for tmp in store.glob("*.nc.tmp"):
-        tmp.unlink()
-    chunks = {d: manifest["chunks"][d] for d in manifest["dims"]}
+    path = _check_path(store)
+    if not isinstance(overwrite, bool):
+        raise ValueError(f"overwrite = {overwrite!r} must be True or False")
+    _refuse_foreign(path)
+    path.mkdir(parents=True, exist_ok=True)
+    fp = fingerprint(ds)
+    sha = _sha(fp)
+    dims = list(ds.dims)
+    chunks = {d: list(fp["chunks"][d]) for d in dims} if dims else {}
     blocks = list(_blocks(chunks))
-    bar = Progress(len(blocks), f"sweep -> {store}", progress)
-    with dask.config.set(scheduler="synchronous"):
-        for idx, sl in blocks:
-            path = store / ("block_" + "_".join(str(i) for i in idx) + ".nc")
-            if not path.exists():
-                part = ds.isel(sl).compute()
-                tmp = path.with_name(path.name + ".tmp")
-                part.to_netcdf(tmp)
-                os.replace(tmp, path)
+    var_dims = {k: tuple(v.dims) for k, v in ds.data_vars.items()}
+    if client is None:
+        client = _active_client()
+    with _writer_lock(path):
+        _prepare(ds, path, fp, overwrite)
+        good, bad = _check_blocks(ds, path, sha, blocks, var_dims) if verify else (
+            {idx for idx, _ in blocks if (path / _DONE / _block_name(idx)).exists()}, [])
+        if bad:
+            where = "block" if bad[0][0] is None else f"block {bad[0][0]}"
+            warnings.warn(
+                f"store '{path}': {len(bad)} finished block(s) are recomputed: {where}: "
+                f"{bad[0][1]}" + (f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""),
+                StoreWarning, stacklevel=2)
+        todo = [(idx, sl) for idx, sl in blocks if idx not in good]
+        bar = Progress(len(blocks), f"sweep -> {path}", progress)
+        bar.update(len(blocks) - len(todo))
+        expected, used = fp["materials"], _used_materials(ds)
+
+        def task(idx, sl):
+            owned = _owned(var_dims, dims, idx)
+            part = ds[owned].isel(sl)
+            (part,) = dask.optimize(part)
+            return part, str(path / _DATA), sl, used, expected
+
+        def record(idx, crcs):
+            _atomic_write(path / _DONE / _block_name(idx),
+                          json.dumps({"block": list(idx), "fingerprint": sha, "crc32": crcs}))
             bar.update()
-    bar.close()
-    return open_store(store)
+
+        try:
+            if client is not None and client is not False and todo:
+                from .cluster import run_blocks
+
+                run_blocks(client, todo, task, _write_block, record)
+            else:
+                for idx, sl in todo:
+                    record(idx, _write_block(*task(idx, sl)))
+        finally:
+            bar.close()
+    return open_store(path)
 
 
 def open_store(store) -> xr.Dataset:
-    """The Dataset of a finished store, opened lazily (dask) from its block files.
+    """The Dataset of a finished store, opened lazily (dask) from its zarr arrays.
 
-    Blocks are put together in the order of the manifest (``combine="nested"``), so
-    coordinates keep the order of the grid as given.
+    Raises
+    ------
+    ValueError
+        If ``store`` is not a sweep store or some blocks are not finished.
     """
-    store = Path(store)
-    mpath = store / "manifest.json"
-    if not mpath.exists():
-        raise ValueError(f"{store} is not a sweep store (no manifest.json)")
-    manifest = json.loads(mpath.read_text())
-    dims = manifest["dims"]
-    counts = [len(manifest["chunks"][d]) for d in dims]
-    missing = []
-
-    def nest(prefix):
-        if len(prefix) == len(dims):
-            path = store / ("block_" + "_".join(str(i) for i in prefix) + ".nc")
-            if not path.exists():
-                missing.append(path.name)
-            return str(path)
-        return [nest(prefix + (i,)) for i in range(counts[len(prefix)])]
-
-    files = nest(())
+    path = Path(store)
+    record = None
+    with contextlib.suppress(OSError, ValueError):
+        record = json.loads((path / _RECORD).read_text())
+    if not isinstance(record, dict) or not isinstance(record.get("fingerprint"), dict):
+        raise ValueError(f"{path} is not a sweep store (no readable {_RECORD}); run the sweep "
+                         "with store= to make one")
+    fp = record["fingerprint"]
+    if fp.get("format") != [_FORMAT, FORMAT_VERSION]:
+        raise ValueError(f"store {path} has layout {fp.get('format')}, this agglomtool reads "
+                         f"{[_FORMAT, FORMAT_VERSION]}; run the sweep again into a new store")
+    dims = fp["dims"]
+    blocks = list(_blocks({d: fp["chunks"][d] for d in dims}))
+    missing = [idx for idx, _ in blocks if not (path / _DONE / _block_name(idx)).exists()]
     if missing:
-        raise ValueError(f"store {store} is incomplete: {len(missing)} blocks missing "
-                         f"(first: {missing[0]}); run the sweep again to finish it")
-    return xr.open_mfdataset(
-        files, combine="nested", concat_dim=dims, data_vars="minimal", coords="minimal",
-        compat="override", parallel=False,
-    )
+        raise ValueError(f"store {path} is incomplete: {len(missing)} of {len(blocks)} blocks "
+                         f"missing (first: {missing[0]}); run the sweep again to finish it")
+    with _quiet_zarr():
+        ds = xr.open_zarr(path / _DATA, consolidated=False, zarr_format=3)
+    ds.attrs.pop("store_fingerprint_sha256", None)
+    return ds
+
+
+def export_netcdf(store, output) -> Path:
+    """Write the finished store as one netCDF file ``output`` (atomically); returns its path.
+
+    Variables are compressed (zlib level 4, lossless).
+    """
+    out = Path(output)
+    ds = open_store(store)
+    tmp = out.with_name(out.name + ".tmp")
+    enc = {k: {"zlib": True, "complevel": 4} for k in ds.data_vars}
+    try:
+        with dask.config.set(scheduler="synchronous"):
+            ds.to_netcdf(tmp, encoding=enc)
+    finally:
+        ds.close()
+    os.replace(tmp, out)
+    return out

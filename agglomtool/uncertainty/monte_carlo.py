@@ -20,7 +20,7 @@ import xarray as xr
 from .._version import __version__
 from ..collision.outcome import Stage
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, check_names, evaluate_e_w
-from .distributions import Distribution, to_si
+from .distributions import Distribution, _outside, to_si
 
 __all__ = ["monte_carlo", "e_w_density", "draw_inputs", "resolve_seed", "DEFAULT_QUANTILES"]
 
@@ -76,6 +76,76 @@ def draw_inputs(uncertain: Mapping[str, Distribution], n: int, entropy: int):
             raise ValueError(f"uncertain[{name!r}] ({spec.range_text()}): {exc}") from None
         values[name], resampled[name], dists[name] = x, k, d_si
     return values, resampled, dists
+
+
+def _core_law(name: str, dist: Distribution):
+    """The SI law and range of the core input ``name`` (see :class:`_ChunkedDraws`)."""
+    spec = UNCERTAIN_INPUTS[name]
+    return (to_si(name, dist, spec.units), spec.lo, spec.hi, spec.lo_open, spec.hi_open,
+            spec.range_text())
+
+
+class _ChunkedDraws:
+    """The draws of :func:`draw_inputs`, made one chunk at a time (bounded memory).
+
+    Each input's stream is read twice: a first pass counts the draws outside the input's
+    range and leaves the generator where :meth:`Distribution.sample` takes its replacement
+    draws (after all ``n`` first draws), so that the chunks hold exactly the values that
+    :func:`draw_inputs` returns, whatever the chunk size. (Only a replacement that itself
+    lands exactly on an open bound, an event of probability zero, is drawn again from a
+    stream of its own.)
+    """
+
+    def __init__(self, uncertain: Mapping[str, Distribution], n: int, entropy: int,
+                 chunk: int, law=None, stream_name=None):
+        """``law(name, dist)`` gives ``(dist in SI, lo, hi, lo_open, hi_open, range text)``
+        (default: the core's inputs, :data:`UNCERTAIN_INPUTS`); ``stream_name(name)`` the
+        name of its random stream (default: ``name``)."""
+        if law is None:
+            check_names(uncertain)
+            law = _core_law
+        self.stream_name = stream_name or (lambda name: name)
+        self.n, self.chunk, self.entropy = n, chunk, entropy
+        self.dists, self.resampled, self._spec = {}, {}, {}
+        self._replace = {}
+        for name, dist in uncertain.items():
+            d_si, lo0, hi0, lo_open, hi_open, text = law(name, dist)
+            try:
+                lo, hi = d_si._effective_bounds(lo0, hi0)
+            except ValueError as exc:
+                raise ValueError(f"uncertain[{name!r}] ({text}): {exc}") from None
+            rng, bad = _stream(entropy, self.stream_name(name)), 0
+            for start in range(0, n, chunk):
+                x = d_si._draw(rng, min(chunk, n - start))
+                bad += int(_outside(x, lo, hi, lo_open, hi_open).sum())
+            self.dists[name], self.resampled[name] = d_si, bad
+            self._spec[name] = (lo, hi, lo_open, hi_open)
+            self._replace[name] = rng  # now where sample() draws the replacements
+
+    def __iter__(self):
+        """``(slice, {name: SI values})`` of every chunk, in order."""
+        key = self.stream_name
+        main = {name: _stream(self.entropy, key(name)) for name in self.dists}
+        again = {name: _stream(self.entropy, key(name) + "/open-bound") for name in self.dists}
+        for start in range(0, self.n, self.chunk):
+            sl = slice(start, min(start + self.chunk, self.n))
+            out = {}
+            for name, d in self.dists.items():
+                lo, hi, lo_open, hi_open = self._spec[name]
+                x = d._draw(main[name], sl.stop - sl.start)
+                todo = _outside(x, lo, hi, lo_open, hi_open)
+                rng = self._replace[name]
+                for _ in range(64):
+                    k = int(todo.sum())
+                    if k == 0:
+                        break
+                    x[todo] = d._ppf_trunc(rng.random(k), lo, hi)
+                    todo = _outside(x, lo, hi, lo_open, hi_open)
+                    rng = again[name]
+                else:  # pragma: no cover - needs 64 consecutive hits of an open bound
+                    raise RuntimeError(f"could not draw {d!r} inside ({lo:g}, {hi:g})")
+                out[name] = x
+            yield sl, out
 
 
 def e_w_density(e_w: np.ndarray, edges: np.ndarray) -> np.ndarray:
@@ -167,7 +237,11 @@ def monte_carlo(
     keep_samples : bool
         Keep the per-sample inputs, ``e_w`` and stage (False keeps only the summary).
     chunk_size : int
-        Samples per ``collide`` call (bounds the memory of large runs).
+        Samples drawn and evaluated at a time. It bounds the working memory (draws,
+        ``collide`` and summary temporaries: a few hundred bytes per sample of a chunk);
+        beyond it a run keeps 8 bytes per sample (``e_w``, for exact quantiles) and, with
+        ``keep_samples``, the returned samples themselves (8 bytes per uncertain input and
+        10 for ``e_w``, ``agglomerated`` and ``stage``). The draws do not depend on it.
 
     Returns
     -------
@@ -216,28 +290,40 @@ def monte_carlo(
     if not isinstance(uncertain, Mapping) or not uncertain:
         raise ValueError("uncertain must be a non-empty mapping of input name -> distribution")
     n = int(n)
+    chunk = int(min(chunk_size, n))
     base = base_inputs(p_i, p_j, liquid, gas, bed, u0, u0_j, beta_deg, e, body_forces,
                        drag_slip)
     entropy, chosen = resolve_seed(seed)
-    values, resampled, dists = draw_inputs(uncertain, n, entropy)
+    draws = _ChunkedDraws(uncertain, n, entropy, chunk)
+    resampled, dists = draws.resampled, draws.dists
+    if not (np.ndim(bins) == 0 or np.ndim(bins) == 1):
+        raise ValueError("bins must be a positive integer or increasing bin edges")
 
+    # Memory: e_w of every sample (8 bytes each, for exact quantiles) and, only when they
+    # are kept, the samples; everything else is one chunk at a time.
     e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    for start in range(0, n, chunk_size):
-        sl = slice(start, min(start + chunk_size, n))
-        res = evaluate_e_w(base, {k: v[sl] for k, v in values.items()}, mode)
+    stage = np.empty(n, dtype=np.int8) if keep_samples else None
+    values = {k: np.empty(n) for k in dists} if keep_samples else {}
+    e_max = -np.inf if "e" in dists else float(np.max(base["e"]))
+    for sl, chunk_values in draws:
+        res = evaluate_e_w(base, chunk_values, mode)
         e_w[sl] = res.e_w
-        stage[sl] = res.stage
+        if keep_samples:
+            stage[sl] = res.stage
+            for k, v in chunk_values.items():
+                values[k][sl] = v
+        if "e" in chunk_values:
+            e_max = max(e_max, float(np.max(chunk_values["e"])))
+        del res, chunk_values
     nominal = {k: np.atleast_1d(d.nominal) for k, d in dists.items()}
     e_w_nominal = float(evaluate_e_w(base, nominal, mode).e_w[0])
 
-    e_max = float(np.max(values["e"])) if "e" in values else float(np.max(base["e"]))
     edges = (np.linspace(0.0, max(e_max, float(e_w.max())), int(bins) + 1)
              if np.ndim(bins) == 0 else np.asarray(bins, dtype=float))
     if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0.0):
         raise ValueError("bins must be a positive integer or increasing bin edges")
 
-    ds = _summary(e_w, q, edges, e_w_nominal)
+    ds = _summary(e_w, q, edges, e_w_nominal, chunk, scratch=not keep_samples)
     if keep_samples:
         ds["e_w"] = ("sample", e_w, _attrs(_DIMLESS, "wet restitution coefficient (Eq. 31)"))
         ds["agglomerated"] = ("sample", e_w == 0.0,
@@ -257,7 +343,7 @@ def monte_carlo(
         + ("" if dists[k].bounds() == (-np.inf, np.inf) else
            f" or [{dists[k].bounds()[0]:g}, {dists[k].bounds()[1]:g}]")
         + " resampled from the truncated law"
-        for k in values
+        for k in dists
     )
     ds.attrs.update(
         title="Monte Carlo propagation of input uncertainty to e_w",
@@ -268,9 +354,9 @@ def monte_carlo(
         sampling=("numpy PCG64, one stream per input: SeedSequence(seed, "
                   "spawn_key=(crc32(name),))"),
         n_samples=n,
-        uncertain_inputs=" ".join(values),
+        uncertain_inputs=" ".join(dists),
         distributions="; ".join(f"{k} = {dists[k]!r} [{UNCERTAIN_INPUTS[k].units}]"
-                                for k in values),
+                                for k in dists),
         truncation=trunc,
         n_resampled_total=int(sum(resampled.values())),
         fixed_inputs=_describe_fixed(base),
@@ -280,11 +366,26 @@ def monte_carlo(
     return ds
 
 
-def _summary(e_w: np.ndarray, q: np.ndarray, edges: np.ndarray, e_w_nominal: float):
+def _summary(e_w: np.ndarray, q: np.ndarray, edges: np.ndarray, e_w_nominal: float,
+             chunk: int, scratch: bool = False):
+    """The summary of ``e_w``, with temporaries of at most ``chunk`` samples.
+
+    ``scratch=True`` lets the quantiles reorder ``e_w`` in place (no copy of it).
+    """
     n = e_w.size
-    p_agg = float(np.count_nonzero(e_w == 0.0)) / n
+    parts = [slice(s, min(s + chunk, n)) for s in range(0, n, chunk)]
+    n_zero = sum(int(np.count_nonzero(e_w[sl] == 0.0)) for sl in parts)
+    p_agg = float(n_zero) / n
+    counts = np.zeros(edges.size - 1, dtype=np.int64)
+    for sl in parts:
+        x = e_w[sl]
+        counts += np.histogram(x[x > 0.0], bins=edges)[0]
+    dens = counts / (n * np.diff(edges))
+    mean = float(e_w.mean())
+    ssd = sum(float(np.sum(np.square(e_w[sl] - mean))) for sl in parts)
+    std = float(np.sqrt(ssd / (n - 1))) if n > 1 else 0.0
+    quantiles = np.quantile(e_w, q, overwrite_input=scratch)
     centres = 0.5 * (edges[:-1] + edges[1:])
-    dens = e_w_density(e_w, edges)
     ds = xr.Dataset(
         coords={
             "quantile": ("quantile", q, _attrs(_DIMLESS, "probability level")),
@@ -299,12 +400,11 @@ def _summary(e_w: np.ndarray, q: np.ndarray, edges: np.ndarray, e_w_nominal: flo
     ds["p_agglomeration_se"] = ((), float(np.sqrt(p_agg * (1.0 - p_agg) / n)),
                                 _attrs(_DIMLESS, "binomial standard error of "
                                        "p_agglomeration"))
-    ds["e_w_mean"] = ((), float(e_w.mean()), _attrs(_DIMLESS, "mean of e_w"))
-    ds["e_w_std"] = ((), float(e_w.std(ddof=1)) if n > 1 else 0.0,
-                     _attrs(_DIMLESS, "standard deviation of e_w"))
+    ds["e_w_mean"] = ((), mean, _attrs(_DIMLESS, "mean of e_w"))
+    ds["e_w_std"] = ((), std, _attrs(_DIMLESS, "standard deviation of e_w"))
     ds["e_w_nominal"] = ((), e_w_nominal, _attrs(
         _DIMLESS, "e_w at the nominal inputs (point estimate)"))
-    ds["e_w_quantile"] = ("quantile", np.quantile(e_w, q), _attrs(_DIMLESS, "quantile of e_w"))
+    ds["e_w_quantile"] = ("quantile", quantiles, _attrs(_DIMLESS, "quantile of e_w"))
     ds["e_w_density"] = ("e_w_bin", dens, _attrs(
         _DIMLESS, "probability density of rebounding e_w (histogram); integrates to "
         "1 - p_agglomeration"))

@@ -50,13 +50,14 @@ def check_fields(uncertain) -> None:
 
 
 def field_law(name: str, dist: Distribution):
-    """``(dist in SI, lo, hi, lo_open, hi_open)``: the law of Scene field ``name`` and the
-    range its draws are truncated to (the Scene's valid range)."""
+    """``(dist in SI, lo, hi, lo_open, hi_open, range text)``: the law of Scene field
+    ``name`` and the range its draws are truncated to (the Scene's valid range)."""
     unit = FIELD_META[name][0]
     d_si = to_si(name, dist, {"m**2/s**2": "m^2/s^2"}.get(unit, unit))
     lo, hi, lo_open, hi_open, _ = FIELD_RANGES[name]
-    return (d_si, -np.inf if lo is None else lo, np.inf if hi is None else hi, lo_open,
-            hi_open)
+    lo, hi = -np.inf if lo is None else lo, np.inf if hi is None else hi
+    text = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'} {unit}"
+    return d_si, lo, hi, lo_open, hi_open, text
 
 
 def scene_e_w(base: dict, draws: dict):
@@ -80,43 +81,44 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
     derived as for a map, and ``e_w`` is evaluated at the scene's impact speed: ``u0``
     (fixed, or drawn if uncertain) or the median of its speed distribution.
     """
-    from .monte_carlo import _stream, _summary, resolve_seed
+    from .monte_carlo import _ChunkedDraws, _summary, resolve_seed
 
     check_fields(uncertain)
     base = scene.values()
     entropy, chosen = resolve_seed(seed)
-    values, resampled, dists = {}, {}, {}
-    for name, dist in uncertain.items():
-        d_si, lo, hi, lo_open, hi_open = field_law(name, dist)
-        rng = _stream(entropy, SCENE_TO_CORE.get(name, name))
-        try:
-            x, k = d_si.sample(rng, n, lo, hi, lo_open=lo_open, hi_open=hi_open)
-        except ValueError as exc:
-            raise ValueError(f"uncertain[{name!r}]: {exc}") from None
-        values[name], resampled[name], dists[name] = x, k, d_si
-    # Draws that are valid but implausible (a lognormal given a log-space spread as its
-    # standard deviation, ...) are said, as for a Scene.
-    warn_findings([f for f in scene_findings({**base, **values})
-                   if f not in set(scene_findings(base))], stacklevel=3)
+    chunk = int(min(chunk_size, n))
+    draws = _ChunkedDraws(uncertain, n, entropy, chunk, law=field_law,
+                          stream_name=lambda name: SCENE_TO_CORE.get(name, name))
+    resampled, dists = draws.resampled, draws.dists
+    before = set(scene_findings(base))
 
-    def run(draws: dict):
-        return scene_e_w(base, draws)
-
+    # Memory as on the core path: e_w of every sample, the samples only when kept.
     e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    for start in range(0, n, chunk_size):
-        sl = slice(start, min(start + chunk_size, n))
-        e_w[sl], stage[sl] = run({k: v[sl] for k, v in values.items()})
+    stage = np.empty(n, dtype=np.int8) if keep_samples else None
+    values = {k: np.empty(n) for k in dists} if keep_samples else {}
+    e_max = -np.inf if "e" in dists else float(np.max(Resolved(base).e))
+    findings = []
+    for sl, chunk_values in draws:
+        # Draws that are valid but implausible (a lognormal given a log-space spread as
+        # its standard deviation, ...) are said, as for a Scene.
+        findings += [f for f in scene_findings({**base, **chunk_values})
+                     if f not in before and f not in findings]
+        e_w[sl], st = scene_e_w(base, chunk_values)
+        if keep_samples:
+            stage[sl] = st
+            for k, v in chunk_values.items():
+                values[k][sl] = v
+        if "e" in chunk_values:
+            e_max = max(e_max, float(np.max(chunk_values["e"])))
+    warn_findings(findings, stacklevel=3)
     nominal = {k: np.atleast_1d(d.nominal) for k, d in dists.items()}
-    e_w_nominal = float(run(nominal)[0][0])
-
-    e_max = float(np.max(values["e"])) if "e" in values else float(
-        np.max(Resolved(base).e))
+    e_w_nominal = float(scene_e_w(base, nominal)[0][0])
     edges = (np.linspace(0.0, max(e_max, float(e_w.max())), int(bins) + 1)
              if np.ndim(bins) == 0 else np.asarray(bins, dtype=float))
     if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0.0):
         raise ValueError("bins must be a positive integer or increasing bin edges")
-    ds = _summary(e_w, np.asarray(quantiles, dtype=float), edges, e_w_nominal)
+    ds = _summary(e_w, np.asarray(quantiles, dtype=float), edges, e_w_nominal, chunk,
+                  scratch=not keep_samples)
     if keep_samples:
         ds["e_w"] = ("sample", e_w, _attrs("dimensionless", "wet restitution coefficient "
                                            "at the scene's impact speed"))

@@ -1,0 +1,118 @@
+"""Sweeps on a dask.distributed cluster: one task per block, each writing its own region.
+
+The collision kernel is compiled with Numba and parallel inside one process, and its
+threading layer does not allow calls from several threads at once; so a block is computed
+with dask's synchronous scheduler inside one worker, and a cluster for sweeps should have
+process workers with one thread each, e.g. ``LocalCluster(processes=True,
+threads_per_worker=1)`` or ``dask worker SCHEDULER --nthreads 1 --nworkers N``.
+
+The client submits the blocks a few at a time (about two per worker thread), so neither
+it nor the scheduler ever holds more than those in flight: a store-backed sweep of any size
+runs with bounded memory on the client, which keeps only each block's small completion
+record (its checksums).
+"""
+
+from __future__ import annotations
+
+import uuid
+
+import numpy as np
+import xarray as xr
+
+__all__ = ["run_blocks", "compute_on_cluster"]
+
+
+def _threads(client) -> int:
+    try:
+        return max(1, sum(client.nthreads().values()))
+    except Exception:  # noqa: BLE001 - a client that cannot say: assume one
+        return 1
+
+
+def run_blocks(client, todo, task, func, done, *, in_flight: int | None = None) -> None:
+    """Run ``func(*task(idx, sl))`` for every block of ``todo`` on the workers of ``client``.
+
+    Parameters
+    ----------
+    client : distributed.Client
+    todo : list of (tuple, dict)
+        Block index and ``{dim: slice}`` of every block to run.
+    task : callable
+        ``task(idx, sl)`` -> the arguments of ``func`` for one block (built on the client).
+    func : callable
+        Runs on a worker; its result is passed to ``done``.
+    done : callable
+        ``done(idx, result)``, called on the client as each block finishes.
+    in_flight : int, optional
+        Blocks submitted at once (default: twice the workers' threads, at least 2).
+    """
+    from distributed import as_completed
+
+    limit = in_flight or max(2, 2 * _threads(client))
+    pending = iter(todo)
+    index = {}
+    run = uuid.uuid4().hex[:12]
+
+    def submit():
+        for idx, sl in pending:
+            fut = client.submit(func, *task(idx, sl), pure=False,
+                                key=f"agglomtool-block-{run}-{'-'.join(map(str, idx))}")
+            index[fut.key] = idx
+            return fut
+        return None
+
+    first = [f for f in (submit() for _ in range(limit)) if f is not None]
+    queue = as_completed(first)
+    try:
+        for fut in queue:
+            result = fut.result()  # a worker's error is raised here, as the worker raised it
+            done(index.pop(fut.key), result)
+            fut.release()
+            nxt = submit()
+            if nxt is not None:
+                queue.add(nxt)
+    except BaseException:
+        for fut in queue.futures:
+            fut.cancel()
+        raise
+
+
+def _compute_block(part: xr.Dataset) -> dict:
+    """One block's values (numpy), computed on a worker with the synchronous scheduler."""
+    import dask
+
+    with dask.config.set(scheduler="synchronous"):
+        values = part.compute()
+    return {k: np.asarray(v.values) for k, v in values.data_vars.items()}
+
+
+def compute_on_cluster(ds: xr.Dataset, client) -> xr.Dataset:
+    """Compute the lazy sweep ``ds`` block by block on the workers; return it in memory.
+
+    Every value is computed once, on a worker; the client gathers the blocks into one
+    in-memory Dataset (use ``store=`` for maps larger than the client's memory).
+    """
+    import dask
+
+    from .store import _blocks, _owned
+
+    dims = list(ds.dims)
+    var_dims = {k: tuple(v.dims) for k, v in ds.data_vars.items()}
+    lazy = [k for k, v in ds.data_vars.items() if v.chunks is not None]
+    out = {k: np.empty(ds[k].shape, dtype=ds[k].dtype) for k in lazy}
+    blocks = list(_blocks({d: list(ds.chunks[d]) for d in dims})) if ds.chunks else []
+
+    def task(idx, sl):
+        owned = [v for v in _owned(var_dims, dims, idx) if v in out]
+        (part,) = dask.optimize(ds[owned].isel(sl))
+        return (part,)
+
+    slices = dict(blocks)
+
+    def done(idx, values):
+        sl = slices[idx]
+        for name, a in values.items():
+            out[name][tuple(sl[d] for d in var_dims[name])] = a
+
+    run_blocks(client, blocks, task, _compute_block, done)
+    return ds.assign({k: (ds[k].dims, out[k], ds[k].attrs) for k in lazy})
