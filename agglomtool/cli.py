@@ -46,8 +46,21 @@ def _cmd_map(args: argparse.Namespace) -> int:
         raise CommandError(f"output {str(out)!r} is a directory; give a file name (.nc)")
     store = Path(args.store) if args.store else out.with_name(out.name + ".parts")
     args._store = store  # for the message if interrupted
-    ds = sweep(cfg.scene, chunks=cfg.options["chunks"], nodes=cfg.options["nodes"],
-               store=store, progress=not args.quiet, **cfg.grid)
+    client = None
+    if args.scheduler:
+        try:
+            from dask.distributed import Client
+        except ImportError:
+            raise ImportError("--scheduler needs dask.distributed: pip install "
+                              "'agglomtool[cluster]'") from None
+        client = Client(args.scheduler)
+    try:
+        ds = sweep(cfg.scene, chunks=cfg.options["chunks"], nodes=cfg.options["nodes"],
+                   store=store, progress=not args.quiet, overwrite=args.overwrite,
+                   client=client if client is not None else False, **cfg.grid)
+    finally:
+        if client is not None:
+            client.close()
     write_map(ds, out, complevel=0 if args.no_compress else 4)
     ds.close()
     if not args.keep_parts:
@@ -218,9 +231,16 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
     mp = sub.add_parser("map", help="sweep a scene over a grid (TOML) into a netCDF map")
     mp.add_argument("config", help="TOML file with [scene], [grid] and [options]")
     mp.add_argument("-o", "--output", required=True, help="netCDF file to write")
-    mp.add_argument("--store", help="directory of finished blocks (default OUTPUT.parts); "
-                    "an interrupted map run again resumes from it")
+    mp.add_argument("--store", help="the sweep's store, a directory (zarr; default "
+                    "OUTPUT.parts); an interrupted map run again resumes from it")
     mp.add_argument("--keep-parts", action="store_true", help="keep the block directory")
+    mp.add_argument("--overwrite", action="store_true",
+                    help="start the store again if it holds a different sweep (default: refuse,"
+                    " saying what differs)")
+    mp.add_argument("--scheduler", metavar="ADDRESS",
+                    help="run the blocks on a dask.distributed cluster, e.g. "
+                    "tcp://scheduler-host:8786 (the store must be on a file system every "
+                    "worker reaches)")
     mp.add_argument("--no-compress", action="store_true",
                     help="write the netCDF uncompressed (default: zlib level 4)")
     mp.add_argument("-q", "--quiet", action="store_true", help="no progress bar")

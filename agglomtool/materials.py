@@ -440,8 +440,9 @@ def _get(kind: str, name: str, extra_dirs):
     entries = load(extra_dirs)[kind]
     key = _key(name)
     if key not in entries:
-        raise KeyError(f"no {kind} named {name!r} in the materials database; known: "
-                       f"{', '.join(sorted(entries))}")
+        plural = {"gas": "gases"}.get(kind, kind + "s")
+        raise ValueError(f"{kind} = {name!r} is not in the materials database; known "
+                         f"{plural}: {', '.join(sorted(entries))}")
     return entries[key]
 
 

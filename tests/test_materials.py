@@ -44,7 +44,7 @@ def test_required_entries_and_name_forms():
         materials.liquid_entry(name)
     for name in ("air", "nitrogen", "carbon dioxide", "steam", "biomass flue gas"):
         materials.gas(name)
-    with pytest.raises(KeyError, match="no solid named 'sand castle'"):
+    with pytest.raises(ValueError, match="solid = 'sand castle' is not in the materials"):
         materials.solid("sand castle")
     with pytest.raises(ValueError, match="pass T"):
         materials.liquid("water")

@@ -128,6 +128,9 @@ def _first_point(base: dict, grid: dict) -> dict:
 
 def _chunks(grid: dict, chunks) -> dict:
     """Chunk size per dim: 1 for names, else ``chunks`` (dict, int total, "auto", None)."""
+    from .checks import check_chunks
+
+    check_chunks(chunks)  # 0, negative, fractional or boolean sizes: a ValueError, no clamp
     sizes = {k: len(v) for k, v in grid.items()}
     out = {k: 1 for k in grid if k in CATEGORICAL_FIELDS}
     numeric = [k for k in grid if k not in CATEGORICAL_FIELDS]
@@ -136,7 +139,7 @@ def _chunks(grid: dict, chunks) -> dict:
         if unknown:
             raise ValueError(f"chunks names {unknown[0]!r}, which is not a grid dimension")
         for k in numeric:
-            out[k] = int(min(sizes[k], max(1, chunks.get(k, sizes[k]))))
+            out[k] = int(min(sizes[k], chunks.get(k, sizes[k])))
         return out
     if chunks is None:
         return {**out, **{k: sizes[k] for k in numeric}}
