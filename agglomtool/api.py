@@ -6,8 +6,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validate import as_float_array
+from ._validate import as_float_array, check_range
 from .collision.critical import first_rebound_speed
+from .collision.fused import (
+    INPUT_NAMES,
+    TIER_PAPER,
+    TIER_RELATIVE,
+    check_speeds,
+    flat_inputs,
+    fused_batch,
+    prepare_flat,
+)
 from .collision.outcome import (
     DETAIL_NAMES,
     STAGE_DESCRIPTIONS,
@@ -15,14 +24,24 @@ from .collision.outcome import (
     path_names,
     stage_names,
 )
-from .collision.tiers import evaluate, mode_names
+from .collision.tiers import TAKES_TOL, evaluate, mode_names
 from .inputs import Bed, Gas, Liquid, Particle
-from .pair import PairState, check_pair, flatten, prepare_pair
+from .pair import (
+    DRAG_SLIP_MODES,
+    PairState,
+    broadcast_shape,
+    check_inputs,
+    flatten,
+    prepare_pair,
+)
 
 __all__ = ["CollisionResult", "collide", "critical_impact_speed", "MODES"]
 
 #: Model tiers available through ``mode=`` (see :mod:`agglomtool.collision.tiers`).
 MODES = mode_names()
+
+#: Tiers whose preparation is fused into their compiled loop (:mod:`.collision.fused`).
+_FUSED = {"paper": TIER_PAPER, "relative": TIER_RELATIVE}
 
 
 @dataclass(frozen=True)
@@ -132,10 +151,66 @@ def _evaluate(state: PairState, w, mode: str, details: bool, tol=None):
         mode, flat.m_i, flat.m_j, flat.r, flat.H0, flat.Ha, flat.mu_l, flat.gamma, flat.cos_t,
         flat.theta, w_flat, flat.fn_i, flat.fn_j, flat.e, details=details, tol=tol,
     )
+    return _shaped(e_w, stage, path, det, shape, details)
+
+
+def _shaped(e_w, stage, path, det, shape, details):
     out_details = {}
     if details:
         out_details = {name: det[:, k].reshape(shape) for k, name in enumerate(DETAIL_NAMES)}
     return e_w.reshape(shape), stage.reshape(shape), path.reshape(shape), out_details, shape
+
+
+def _check_flags(body_forces, drag_slip, details) -> None:
+    for name, val in (("body_forces", body_forces), ("details", details)):
+        if not isinstance(val, (bool, np.bool_)):
+            raise ValueError(f"{name} = {val!r} is not allowed: True or False")
+    if drag_slip not in DRAG_SLIP_MODES:
+        raise ValueError(f"drag_slip = {drag_slip!r} is not one of {DRAG_SLIP_MODES}")
+
+
+def _speed_error(code, index, ins, steps):
+    """The ``ValueError`` of :func:`_lab_speeds` for the rule ``code`` failing at ``index``."""
+    if code == 1:
+        return ValueError("u0_j must be 0 (or None) when p_j is a plate: a plate is fixed")
+    if code == 2:
+        return ValueError("u0 must be 0 when p_i is a plate and u0_j is given: a plate is fixed")
+
+    def val(name):
+        q = INPUT_NAMES.index(name)
+        return float(ins[q][index * steps[q]])
+
+    u_i = 0.0 if np.isinf(val("p_i.d")) else val("u0")
+    u0_j = val("u0_j")
+    u_j = (0.0 if np.isinf(val("p_j.d")) else val("u0")) if np.isnan(u0_j) else u0_j
+    if code == 3:
+        return ValueError(
+            f"the particles are not approaching: u0 + u0_j = {u_i + u_j!r} m/s is outside the "
+            "allowed range (0, inf); e_w is defined for approaching pairs only"
+        )
+    return ValueError("u0 = inf (or u0_j = inf) is outside the allowed range: finite speeds [m/s]")
+
+
+def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j):
+    """Validated raw inputs in the order of :data:`INPUT_NAMES`, their broadcast shape, the
+    flat arrays and steps of the fused kernels."""
+    u0 = as_float_array("u0", u0)
+    u0_j = np.nan if u0_j is None else as_float_array("u0_j", u0_j)
+    values = (
+        p_i.d, p_i.rho, p_i.h0, p_i.ha, p_j.d, p_j.rho, p_j.h0, p_j.ha, liquid.mu,
+        liquid.gamma, liquid.rho, liquid.theta_deg, gas.mu, gas.rho, bed.eps,
+        np.nan if bed.U is None else bed.U, as_float_array("beta_deg", beta_deg),
+        check_range("e", e, 0.0, 1.0, unit="-"), u0, u0_j,
+    )
+    shape = broadcast_shape(INPUT_NAMES, values)
+    ins, steps = flat_inputs(values, shape)
+    n = int(np.prod(shape))
+    code, index = check_speeds(
+        ins[0], ins[4], ins[18], ins[19][:0] if u0_j is np.nan else ins[19], n
+    )
+    if code:
+        raise _speed_error(code, index, ins, steps)
+    return shape, ins, steps, n
 
 
 def collide(
@@ -200,18 +275,30 @@ def collide(
     """
     _check_mode(mode)
     bed = Bed() if bed is None else bed
-    check_pair(p_i, p_j)
-    u_i, u_j, w = _lab_speeds(p_i, p_j, u0, u0_j)
-    state = prepare_pair(
-        p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip, u_i=u_i, u_j=u_j
-    )
-    e_w, stage, path, det, shape = _evaluate(state, w, mode, details, tol)
+    check_inputs(p_i, p_j, liquid, gas, bed)
+    _check_flags(body_forces, drag_slip, details)
+    if tol is not None and mode not in TAKES_TOL:
+        raise ValueError(
+            f"tol = {tol!r} was given but mode = {mode!r} takes no tolerance; "
+            f"only {sorted(TAKES_TOL)} do"
+        )
+    shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j)
+    particle = drag_slip == "particle"
+    if mode in _FUSED:
+        e_w, stage, path, w, det = fused_batch(
+            ins, steps, n, _FUSED[mode], body_forces, particle, details=details
+        )
+    else:
+        k = prepare_flat(ins, steps, n, body_forces, particle)
+        w = k[9].copy()
+        e_w, stage, path, det = evaluate(mode, *k[:13], details=details, tol=tol)
+    e_w, stage, path, det, shape = _shaped(e_w, stage, path, det, shape, details)
     return CollisionResult(
         e_w=e_w,
         agglomerated=e_w == 0.0,
         stage=stage,
         path=path,
-        w=np.broadcast_to(w, shape).copy(),
+        w=w.reshape(shape),
         details=det,
         mode=mode,
     )
@@ -262,6 +349,8 @@ def critical_impact_speed(
     if not (0.0 < rtol < 0.1):
         raise ValueError(f"rtol = {rtol!r} is outside the allowed range (0, 0.1)")
     bed = Bed() if bed is None else bed
+    check_inputs(p_i, p_j, liquid, gas, bed)
+    _check_flags(body_forces, drag_slip, False)
     state = prepare_pair(p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip)
     shape = state.shape
     flat = flatten(state)

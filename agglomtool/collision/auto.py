@@ -45,6 +45,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ._jit import CACHE, parallel_launch
 from .bridge import g_diff, ln_f_diff
 from .ode import ode_batch
 from .outcome import DETAIL_NAMES
@@ -82,7 +83,7 @@ _H_RUPT = DETAIL_NAMES.index("h_rupt")
 _W_CONTACT = DETAIL_NAMES.index("w_contact")
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def closed_form_indicator(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
                           det):
     """The closed forms' ``e_w`` and their error indicator ``g`` (module docstring).
@@ -119,7 +120,7 @@ def closed_form_indicator(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_
     return ew, st, pa, eta / max(ew, math.sqrt(eta))
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=CACHE)
 def _choose(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol,
             e_w, stage, path, tier, bound, det):
     n = e_w.shape[0]
@@ -165,7 +166,7 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     bound = np.empty(n)
     det = np.empty((n, len(DETAIL_NAMES)))
     args = (m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e)
-    _choose(*args, tol, e_w, stage, path, tier, bound, det)
+    parallel_launch(_choose, *args, tol, e_w, stage, path, tier, bound, det)
     idx = np.flatnonzero(tier == TIER_ODE)
     if idx.size:
         rtol = min(1e-5, ODE_RTOL_PER_TOL * tol)

@@ -75,6 +75,7 @@ from ._codes import (
     ST_APP,
     W_CONTACT,
 )
+from ._jit import CACHE, parallel_launch
 from .bridge import (
     bridge_volume,
     g_diff,
@@ -95,14 +96,14 @@ __all__ = ["paper_kernel", "run_paper"]
 SCAN_POINTS = 32
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def _viscous_loss(v, m, c_delta):
     """Energy a particle of mass ``m`` [kg] entering at ``v`` [m/s] loses to viscosity over a
     stretch with ``c Delta`` = ``c_delta`` [kg/s * -]; ``m = inf`` gives ``c_delta v``."""
     return c_delta * (v - 0.5 * c_delta / m)
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def _running_energy(D, d_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2):
     """Energy left [J] to a particle at gap ``D`` of a stage that began at ``d_start``, both
     particles moving (Eqs. 136-139 and their separation mirror).
@@ -115,7 +116,7 @@ def _running_energy(D, d_start, start_kind, start_val, k, share, v, m, force, c,
     return k - cap - vis + force * share * abs(D - d_start)
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c, kcap, a2):
     """The gap between ``d_start`` and ``d_end`` nearest ``d_start`` where the running energy
     of :func:`_running_energy` first reaches zero (Eq. 136).
@@ -164,7 +165,7 @@ def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c,
     return hi
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a2):
     """One liquid stage (approach ``H0 -> Ha`` or separation ``Ha -> h_rupt``).
 
@@ -231,7 +232,7 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
     return 0, k_end_y, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det):
     """One collision by the paper's flow chart. Returns ``(e_w, stage, path)``.
 
@@ -341,7 +342,7 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
     return v_rel / w, REBOUND, path
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=CACHE)
 def _run_paper_batch(
     m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path, det
 ):
@@ -367,7 +368,8 @@ def run_paper(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, 
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     det = np.empty((n, N_DETAILS if details else 0))
-    _run_paper_batch(
+    parallel_launch(
+        _run_paper_batch,
         m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path, det
     )
     return e_w, stage, path, det
