@@ -50,6 +50,24 @@ def timings(fn, repeats=REPEATS):
     return min(ts), float(np.median(ts))
 
 
+def paired(fn, floor_fn, repeats=REPEATS):
+    """Timings of ``fn`` interleaved with the floor ``floor_fn`` (so both see the same load):
+    ``(best, median, floor median, median of the per-pair ratios)``."""
+    fn()
+    floor_fn()
+    ts, fs = [], []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        floor_fn()
+        t1 = time.perf_counter()
+        fn()
+        t2 = time.perf_counter()
+        fs.append(t1 - t0)
+        ts.append(t2 - t1)
+    ratio = float(np.median(np.array(ts) / np.array(fs)))
+    return min(ts), float(np.median(ts)), float(np.median(fs)), ratio
+
+
 def scenes(rng, n):
     """``n`` mixed scenes as collide() keywords (without u0)."""
     slag = rng.random(n) < 0.5
@@ -84,8 +102,11 @@ def take(kw, idx):
     return out
 
 
-def line(label, figure, unit, best, median, floor=None, goal=""):
-    ratio = "" if floor is None else f"  floor {floor * 1e3:8.2f} ms  ratio {median / floor:5.2f}"
+def line(label, figure, unit, best, median, floor=None, goal="", ratio=None):
+    if floor is not None:
+        ratio = f"  floor {floor * 1e3:8.2f} ms  ratio {ratio:5.2f}"
+    else:
+        ratio = ""
     print(f"{label:44s} {figure:9.3g} {unit:12s} best {best * 1e3:8.2f} ms  median "
           f"{median * 1e3:8.2f} ms{ratio}  {goal}")
 
@@ -106,19 +127,25 @@ def main(n=1_000_000, n_pool=20_000, n_crit=10_000):
                                      kw["beta_deg"], 0.9, u0, None)
     floor_best, floor_med = timings(lambda: floor_batch(ins, steps, n))
     line("floor (ordinary-path arithmetic), 1e6", n / floor_med / 1e6, "M coll/s",
-         floor_best, floor_med)
+         floor_best, floor_med, goal="(alone; each ratio below uses the floor interleaved "
+         "with its own runs)")
     goals = {"paper": 1.5, "relative": 1.5, "auto": 2.0}
+    def floor_fn():
+        return floor_batch(ins, steps, n)
+
     for mode, goal in goals.items():
-        best, med = timings(lambda m=mode: at.collide(**kw, u0=u0, mode=m, details=False))
+        best, med, f_med, ratio = paired(
+            lambda m=mode: at.collide(**kw, u0=u0, mode=m, details=False), floor_fn)
         line(f"collide mode={mode}, 1e6 mixed, details off", n / med / 1e6, "M coll/s", best,
-             med, floor_med, f"goal >= 10 M/s idle, ratio <= {goal}")
+             med, f_med, f"goal >= 10 M/s idle, ratio <= {goal}", ratio)
     r = at.collide(**kw, u0=u0, details=False)
     special = (r.path & 0b1111) != 0
     print(f"    (mixed batch: {r.agglomerated.mean():.1%} stick, {special.mean():.1%} take a "
           "one-particle-stops path)")
-    best, med = timings(lambda: at.collide(**kw, u0=u0, mode="paper", details=True), 3)
+    best, med, f_med, ratio = paired(
+        lambda: at.collide(**kw, u0=u0, mode="paper", details=True), floor_fn, 5)
     line("collide mode=paper, 1e6 mixed, details on", n / med / 1e6, "M coll/s", best, med,
-         floor_med)
+         f_med, ratio=ratio)
 
     # Memory: peak allocations beyond inputs and outputs, in arrays of n float64.
     tracemalloc.start()

@@ -77,6 +77,7 @@ from ._codes import (
 )
 from ._jit import CACHE, parallel_launch
 from .bridge import (
+    _LN4,
     bridge_volume,
     g_diff,
     ln_f_diff,
@@ -117,9 +118,131 @@ def _running_energy(D, d_start, start_kind, start_val, k, share, v, m, force, c,
 
 
 @njit(cache=CACHE)
+def _cap_vis(D, d_start, s_start, start_kind, start_val, share, v, m, c, kcap, a2):
+    """The capillary and viscous terms of :func:`_running_energy` at ``D`` [J], bitwise as
+    there, with ``s_start = sqrt(d_start^2 + a^2)`` given and ``sqrt(D^2 + a^2)`` taken once
+    for both (:func:`~.bridge.g_diff` and :func:`~.bridge.ln_f_parts` each take it)."""
+    s = math.sqrt(D * D + a2)
+    g = a2 * (D - d_start) * (1.0 + (d_start + D) / (s_start + s)) / ((d_start + s_start)
+                                                                       * (D + s))
+    if D <= 0.0:
+        kind, val = 0, -math.inf
+    else:
+        q = a2 / ((D + s) * (D + s))
+        if q < 0.5:
+            kind, val = 1, math.log1p(-q * q)
+        else:
+            kind, val = 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+    delta = (val - start_val) + (start_kind - kind) * _LN4
+    return share * kcap * g, _viscous_loss(v, m, c * abs(delta))
+
+
+@njit(cache=CACHE)
 def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c, kcap, a2):
     """The gap between ``d_start`` and ``d_end`` nearest ``d_start`` where the running energy
     of :func:`_running_energy` first reaches zero (Eq. 136).
+
+    ``E(d_start) = k > 0`` and ``E(d_end) <= 0`` on entry. The first of the
+    :data:`SCAN_POINTS` geometric points ``d_start q^j`` with ``E <= 0`` is located, then the
+    Illinois variant of regula falsi narrows the bracket it makes with the point before to a
+    relative width of 1e-12 (every iterate stays inside the bracket; at most 100 steps).
+
+    The first point with ``E <= 0`` is found without evaluating every point. Each term of
+    the running energy is monotonic in the distance travelled: the capillary term (``g``
+    increases with the gap), the viscous loss (``ln f`` increases with the gap, and the loss
+    grows with ``c Delta`` while ``c Delta < m v``, which the stage checked over its whole
+    length) and the body-force term (linear). Over a stretch of points the energy is
+    therefore at least ``k`` + the smaller end value of the capillary and body-force terms -
+    the viscous loss at the far end; where that floor exceeds a rounding margin (1e-9 of the
+    terms' size plus 1e-10 ``c v``: ``ln f`` carries an absolute error of a few 1e-15) every
+    point of the stretch is positive and the stretch is skipped; otherwise it is halved, and
+    single points are evaluated. The result is bitwise that of the plain scan
+    (:func:`_first_zero_scan`, kept as the tests' reference): the same points, made by the
+    same repeated products, evaluated by the same arithmetic, and the same regula falsi.
+    On the mixed benchmark batch this takes 9 energy evaluations and 7 floors per search
+    instead of 32 evaluations; a dip below zero narrower than the spacing of the points can
+    still be missed, exactly as by the plain scan.
+    """
+    ratio = (d_end / d_start) ** (1.0 / SCAN_POINTS)
+    s_start = math.sqrt(d_start * d_start + a2)
+    fs = force * share
+    last = SCAN_POINTS - 1  # points d_1 .. d_last are scanned; d_end closes the bracket
+    i = 0  # index of the last point known to have E > 0 (d_0 = d_start, E = k)
+    d_i = d_start
+    f_i = k
+    cap_i = 0.0
+    f_known = True  # f_i holds E(d_i)
+    step = SCAN_POINTS // 2
+    hi = d_end
+    f_hi = 0.0
+    found = False
+    while i < last:
+        step = min(step, last - i)
+        if step > 1:
+            d_b = d_i
+            for _ in range(step):
+                d_b = d_b * ratio
+            cap_b, vis_b = _cap_vis(d_b, d_start, s_start, start_kind, start_val, share, v,
+                                    m, c, kcap, a2)
+            f_a = fs * abs(d_i - d_start)
+            f_b = fs * abs(d_b - d_start)
+            floor = k - max(cap_i, cap_b) - vis_b + min(f_a, f_b)
+            scale = k + abs(cap_i) + abs(cap_b) + vis_b + abs(f_a) + abs(f_b)
+            if floor > 1e-9 * scale + 1e-10 * c * v:
+                i += step
+                d_i = d_b
+                cap_i = cap_b
+                f_known = False
+                continue
+            step = step // 2
+            continue
+        d = d_i * ratio
+        cap, vis = _cap_vis(d, d_start, s_start, start_kind, start_val, share, v, m, c, kcap,
+                            a2)
+        f_d = k - cap - vis + force * share * abs(d - d_start)
+        if f_d <= 0.0:
+            hi, f_hi = d, f_d
+            found = True
+            break
+        i += 1
+        d_i, f_i, cap_i = d, f_d, cap
+        f_known = True
+        step = 2
+    if not found:
+        f_hi = _running_energy(d_end, d_start, start_kind, start_val, k, share, v, m, force,
+                               c, kcap, a2)
+    lo = d_i
+    if f_known:
+        f_lo = f_i
+    else:
+        f_lo = _running_energy(d_i, d_start, start_kind, start_val, k, share, v, m, force, c,
+                               kcap, a2)
+    side = 0
+    for _ in range(100):
+        if abs(hi - lo) <= 1e-12 * max(abs(hi), abs(lo)) or f_hi == 0.0:
+            break
+        x = hi - f_hi * (hi - lo) / (f_hi - f_lo)
+        if not (min(lo, hi) < x < max(lo, hi)):
+            x = 0.5 * (lo + hi)
+        cap, vis = _cap_vis(x, d_start, s_start, start_kind, start_val, share, v, m, c, kcap,
+                            a2)
+        f_x = k - cap - vis + force * share * abs(x - d_start)
+        if f_x <= 0.0:
+            hi, f_hi = x, f_x
+            if side == -1:
+                f_lo *= 0.5
+            side = -1
+        else:
+            lo, f_lo = x, f_x
+            if side == 1:
+                f_hi *= 0.5
+            side = 1
+    return hi
+
+
+@njit(cache=CACHE)
+def _first_zero_scan(d_start, d_end, start_kind, start_val, k, share, v, m, force, c, kcap, a2):
+    """Reference of :func:`_first_zero`: the same result by evaluating every scan point.
 
     ``E(d_start) = k > 0`` and ``E(d_end) <= 0`` on entry. A geometric scan of
     :data:`SCAN_POINTS` points isolates the first sign change; the Illinois variant of
