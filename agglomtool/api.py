@@ -40,6 +40,8 @@ __all__ = ["CollisionResult", "collide", "critical_impact_speed", "MODES"]
 #: Model tiers available through ``mode=`` (see :mod:`agglomtool.collision.tiers`).
 MODES = mode_names()
 
+_DEFAULT_BED = Bed()  # frozen: one instance serves every call without a bed
+
 #: Tiers whose preparation is fused into their compiled loop (:mod:`.collision.fused`).
 _FUSED = {"paper": TIER_PAPER, "relative": TIER_RELATIVE}
 
@@ -107,7 +109,7 @@ class CollisionResult:
 
 
 def _check_mode(mode: str) -> None:
-    if mode not in mode_names():
+    if mode not in MODES:
         raise ValueError(f"mode = {mode!r} is not one of {mode_names()}")
 
 
@@ -204,7 +206,9 @@ def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j):
     )
     shape = broadcast_shape(INPUT_NAMES, values)
     ins, steps = flat_inputs(values, shape)
-    n = int(np.prod(shape))
+    n = 1
+    for s in shape:
+        n *= s
     code, index = check_speeds(
         ins[0], ins[4], ins[18], ins[19][:0] if u0_j is np.nan else ins[19], n
     )
@@ -274,7 +278,7 @@ def collide(
     All inputs broadcast together; results have the broadcast shape.
     """
     _check_mode(mode)
-    bed = Bed() if bed is None else bed
+    bed = _DEFAULT_BED if bed is None else bed
     check_inputs(p_i, p_j, liquid, gas, bed)
     _check_flags(body_forces, drag_slip, details)
     if tol is not None and mode not in TAKES_TOL:

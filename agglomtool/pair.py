@@ -11,6 +11,7 @@ along +Z.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -136,9 +137,14 @@ def check_inputs(p_i, p_j, liquid, gas, bed) -> None:
 def broadcast_shape(names, values) -> tuple:
     """The common shape of ``values``; a ``ValueError`` naming the fields (``names``) and
     their shapes when they do not broadcast together."""
-    shapes = [np.shape(v) for v in values]
+    shapes = [v.shape if isinstance(v, np.ndarray) else np.shape(v) for v in values]
+    arrays = [s for s in shapes if s != ()]
+    if not arrays:
+        return ()
+    if len(arrays) == 1:
+        return arrays[0]
     try:
-        return np.broadcast_shapes(*shapes)
+        return np.broadcast_shapes(*arrays)
     except ValueError:
         listed = ", ".join(
             f"{n} {s}" for n, s in zip(names, shapes, strict=True) if s not in ((), (1,))
@@ -153,7 +159,12 @@ def check_pair(p_i, p_j) -> None:
     """Both are Particles, and at most one of them is a plate."""
     if not isinstance(p_i, Particle) or not isinstance(p_j, Particle):
         raise ValueError("p_i and p_j must be agglomtool.Particle instances")
-    if np.any(np.isinf(p_i.d) & np.isinf(p_j.d)):
+    d_i, d_j = p_i.d, p_j.d
+    if d_i.ndim == 0 and d_j.ndim == 0:
+        both = math.isinf(d_i) and math.isinf(d_j)
+    else:
+        both = np.any(np.isinf(d_i) & np.isinf(d_j))
+    if both:
         raise ValueError("p_i and p_j are both plates (d = inf); at most one may be")
 
 
