@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ._validate import as_float_array, check_range
-from .collision.critical import first_rebound_speed
+from .collision.critical import critical_speeds, first_rebound_speed
 from .collision.fused import (
     INPUT_NAMES,
     TIER_PAPER,
@@ -193,11 +194,15 @@ def _speed_error(code, index, ins, steps):
     return ValueError("u0 = inf (or u0_j = inf) is outside the allowed range: finite speeds [m/s]")
 
 
-def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j):
+def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True):
     """Validated raw inputs in the order of :data:`INPUT_NAMES`, their broadcast shape, the
-    flat arrays and steps of the fused kernels."""
-    u0 = as_float_array("u0", u0)
-    u0_j = np.nan if u0_j is None else as_float_array("u0_j", u0_j)
+    flat arrays and steps of the fused kernels. ``speeds=False``: ``u0`` and ``u0_j`` are
+    ignored (zero speed, no speed checks)."""
+    if speeds:
+        u0 = as_float_array("u0", u0)
+        u0_j = np.nan if u0_j is None else as_float_array("u0_j", u0_j)
+    else:
+        u0, u0_j = 0.0, np.nan
     values = (
         p_i.d, p_i.rho, p_i.h0, p_i.ha, p_j.d, p_j.rho, p_j.h0, p_j.ha, liquid.mu,
         liquid.gamma, liquid.rho, liquid.theta_deg, gas.mu, gas.rho, bed.eps,
@@ -209,6 +214,8 @@ def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j):
     n = 1
     for s in shape:
         n *= s
+    if not speeds:
+        return shape, ins, steps, n
     code, index = check_speeds(
         ins[0], ins[4], ins[18], ins[19][:0] if u0_j is np.nan else ins[19], n
     )
@@ -322,6 +329,7 @@ def critical_impact_speed(
     drag_slip: str = "emulsion",
     rtol: float = 1e-6,
     tol: float | None = None,
+    u_max: float | None = None,
 ) -> np.ndarray:
     """Critical impact speed ``u0*`` [m/s]: the smallest head-on ``u0`` at which the pair
     rebounds (the paper's Section 3.1 definition).
@@ -330,6 +338,11 @@ def critical_impact_speed(
     relative speed is ``2 u0``); with a plate, the particle moves at ``u0``.
 
     ``tol`` is passed to ``mode="auto"`` as in :func:`collide`.
+
+    ``u_max`` [m/s], optional: a ceiling on the answer. Where ``u0*`` exceeds it the result
+    is ``inf``, exactly as if the full answer had been cut there; in modes ``"paper"`` and
+    ``"relative"`` the search stops as soon as every speed up to ``u_max`` is known to
+    stick, so pairs that rebound only at high speed (or never) cost a few evaluations.
 
     Returns
     -------
@@ -344,7 +357,10 @@ def critical_impact_speed(
     stops first, body forces matter). The search therefore starts below the smallest speed
     that can possibly rebound (the viscous bound of the approach, ``m_r w = c Delta_app``),
     doubles the speed until a rebound, scans the last doubling on 16 geometric points, and
-    bisects between the last sticking and the first rebounding point to ``rtol``. The result
+    bisects between the last sticking and the first rebounding point to ``rtol`` (in modes
+    ``"paper"`` and ``"relative"`` compiled and run per collision, each to its own
+    convergence; the other modes bisect the whole batch until every element has converged,
+    so there an element may be narrowed further than ``rtol``). The result
     is the first rebound found this way: a rebound window narrower than a factor
     ``2^(1/16)`` (4.4 %) below it can be missed. Above ``u0*`` the pair may stick again in a
     narrow window; :func:`collide` on a grid shows it.
@@ -352,9 +368,28 @@ def critical_impact_speed(
     _check_mode(mode)
     if not (0.0 < rtol < 0.1):
         raise ValueError(f"rtol = {rtol!r} is outside the allowed range (0, 0.1)")
+    if u_max is None:
+        ceiling = math.inf
+    else:
+        ceiling = float(check_range("u_max", u_max, 0.0, None, lo_open=True, unit="m/s"))
     bed = Bed() if bed is None else bed
     check_inputs(p_i, p_j, liquid, gas, bed)
     _check_flags(body_forces, drag_slip, False)
+    if mode in _FUSED:
+        shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, None,
+                                             None, speeds=False)
+        u_star = critical_speeds(ins, steps, n, _FUSED[mode], body_forces,
+                                 drag_slip == "particle", rtol, ceiling)
+        return u_star.reshape(shape)[()]
+    return _critical_vectorised(p_i, p_j, liquid, gas, bed, beta_deg, e, mode, body_forces,
+                                drag_slip, rtol, tol, ceiling)
+
+
+def _critical_vectorised(p_i, p_j, liquid, gas, bed, beta_deg, e, mode, body_forces,
+                         drag_slip, rtol, tol, ceiling):
+    """u0* by :func:`~.collision.critical.first_rebound_speed` over the numpy preparation,
+    every step on the whole batch: the tiers without a compiled solver, and the reference
+    the compiled solver is tested against."""
     state = prepare_pair(p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip)
     shape = state.shape
     flat = flatten(state)
@@ -378,7 +413,8 @@ def critical_impact_speed(
         return e_w == 0.0
 
     w_star = first_rebound_speed(flat, sticks, rtol)
-    return w_star.reshape(shape) / np.broadcast_to(state.w_per_u0, shape)
+    u_star = w_star.reshape(shape) / np.broadcast_to(state.w_per_u0, shape)
+    return np.where(u_star > ceiling, math.inf, u_star)[()]
 
 
 def _subset(flat: PairState, idx) -> PairState:

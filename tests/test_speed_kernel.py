@@ -76,3 +76,21 @@ def test_skipping_search_equals_the_plain_scan_bitwise():
         assert a == b, (args, a, b)
     assert checked > 3000
     assert nonmono > 20  # the non-monotonic stages are exercised
+
+
+def test_an_underflowing_rebound_is_a_consistent_stick():
+    """e ~ 1e-219 leaves an energy below the smallest double: e_w comes out 0, and the stage
+    must then say so (it used to say REBOUND with e_w = 0). Found by hypothesis in
+    ``test_invariants``."""
+    import agglomtool as at
+
+    plate = at.Particle.plate(h0=1e-05, ha=1e-05)
+    small = at.Particle(d=1e-05, rho=500.0, h0=1e-06, ha=1e-07)
+    kw = dict(liquid=at.Liquid(mu=1.0, gamma=1.0, rho=500.0, theta_deg=0.0),
+              gas=at.Gas(mu=1.848e-05, rho=1.168), bed=at.Bed(eps=0.5), u0=1.0,
+              e=1.248959125936988e-219)
+    for mode in ("paper", "relative"):
+        for p_i, p_j in ((plate, small), (small, plate)):
+            r = at.collide(p_i, p_j, beta_deg=0.0, mode=mode, **kw)
+            assert r.e_w == 0.0
+            assert r.stage == int(at.Stage.SEPARATION_ENERGY)

@@ -71,6 +71,7 @@ from ._codes import (
     P_SEP_I,
     P_SEP_J,
     REBOUND,
+    SEP_EN,
     SEP_VIS,
     ST_APP,
     W_CONTACT,
@@ -462,7 +463,12 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
         det[K_FIN_J] = kf_j
     # Eq. 31 with Eqs. 67-70: the final CM-frame speeds add up to the relative speed.
     v_rel = math.sqrt(2.0 * kf_i / m_i) + math.sqrt(2.0 * kf_j / m_j)
-    return v_rel / w, REBOUND, path
+    e_w = v_rel / w
+    if not e_w > 0.0:
+        # The energy left underflowed (e ~ 1e-200 makes K ~ 1e-400 J): nothing measurable
+        # leaves the contact, a stick with the separation's energy spent.
+        return 0.0, SEP_EN, path
+    return e_w, REBOUND, path
 
 
 @njit(parallel=True, cache=CACHE)

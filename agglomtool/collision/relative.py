@@ -253,7 +253,10 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
         det[W_VOLCORR] = vol
     if stage != REBOUND:
         return 0.0, stage, path, 0.0
-    return math.sqrt(k_fin), REBOUND, path, k_fin
+    e_w = math.sqrt(k_fin)
+    if not e_w > 0.0:  # the energy left underflowed: a stick, as in the paper kernel
+        return 0.0, SEP_EN, path, 0.0
+    return e_w, REBOUND, path, k_fin
 
 
 @njit(parallel=True, cache=CACHE)
