@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._validate import as_float_array, check_range
+from .collision.auto import DEFAULT_TOL, auto_fused
 from .collision.critical import critical_speeds, first_rebound_speed
 from .collision.fused import (
     INPUT_NAMES,
@@ -299,6 +300,10 @@ def collide(
         e_w, stage, path, w, det = fused_batch(
             ins, steps, n, _FUSED[mode], body_forces, particle, details=details
         )
+    elif mode == "auto" and not details:
+        e_w, stage, path, w = auto_fused(ins, steps, n, body_forces, particle,
+                                         DEFAULT_TOL if tol is None else tol)
+        det = None
     else:
         k = prepare_flat(ins, steps, n, body_forces, particle)
         w = k[9].copy()

@@ -194,3 +194,31 @@ def test_hypothesis_scenes(d_i, ratio, rho, h0, ha, mu, gamma, eps, beta, e, mod
     liq = at.Liquid(mu=mu, gamma=gamma, rho=1000.0, theta_deg=20.0)
     _check(p_i, p_j, liq, HOT, at.Bed(eps=eps), beta, e, np.geomspace(1e-4, 30.0, 64),
            mode=mode)
+
+
+@pytest.mark.parametrize("tol", [None, 1e-3])
+def test_auto_fused_equals_auto_batch_bitwise(checks, tol):
+    """Mode "auto" without details: the fused choice (no details rows) then "ode" on the
+    chosen collisions equals ``auto_batch`` on the compiled preparation, bitwise; both tiers
+    are used."""
+    from agglomtool.collision.auto import DEFAULT_TOL, TIER_ODE, auto_batch
+
+    rng = np.random.default_rng(99)
+    p_i, p_j, liq, gas, bed, beta, e, u0 = _random_scene(rng, 1500)
+    u_i, u_j = _plate_speeds(p_i, p_j, u0)
+    cases = [(p_i, p_j, liq, gas, bed, beta, e, u_i, u_j)]
+    cases += [(a, b, c, d, f, g, h, u, None) for a, b, c, d, f, g, h, u in _near_threshold(checks)]
+    used = set()
+    for p_i, p_j, liq, gas, bed, beta, e, u0, u0_j in cases:
+        r = at.collide(p_i, p_j, liquid=liq, gas=gas, bed=bed, u0=u0, u0_j=u0_j, beta_deg=beta,
+                       e=e, mode="auto", details=False, tol=tol)
+        shape, ins, steps, n = _fused_inputs(p_i, p_j, liq, gas, bed, beta, e, u0, u0_j)
+        k = fused.prepare_flat(ins, steps, n, True, False)
+        e_w, stage, path, _, tier, _ = auto_batch(*k[:13], tol=DEFAULT_TOL if tol is None
+                                                  else tol)
+        np.testing.assert_array_equal(r.e_w.ravel(), e_w)
+        np.testing.assert_array_equal(r.stage.ravel(), stage)
+        np.testing.assert_array_equal(r.path.ravel(), path)
+        np.testing.assert_array_equal(r.w.ravel(), k[9])
+        used |= set(np.unique(tier).tolist())
+    assert TIER_ODE in used and len(used) == 2

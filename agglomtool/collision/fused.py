@@ -44,6 +44,7 @@ __all__ = [
     "SERIAL_BELOW",
     "prepare_one",
     "prepare_flat",
+    "prepare_at",
     "fused_batch",
     "check_speeds",
 ]
@@ -282,6 +283,36 @@ def _prepare_parallel(ins, st, body, particle_slip, out):
         out[11, k] = fn_j
         out[12, k] = ins[17][k * st[17]]
         out[13, k] = wpu
+
+
+@njit(parallel=True, cache=CACHE)
+def _prepare_at(ins, st, idx, body, particle_slip, out):
+    for j in prange(idx.shape[0]):
+        k = idx[j]
+        m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, wpu = _one(ins, st, k, body,
+                                                                     particle_slip)
+        out[0, j] = m_i
+        out[1, j] = m_j
+        out[2, j] = r
+        out[3, j] = H0
+        out[4, j] = Ha
+        out[5, j] = ins[8][k * st[8]]
+        out[6, j] = ins[9][k * st[9]]
+        out[7, j] = cos_t
+        out[8, j] = theta
+        out[9, j] = w
+        out[10, j] = fn_i
+        out[11, j] = fn_j
+        out[12, j] = ins[17][k * st[17]]
+        out[13, j] = wpu
+
+
+def prepare_at(ins, steps, idx, body, particle_slip):
+    """:func:`prepare_flat` of the collisions ``idx`` only (an int64 index array)."""
+    idx = np.ascontiguousarray(idx, dtype=np.int64)
+    out = np.empty((14, idx.shape[0]))
+    parallel_launch(_prepare_at, ins, steps, idx, bool(body), bool(particle_slip), out)
+    return out
 
 
 @njit(cache=CACHE)
