@@ -81,7 +81,6 @@ from .bridge import (
     _LN4,
     bridge_volume,
     g_diff,
-    ln_f_diff,
     ln_f_diff_from,
     ln_f_parts,
     rupture_distance,
@@ -303,7 +302,10 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
     """
     nan = math.nan
     start_kind, start_val = ln_f_parts(d_start, a2)  # once: every gap below is measured from it
-    c_delta = c * abs(ln_f_diff_from(start_kind, start_val, d_end, a2))
+    # ln f differences are formed from ln_f_parts as ln_f_diff_from forms them (bitwise), each
+    # gap's parts computed once.
+    end_kind, end_val = ln_f_parts(d_end, a2)
+    c_delta = c * abs((end_val - start_val) + (start_kind - end_kind) * _LN4)
     dist = abs(d_end - d_start)
     share_i = v_i / (v_i + v_j)
     share_j = v_j / (v_i + v_j)
@@ -338,16 +340,18 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
     dist_1 = abs(d_stop - d_start)
     dist_2 = abs(d_end - d_stop)
     # Eqs. 39-42, 140-142 (Eq. 142 with particle j's own share, MODEL.md section 4).
+    stop_kind, stop_val = ln_f_parts(d_stop, a2)
     k_mid = (
         k_y
         - (share_y * kcap * g_diff(d_start, d_stop, a2) + kcap * g_diff(d_stop, d_end, a2))
-        - _viscous_loss(v_y, m_y, c * abs(ln_f_diff_from(start_kind, start_val, d_stop, a2)))
+        - _viscous_loss(v_y, m_y, c * abs((stop_val - start_val) + (start_kind - stop_kind)
+                                          * _LN4))
         + f_y * (share_y * dist_1 + dist_2)
     )
     if k_mid <= 0.0:
         return 3, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
     v_mid = math.sqrt(2.0 * k_mid / m_y)  # Eqs. 40-41
-    c_delta_2 = c * abs(ln_f_diff(d_stop, d_end, a2))
+    c_delta_2 = c * abs((end_val - stop_val) + (stop_kind - end_kind) * _LN4)
     if not c_delta_2 < m_y * v_mid:  # Eq. 144
         return 4, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
     k_end_y = k_mid - _viscous_loss(v_mid, m_y, c_delta_2)  # Eqs. 37b, 145
