@@ -165,6 +165,14 @@ def _shaped(e_w, stage, path, det, shape, details):
     return e_w.reshape(shape), stage.reshape(shape), path.reshape(shape), out_details, shape
 
 
+def _check_tol_mode(tol, mode) -> None:
+    if tol is not None and mode not in TAKES_TOL:
+        raise ValueError(
+            f"tol = {tol!r} was given but mode = {mode!r} takes no tolerance; "
+            f"only {sorted(TAKES_TOL)} do"
+        )
+
+
 def _check_flags(body_forces, drag_slip, details) -> None:
     for name, val in (("body_forces", body_forces), ("details", details)):
         if not isinstance(val, (bool, np.bool_)):
@@ -289,11 +297,7 @@ def collide(
     bed = _DEFAULT_BED if bed is None else bed
     check_inputs(p_i, p_j, liquid, gas, bed)
     _check_flags(body_forces, drag_slip, details)
-    if tol is not None and mode not in TAKES_TOL:
-        raise ValueError(
-            f"tol = {tol!r} was given but mode = {mode!r} takes no tolerance; "
-            f"only {sorted(TAKES_TOL)} do"
-        )
+    _check_tol_mode(tol, mode)
     shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j)
     particle = drag_slip == "particle"
     if mode in _FUSED:
@@ -380,6 +384,7 @@ def critical_impact_speed(
     bed = Bed() if bed is None else bed
     check_inputs(p_i, p_j, liquid, gas, bed)
     _check_flags(body_forces, drag_slip, False)
+    _check_tol_mode(tol, mode)
     if mode in _FUSED:
         shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, None,
                                              None, speeds=False)

@@ -126,3 +126,13 @@ def test_u_max_must_be_a_positive_speed(bad, checks):
     p, liq, gas = checks.case_water()
     with pytest.raises(ValueError, match="u_max"):
         at.critical_impact_speed(p, p, liquid=liq, gas=gas, u_max=bad)
+
+
+def test_tol_is_refused_by_the_compiled_modes(checks):
+    """The compiled solver must not silently drop ``tol`` (only mode "auto" takes it)."""
+    p, liq, gas = checks.case_water()
+    for mode in ("paper", "relative"):
+        with pytest.raises(ValueError, match="tol"):
+            at.critical_impact_speed(p, p, liquid=liq, gas=gas, mode=mode, tol=0.01)
+        with pytest.raises(ValueError, match="tol"):
+            at.collide(p, p, liquid=liq, gas=gas, u0=0.1, mode=mode, tol=0.01)
