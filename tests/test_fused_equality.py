@@ -222,3 +222,25 @@ def test_auto_fused_equals_auto_batch_bitwise(checks, tol):
         np.testing.assert_array_equal(r.w.ravel(), k[9])
         used |= set(np.unique(tier).tolist())
     assert TIER_ODE in used and len(used) == 2
+
+
+def test_lean_indicator_equals_the_indicator_bitwise(checks):
+    """``closed_form_indicator_lean`` (one pass, no details row) against
+    ``closed_form_indicator`` (the closed forms with details, then the indicator)."""
+    from agglomtool.collision.auto import closed_form_indicator, closed_form_indicator_lean
+    from agglomtool.collision.outcome import DETAIL_NAMES
+
+    rng = np.random.default_rng(5)
+    p_i, p_j, liq, gas, bed, beta, e, u0 = _random_scene(rng, 3000)
+    u_i, u_j = _plate_speeds(p_i, p_j, u0)
+    _, ins, steps, n = _fused_inputs(p_i, p_j, liq, gas, bed, beta, e, u_i, u_j)
+    k = fused.prepare_flat(ins, steps, n, True, False)
+    det = np.empty(len(DETAIL_NAMES))
+    outcomes = set()
+    for q in range(n):
+        args = [float(k[j][q]) for j in range(13)]
+        a = closed_form_indicator(*args, det)
+        b = closed_form_indicator_lean(*args)
+        assert a == b, (q, a, b)
+        outcomes.add(a[1])
+    assert len(outcomes) >= 5  # rebounds and sticks at several stages

@@ -45,6 +45,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ._codes import APP_EN, APP_VIS, CONTACT, P_BROKEN, P_NO_BRIDGE, REBOUND, SEP_EN, SEP_VIS
 from ._jit import CACHE, parallel_launch
 from .bridge import bridge_volume, g_diff, ln_f_diff, rupture_distance
 from .fused import _one, prepare_at
@@ -125,17 +126,15 @@ def closed_form_indicator(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_
 @njit(cache=CACHE)
 def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j,
                                e):
-    """:func:`closed_form_indicator` without a details row: the contact speed and the
-    rupture gap it reads from there are recomputed by the closed forms' own arithmetic, so
-    the result is bitwise the same (tested)."""
-    empty = np.empty(0)
-    ew, st, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
-                                    fn_j, e, empty)
-    if not H0 > Ha:
-        return ew, st, pa, 0.0
-    if not ew > 0.0:
-        return ew, st, pa, math.inf
+    """:func:`closed_form_indicator` in one pass, without a details row: the closed forms of
+    :func:`~.relative.relative_kernel` written out with the same arithmetic, each ``ln f``
+    difference, capillary work and the rupture gap computed once for both the outcome and
+    the indicator. Bitwise the same ``(e_w, stage, path, g)`` (tested)."""
     m_r, _, _ = reduced_mass(m_i, m_j)
+    if not H0 > Ha:
+        if e > 0.0:
+            return e, REBOUND, P_NO_BRIDGE, 0.0
+        return 0.0, CONTACT, P_NO_BRIDGE, 0.0
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
     kcap = 2.0 * math.pi * gamma * r * cos_t
@@ -143,20 +142,41 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
     k0 = 0.5 * m_r * w * w
     c_delta = c * -ln_f_diff(H0, Ha, a2)
     l_cap = kcap * g_diff(H0, Ha, a2)
-    # The contact speed and rupture gap of relative_kernel, same arithmetic.
-    k_app = k0 - l_cap - _viscous_loss(w, m_r, c_delta) - (-f_b * (H0 - Ha))
+    l_bdw = -f_b * (H0 - Ha)
+    if not c_delta < m_r * w:
+        return 0.0, APP_VIS, 0, math.inf
+    k_app = k0 - l_cap - _viscous_loss(w, m_r, c_delta) - l_bdw
+    if not k_app > 0.0:
+        return 0.0, APP_EN, 0, math.inf
     w_s = e * math.sqrt(2.0 * k_app / m_r)
+    if not w_s > 0.0:
+        return 0.0, CONTACT, 0, math.inf
+    k_s = 0.5 * m_r * w_s * w_s
     h_rupt = rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2))
-    w_end = w - c_delta / m_r
-    work = abs(l_cap)
-    eta = c_delta / (m_r * w_end) * (work + abs(f_b) * (H0 - Ha))
-    if h_rupt > Ha:
-        c_delta = c * ln_f_diff(Ha, h_rupt, a2)
-        w_end = w_s - c_delta / m_r
-        work = abs(kcap * g_diff(Ha, h_rupt, a2))
-        eta += c_delta / (m_r * w_end) * (work + abs(f_b) * (h_rupt - Ha))
+    path = 0
+    sep = h_rupt > Ha
+    c_delta_s = 0.0
+    l_cap_s = 0.0
+    if not sep:
+        path |= P_BROKEN
+        k_end = k_s
+    else:
+        c_delta_s = c * ln_f_diff(Ha, h_rupt, a2)
+        l_cap_s = kcap * g_diff(Ha, h_rupt, a2)
+        if not c_delta_s < m_r * w_s:
+            return 0.0, SEP_VIS, path, math.inf
+        k_end = k_s - l_cap_s - _viscous_loss(w_s, m_r, c_delta_s) - f_b * (h_rupt - Ha)
+        if not k_end > 0.0:
+            return 0.0, SEP_EN, path, math.inf
+    ew = math.sqrt(k_end / k0)
+    if not ew > 0.0:
+        return 0.0, SEP_EN, path, math.inf
+    eta = c_delta / (m_r * (w - c_delta / m_r)) * (abs(l_cap) + abs(f_b) * (H0 - Ha))
+    if sep:
+        eta += c_delta_s / (m_r * (w_s - c_delta_s / m_r)) * (abs(l_cap_s)
+                                                              + abs(f_b) * (h_rupt - Ha))
     eta /= k0
-    return ew, st, pa, eta / max(ew, math.sqrt(eta))
+    return ew, REBOUND, path, eta / max(ew, math.sqrt(eta))
 
 
 @njit(cache=CACHE)
