@@ -17,6 +17,12 @@ def _first_bad(arr: np.ndarray, bad: np.ndarray) -> float:
 def as_float_array(name: str, value, allowed: str = "finite numbers") -> np.ndarray:
     """Convert ``value`` to a float64 array; reject NaN and non-numeric input, naming the
     field, the value and the ``allowed`` range in the message."""
+    if type(value) is float or type(value) is int:  # the common scalar, without numpy
+        if value != value:
+            raise ValueError(f"{name} = nan is outside the allowed range {allowed}")
+        return np.array(value, dtype=np.float64)
+    if isinstance(value, (bool, np.bool_)) or getattr(value, "dtype", None) == np.bool_:
+        raise ValueError(f"{name} = {value!r} is a boolean, not a number; allowed: {allowed}")
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:

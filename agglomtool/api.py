@@ -2,12 +2,23 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validate import as_float_array
-from .collision.critical import first_rebound_speed
+from ._validate import as_float_array, check_range
+from .collision.auto import DEFAULT_TOL, auto_fused
+from .collision.critical import critical_speeds, first_rebound_speed
+from .collision.fused import (
+    INPUT_NAMES,
+    TIER_PAPER,
+    TIER_RELATIVE,
+    check_speeds,
+    flat_inputs,
+    fused_batch,
+    prepare_flat,
+)
 from .collision.outcome import (
     DETAIL_NAMES,
     STAGE_DESCRIPTIONS,
@@ -15,14 +26,26 @@ from .collision.outcome import (
     path_names,
     stage_names,
 )
-from .collision.tiers import evaluate, mode_names
+from .collision.tiers import TAKES_TOL, evaluate, mode_names
 from .inputs import Bed, Gas, Liquid, Particle
-from .pair import PairState, check_pair, flatten, prepare_pair
+from .pair import (
+    DRAG_SLIP_MODES,
+    PairState,
+    broadcast_shape,
+    check_inputs,
+    flatten,
+    prepare_pair,
+)
 
 __all__ = ["CollisionResult", "collide", "critical_impact_speed", "MODES"]
 
 #: Model tiers available through ``mode=`` (see :mod:`agglomtool.collision.tiers`).
 MODES = mode_names()
+
+_DEFAULT_BED = Bed()  # frozen: one instance serves every call without a bed
+
+#: Tiers whose preparation is fused into their compiled loop (:mod:`.collision.fused`).
+_FUSED = {"paper": TIER_PAPER, "relative": TIER_RELATIVE}
 
 
 @dataclass(frozen=True)
@@ -88,7 +111,7 @@ class CollisionResult:
 
 
 def _check_mode(mode: str) -> None:
-    if mode not in mode_names():
+    if mode not in MODES:
         raise ValueError(f"mode = {mode!r} is not one of {mode_names()}")
 
 
@@ -132,10 +155,82 @@ def _evaluate(state: PairState, w, mode: str, details: bool, tol=None):
         mode, flat.m_i, flat.m_j, flat.r, flat.H0, flat.Ha, flat.mu_l, flat.gamma, flat.cos_t,
         flat.theta, w_flat, flat.fn_i, flat.fn_j, flat.e, details=details, tol=tol,
     )
+    return _shaped(e_w, stage, path, det, shape, details)
+
+
+def _shaped(e_w, stage, path, det, shape, details):
     out_details = {}
     if details:
         out_details = {name: det[:, k].reshape(shape) for k, name in enumerate(DETAIL_NAMES)}
     return e_w.reshape(shape), stage.reshape(shape), path.reshape(shape), out_details, shape
+
+
+def _check_tol_mode(tol, mode) -> None:
+    if tol is not None and mode not in TAKES_TOL:
+        raise ValueError(
+            f"tol = {tol!r} was given but mode = {mode!r} takes no tolerance; "
+            f"only {sorted(TAKES_TOL)} do"
+        )
+
+
+def _check_flags(body_forces, drag_slip, details) -> None:
+    for name, val in (("body_forces", body_forces), ("details", details)):
+        if not isinstance(val, (bool, np.bool_)):
+            raise ValueError(f"{name} = {val!r} is not allowed: True or False")
+    if drag_slip not in DRAG_SLIP_MODES:
+        raise ValueError(f"drag_slip = {drag_slip!r} is not one of {DRAG_SLIP_MODES}")
+
+
+def _speed_error(code, index, ins, steps):
+    """The ``ValueError`` of :func:`_lab_speeds` for the rule ``code`` failing at ``index``."""
+    if code == 1:
+        return ValueError("u0_j must be 0 (or None) when p_j is a plate: a plate is fixed")
+    if code == 2:
+        return ValueError("u0 must be 0 when p_i is a plate and u0_j is given: a plate is fixed")
+
+    def val(name):
+        q = INPUT_NAMES.index(name)
+        return float(ins[q][index * steps[q]])
+
+    u_i = 0.0 if np.isinf(val("p_i.d")) else val("u0")
+    u0_j = val("u0_j")
+    u_j = (0.0 if np.isinf(val("p_j.d")) else val("u0")) if np.isnan(u0_j) else u0_j
+    if code == 3:
+        return ValueError(
+            f"the particles are not approaching: u0 + u0_j = {u_i + u_j!r} m/s is outside the "
+            "allowed range (0, inf); e_w is defined for approaching pairs only"
+        )
+    return ValueError("u0 = inf (or u0_j = inf) is outside the allowed range: finite speeds [m/s]")
+
+
+def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True):
+    """Validated raw inputs in the order of :data:`INPUT_NAMES`, their broadcast shape, the
+    flat arrays and steps of the fused kernels. ``speeds=False``: ``u0`` and ``u0_j`` are
+    ignored (zero speed, no speed checks)."""
+    if speeds:
+        u0 = as_float_array("u0", u0)
+        u0_j = np.nan if u0_j is None else as_float_array("u0_j", u0_j)
+    else:
+        u0, u0_j = 0.0, np.nan
+    values = (
+        p_i.d, p_i.rho, p_i.h0, p_i.ha, p_j.d, p_j.rho, p_j.h0, p_j.ha, liquid.mu,
+        liquid.gamma, liquid.rho, liquid.theta_deg, gas.mu, gas.rho, bed.eps,
+        np.nan if bed.U is None else bed.U, as_float_array("beta_deg", beta_deg),
+        check_range("e", e, 0.0, 1.0, unit="-"), u0, u0_j,
+    )
+    shape = broadcast_shape(INPUT_NAMES, values)
+    ins, steps = flat_inputs(values, shape)
+    n = 1
+    for s in shape:
+        n *= s
+    if not speeds:
+        return shape, ins, steps, n
+    code, index = check_speeds(
+        ins[0], ins[4], ins[18], ins[19][:0] if u0_j is np.nan else ins[19], n
+    )
+    if code:
+        raise _speed_error(code, index, ins, steps)
+    return shape, ins, steps, n
 
 
 def collide(
@@ -199,19 +294,31 @@ def collide(
     All inputs broadcast together; results have the broadcast shape.
     """
     _check_mode(mode)
-    bed = Bed() if bed is None else bed
-    check_pair(p_i, p_j)
-    u_i, u_j, w = _lab_speeds(p_i, p_j, u0, u0_j)
-    state = prepare_pair(
-        p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip, u_i=u_i, u_j=u_j
-    )
-    e_w, stage, path, det, shape = _evaluate(state, w, mode, details, tol)
+    bed = _DEFAULT_BED if bed is None else bed
+    check_inputs(p_i, p_j, liquid, gas, bed)
+    _check_flags(body_forces, drag_slip, details)
+    _check_tol_mode(tol, mode)
+    shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j)
+    particle = drag_slip == "particle"
+    if mode in _FUSED:
+        e_w, stage, path, w, det = fused_batch(
+            ins, steps, n, _FUSED[mode], body_forces, particle, details=details
+        )
+    elif mode == "auto" and not details:
+        e_w, stage, path, w = auto_fused(ins, steps, n, body_forces, particle,
+                                         DEFAULT_TOL if tol is None else tol)
+        det = None
+    else:
+        k = prepare_flat(ins, steps, n, body_forces, particle)
+        w = k[9].copy()
+        e_w, stage, path, det = evaluate(mode, *k[:13], details=details, tol=tol)
+    e_w, stage, path, det, shape = _shaped(e_w, stage, path, det, shape, details)
     return CollisionResult(
         e_w=e_w,
         agglomerated=e_w == 0.0,
         stage=stage,
         path=path,
-        w=np.broadcast_to(w, shape).copy(),
+        w=w.reshape(shape),
         details=det,
         mode=mode,
     )
@@ -231,6 +338,7 @@ def critical_impact_speed(
     drag_slip: str = "emulsion",
     rtol: float = 1e-6,
     tol: float | None = None,
+    u_max: float | None = None,
 ) -> np.ndarray:
     """Critical impact speed ``u0*`` [m/s]: the smallest head-on ``u0`` at which the pair
     rebounds (the paper's Section 3.1 definition).
@@ -239,6 +347,11 @@ def critical_impact_speed(
     relative speed is ``2 u0``); with a plate, the particle moves at ``u0``.
 
     ``tol`` is passed to ``mode="auto"`` as in :func:`collide`.
+
+    ``u_max`` [m/s], optional: a ceiling on the answer. Where ``u0*`` exceeds it the result
+    is ``inf``, exactly as if the full answer had been cut there; in modes ``"paper"`` and
+    ``"relative"`` the search stops as soon as every speed up to ``u_max`` is known to
+    stick, so pairs that rebound only at high speed (or never) cost a few evaluations.
 
     Returns
     -------
@@ -253,7 +366,10 @@ def critical_impact_speed(
     stops first, body forces matter). The search therefore starts below the smallest speed
     that can possibly rebound (the viscous bound of the approach, ``m_r w = c Delta_app``),
     doubles the speed until a rebound, scans the last doubling on 16 geometric points, and
-    bisects between the last sticking and the first rebounding point to ``rtol``. The result
+    bisects between the last sticking and the first rebounding point to ``rtol`` (in modes
+    ``"paper"`` and ``"relative"`` compiled and run per collision, each to its own
+    convergence; the other modes bisect the whole batch until every element has converged,
+    so there an element may be narrowed further than ``rtol``). The result
     is the first rebound found this way: a rebound window narrower than a factor
     ``2^(1/16)`` (4.4 %) below it can be missed. Above ``u0*`` the pair may stick again in a
     narrow window; :func:`collide` on a grid shows it.
@@ -261,7 +377,29 @@ def critical_impact_speed(
     _check_mode(mode)
     if not (0.0 < rtol < 0.1):
         raise ValueError(f"rtol = {rtol!r} is outside the allowed range (0, 0.1)")
+    if u_max is None:
+        ceiling = math.inf
+    else:
+        ceiling = float(check_range("u_max", u_max, 0.0, None, lo_open=True, unit="m/s"))
     bed = Bed() if bed is None else bed
+    check_inputs(p_i, p_j, liquid, gas, bed)
+    _check_flags(body_forces, drag_slip, False)
+    _check_tol_mode(tol, mode)
+    if mode in _FUSED:
+        shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, None,
+                                             None, speeds=False)
+        u_star = critical_speeds(ins, steps, n, _FUSED[mode], body_forces,
+                                 drag_slip == "particle", rtol, ceiling)
+        return u_star.reshape(shape)[()]
+    return _critical_vectorised(p_i, p_j, liquid, gas, bed, beta_deg, e, mode, body_forces,
+                                drag_slip, rtol, tol, ceiling)
+
+
+def _critical_vectorised(p_i, p_j, liquid, gas, bed, beta_deg, e, mode, body_forces,
+                         drag_slip, rtol, tol, ceiling):
+    """u0* by :func:`~.collision.critical.first_rebound_speed` over the numpy preparation,
+    every step on the whole batch: the tiers without a compiled solver, and the reference
+    the compiled solver is tested against."""
     state = prepare_pair(p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip)
     shape = state.shape
     flat = flatten(state)
@@ -285,7 +423,8 @@ def critical_impact_speed(
         return e_w == 0.0
 
     w_star = first_rebound_speed(flat, sticks, rtol)
-    return w_star.reshape(shape) / np.broadcast_to(state.w_per_u0, shape)
+    u_star = w_star.reshape(shape) / np.broadcast_to(state.w_per_u0, shape)
+    return np.where(u_star > ceiling, math.inf, u_star)[()]
 
 
 def _subset(flat: PairState, idx) -> PairState:

@@ -11,6 +11,7 @@ along +Z.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,7 +21,14 @@ from .inputs import Bed, Gas, Liquid, Particle
 from .properties import drag_force_gidaspow, umf_wen_yu
 from .properties.fluidization import GRAVITY
 
-__all__ = ["PairState", "prepare_pair", "flatten", "DRAG_SLIP_MODES"]
+__all__ = [
+    "PairState",
+    "prepare_pair",
+    "flatten",
+    "DRAG_SLIP_MODES",
+    "check_inputs",
+    "broadcast_shape",
+]
 
 #: How the slip velocity in the drag law is taken (MODEL.md section 3):
 #: "emulsion": the paper's local gas velocity from Eq. 22, slip = U_e / eps, vertical;
@@ -115,12 +123,57 @@ def body_force_vector(p: Particle, m, liquid, gas, bed, U_e, u_vec, drag_slip):
     return f_y, f_z
 
 
+def check_inputs(p_i, p_j, liquid, gas, bed) -> None:
+    """Each input is of its class (a ``ValueError`` naming the field otherwise), and at most
+    one particle is a plate."""
+    for name, val, cls in (("liquid", liquid, Liquid), ("gas", gas, Gas), ("bed", bed, Bed)):
+        if not isinstance(val, cls):
+            raise ValueError(
+                f"{name} = {val!r} is not allowed: an agglomtool.{cls.__name__} is required"
+            )
+    check_pair(p_i, p_j)
+
+
+def broadcast_shape(names, values) -> tuple:
+    """The common shape of ``values``; a ``ValueError`` naming the fields (``names``) and
+    their shapes when they do not broadcast together."""
+    shapes = [v.shape if isinstance(v, np.ndarray) else np.shape(v) for v in values]
+    arrays = [s for s in shapes if s != ()]
+    if not arrays:
+        return ()
+    if len(arrays) == 1:
+        return arrays[0]
+    try:
+        return np.broadcast_shapes(*arrays)
+    except ValueError:
+        listed = ", ".join(
+            f"{n} {s}" for n, s in zip(names, shapes, strict=True) if s not in ((), (1,))
+        )
+        raise ValueError(
+            f"the inputs do not broadcast together: {listed}; allowed: shapes that broadcast "
+            "(numpy rules)"
+        ) from None
+
+
 def check_pair(p_i, p_j) -> None:
     """Both are Particles, and at most one of them is a plate."""
     if not isinstance(p_i, Particle) or not isinstance(p_j, Particle):
         raise ValueError("p_i and p_j must be agglomtool.Particle instances")
-    if np.any(np.isinf(p_i.d) & np.isinf(p_j.d)):
+    d_i, d_j = p_i.d, p_j.d
+    if d_i.ndim == 0 and d_j.ndim == 0:
+        both = math.isinf(d_i) and math.isinf(d_j)
+    else:
+        both = np.any(np.isinf(d_i) & np.isinf(d_j))
+    if both:
         raise ValueError("p_i and p_j are both plates (d = inf); at most one may be")
+
+
+#: The raw inputs of :func:`prepare_pair`, named for error messages.
+_RAW_NAMES = (
+    "p_i.d", "p_i.rho", "p_i.h0", "p_i.ha", "p_j.d", "p_j.rho", "p_j.h0", "p_j.ha",
+    "liquid.mu", "liquid.gamma", "liquid.rho", "liquid.theta_deg", "gas.mu", "gas.rho",
+    "bed.eps", "bed.U", "beta_deg", "e", "u0", "u0_j",
+)
 
 
 def prepare_pair(
@@ -141,13 +194,19 @@ def prepare_pair(
     ``u_i``, ``u_j`` (lab speeds towards each other [m/s]) are needed only with
     ``drag_slip="particle"``, where the drag depends on them.
     """
-    check_pair(p_i, p_j)
+    check_inputs(p_i, p_j, liquid, gas, bed)
     if drag_slip not in DRAG_SLIP_MODES:
         raise ValueError(f"drag_slip = {drag_slip!r} is not one of {DRAG_SLIP_MODES}")
     e = check_range("e", e, 0.0, 1.0, unit="-")
     beta = np.deg2rad(as_float_array("beta_deg", beta_deg))
     cos_b, sin_b = np.cos(beta), np.sin(beta)
     theta = np.deg2rad(liquid.theta_deg)
+    broadcast_shape(_RAW_NAMES, (
+        p_i.d, p_i.rho, p_i.h0, p_i.ha, p_j.d, p_j.rho, p_j.h0, p_j.ha, liquid.mu,
+        liquid.gamma, liquid.rho, liquid.theta_deg, gas.mu, gas.rho, bed.eps,
+        0.0 if bed.U is None else bed.U, beta, e, 0.0 if u_i is None else u_i,
+        0.0 if u_j is None else u_j,
+    ))
 
     m_i = wet_mass(p_i, liquid.rho)
     m_j = wet_mass(p_j, liquid.rho)

@@ -1,92 +1,185 @@
-"""Throughput of the collision core: collisions per second and u0* solves per second.
+"""Throughput of the collision core against the goals of issue 12, each next to its floor.
 
-Run: ``python benchmarks/bench_collision.py``. Prints figures; asserts nothing.
-Batches: 1e6 collisions of the paper's reference cases at beta = 0 over a spread of impact
-speeds, the same at mixed angles and pairs that exercise the special-case paths, and 1e4
-critical-speed solves.
+Run: ``python benchmarks/bench_collision.py [--quick]``. Prints figures; asserts nothing.
+
+Every figure is the best and the median of ``REPEATS`` (>= 5) timed runs after a warm-up,
+with the load average of the machine: on a shared machine the absolute figures are noisy,
+the ratios to the floor measured in the same run are the reliable part. The floor
+(:mod:`floor`) is a straight-line compiled loop doing only the ordinary path's arithmetic,
+preparation included, on the same input arrays.
+
+Workload ("mixed"): 1e6 collisions of 20 000 distinct scenes (each element carries its own
+arrays: solid diameters 0.3-1.5 mm, densities 2650 or 4330 kg/m3, coatings, an angle in
+0-360 deg; half water in air at 25 C with coatings 1-9 um, half slag in hot gas with coatings
+0.11-0.3 um), each at a speed 0.5-3 times its own u0* (mode "paper").
 """
 
 from __future__ import annotations
 
 import os
+import sys
 import time
+import tracemalloc
+from pathlib import Path
 
+import numba
 import numpy as np
 
-import agglomtool as at
-from agglomtool.collision.outcome import Path
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from floor import floor_batch  # noqa: E402
+
+import agglomtool as at  # noqa: E402
+from agglomtool.api import _fused_inputs  # noqa: E402
+
+REPEATS = 7
+WATER = dict(mu=8.9e-4, gamma=0.073, rho=997.0, theta_deg=10.0)
+SLAG = dict(mu=10.0, gamma=0.4, rho=2500.0, theta_deg=10.0)
+AIR = dict(mu=18.48e-6, rho=1.168)
+HOT = dict(mu=45.48e-6, rho=0.324)
 
 
-def best_of(fn, repeat=3):
-    best = np.inf
-    out = None
-    for _ in range(repeat):
+def timings(fn, repeats=REPEATS):
+    """(best, median) wall time [s] of ``repeats`` calls after one warm-up call."""
+    fn()
+    ts = []
+    for _ in range(repeats):
         t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+        fn()
+        ts.append(time.perf_counter() - t0)
+    return min(ts), float(np.median(ts))
 
 
-def main(n=1_000_000, n_crit=10_000):
+def paired(fn, floor_fn, repeats=REPEATS):
+    """Timings of ``fn`` interleaved with the floor ``floor_fn`` (so both see the same load):
+    ``(best, median, floor median, median of the per-pair ratios)``."""
+    fn()
+    floor_fn()
+    ts, fs = [], []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        floor_fn()
+        t1 = time.perf_counter()
+        fn()
+        t2 = time.perf_counter()
+        fs.append(t1 - t0)
+        ts.append(t2 - t1)
+    ratio = float(np.median(np.array(ts) / np.array(fs)))
+    return min(ts), float(np.median(ts)), float(np.median(fs)), ratio
+
+
+def scenes(rng, n):
+    """``n`` mixed scenes as collide() keywords (without u0)."""
+    slag = rng.random(n) < 0.5
+
+    def pick(a, b):
+        return np.where(slag, b, a)
+
+    h0_lo, h0_hi = pick(1e-6, 0.11e-6), pick(9e-6, 0.3e-6)
+    p_i = at.Particle(d=rng.uniform(300e-6, 1500e-6, n), rho=rng.choice([2650.0, 4330.0], n),
+                      h0=h0_lo + (h0_hi - h0_lo) * rng.random(n), ha=0.1e-6)
+    p_j = at.Particle(d=rng.uniform(300e-6, 1500e-6, n), rho=rng.choice([2650.0, 4330.0], n),
+                      h0=h0_lo + (h0_hi - h0_lo) * rng.random(n), ha=0.1e-6)
+    liquid = at.Liquid(**{k: pick(WATER[k], SLAG[k]) for k in WATER})
+    gas = at.Gas(**{k: pick(AIR[k], HOT[k]) for k in AIR})
+    return dict(p_i=p_i, p_j=p_j, liquid=liquid, gas=gas, bed=at.Bed(eps=0.55),
+                beta_deg=rng.uniform(0.0, 360.0, n))
+
+
+def take(kw, idx):
+    """The scenes ``idx`` of ``kw`` (every field gathered into its own array)."""
+    out = {}
+    for name, val in kw.items():
+        if isinstance(val, np.ndarray):
+            out[name] = val[idx]
+        elif hasattr(val, "__dataclass_fields__"):
+            fields = {f: (getattr(val, f)[idx] if np.ndim(getattr(val, f)) else getattr(val, f))
+                      for f in val.__dataclass_fields__ if getattr(val, f) is not None
+                      and f not in ("name", "source")}
+            out[name] = type(val)(**fields)
+        else:
+            out[name] = val
+    return out
+
+
+def line(label, figure, unit, best, median, floor=None, goal="", ratio=None):
+    if floor is not None:
+        ratio = f"  floor {floor * 1e3:8.2f} ms  ratio {ratio:5.2f}"
+    else:
+        ratio = ""
+    print(f"{label:44s} {figure:9.3g} {unit:12s} best {best * 1e3:8.2f} ms  median "
+          f"{median * 1e3:8.2f} ms{ratio}  {goal}")
+
+
+def main(n=1_000_000, n_pool=20_000, n_crit=10_000):
     rng = np.random.default_rng(1)
-    water = at.Liquid(mu=8.9e-4, gamma=0.073, rho=997.0, theta_deg=10.0)
-    air = at.Gas(mu=18.48e-6, rho=1.168)
-    bed = at.Bed(eps=0.55)
-    p = at.Particle(d=1000e-6, rho=2650.0, h0=5e-6, ha=0.1e-6)
-    threads = os.environ.get("NUMBA_NUM_THREADS", "default")
-    print(f"agglomtool {at.__version__}; numba threads: {threads}")
+    print(f"agglomtool {at.__version__}; numba {numba.__version__}, "
+          f"{numba.config.NUMBA_NUM_THREADS} threads; cores {os.cpu_count()}; "
+          f"load average at start {os.getloadavg()}")
+    pool = scenes(rng, n_pool)
+    u_star = at.critical_impact_speed(**pool)
+    idx = rng.integers(0, n_pool, n)
+    kw = take(pool, idx)
+    u0 = u_star[idx] * rng.uniform(0.5, 3.0, n)
 
-    # Warm up (compilation is cached on disk after the first run).
-    at.collide(p, p, liquid=water, gas=air, bed=bed, u0=np.array([0.05, 0.1]))
+    # The floor on the same inputs.
+    _, ins, steps, _ = _fused_inputs(kw["p_i"], kw["p_j"], kw["liquid"], kw["gas"], kw["bed"],
+                                     kw["beta_deg"], 0.9, u0, None)
+    floor_best, floor_med = timings(lambda: floor_batch(ins, steps, n))
+    line("floor (ordinary-path arithmetic), 1e6", n / floor_med / 1e6, "M coll/s",
+         floor_best, floor_med, goal="(alone; each ratio below uses the floor interleaved "
+         "with its own runs)")
+    goals = {"paper": 1.5, "relative": 1.5, "auto": 2.0}
+    def floor_fn():
+        return floor_batch(ins, steps, n)
 
-    u0 = np.geomspace(0.01, 1.0, n)
-    for details in (False, True):
-        t, r = best_of(lambda d=details: at.collide(
-            p, p, liquid=water, gas=air, bed=bed, u0=u0, beta_deg=0.0, details=d))
-        print(f"beta = 0, identical pair, details={details!s:5}: {n / t / 1e6:6.2f} M collisions/s "
-              f"({t * 1e3:.0f} ms for {n:.0e}; {r.agglomerated.mean():.1%} stick)")
+    for mode, goal in goals.items():
+        best, med, f_med, ratio = paired(
+            lambda m=mode: at.collide(**kw, u0=u0, mode=m, details=False), floor_fn)
+        line(f"collide mode={mode}, 1e6 mixed, details off", n / med / 1e6, "M coll/s", best,
+             med, f_med, f"goal >= 10 M/s idle, ratio <= {goal}", ratio)
+    r = at.collide(**kw, u0=u0, details=False)
+    special = (r.path & 0b1111) != 0
+    print(f"    (mixed batch: {r.agglomerated.mean():.1%} stick, {special.mean():.1%} take a "
+          "one-particle-stops path)")
+    best, med, f_med, ratio = paired(
+        lambda: at.collide(**kw, u0=u0, mode="paper", details=True), floor_fn, 5)
+    line("collide mode=paper, 1e6 mixed, details on", n / med / 1e6, "M coll/s", best, med,
+         f_med, ratio=ratio)
 
-    # Mixed angles, sizes, densities and coatings near the threshold: the special paths.
-    beta = rng.uniform(0.0, 360.0, n)
-    pj = at.Particle(d=rng.uniform(300e-6, 1500e-6, n), rho=rng.choice([2650.0, 4330.0], n),
-                     h0=rng.uniform(1e-6, 9e-6, n), ha=0.1e-6)
-    u0 = rng.uniform(0.02, 0.08, n)
-    t, r = best_of(lambda: at.collide(p, pj, liquid=water, gas=air, bed=bed, u0=u0,
-                                      beta_deg=beta, details=False))
-    special = (r.path & (Path.APPROACH_I_STOPS | Path.APPROACH_J_STOPS
-                         | Path.SEPARATION_I_STOPS | Path.SEPARATION_J_STOPS)) != 0
-    print(f"mixed angles and pairs near u0*        : {n / t / 1e6:6.2f} M collisions/s "
-          f"({special.mean():.1%} take a special path, {r.agglomerated.mean():.1%} stick)")
+    # Memory: peak allocations beyond inputs and outputs, in arrays of n float64.
+    tracemalloc.start()
+    res = at.collide(**kw, u0=u0, details=False)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    out_bytes = res.e_w.nbytes + res.stage.nbytes + res.path.nbytes + res.w.nbytes
+    out_bytes += res.agglomerated.nbytes
+    print(f"{'memory, collide 1e6 details off':44s} {(peak - out_bytes) / (8 * n):9.2f} "
+          f"arrays of n float64 beyond the outputs (peak {peak / 1e6:.0f} MB; goal < 10)")
 
-    # Kernel alone (no input preparation), to separate the two costs.
-    from agglomtool.api import _lab_speeds
-    from agglomtool.collision.paper import run_paper
-    from agglomtool.pair import prepare_pair
-    _, _, w = _lab_speeds(p, pj, u0, None)
-    st = prepare_pair(p, pj, water, air, bed, beta, 0.9, True, "emulsion")
-    arrays = [np.ascontiguousarray(np.broadcast_to(a, (n,))) for a in (
-        st.m_i, st.m_j, st.r, st.H0, st.Ha, st.mu_l, st.gamma, st.cos_t, st.theta, w,
-        st.fn_i, st.fn_j, st.e)]
-    t, _ = best_of(lambda: run_paper(*arrays))
-    print(f"kernel only, same mixed batch          : {n / t / 1e6:6.2f} M collisions/s")
+    # Small batches from Python.
+    for m, goal in ((1, 50e-6), (100, 100e-6)):
+        sub = take(kw, np.arange(m))
+        us = u0[:m]
+        if m == 1:
+            sub = {k: (type(v)(**{f: float(np.ravel(getattr(v, f))[0])
+                                  for f in v.__dataclass_fields__
+                                  if getattr(v, f) is not None and f not in ("name", "source")})
+                       if hasattr(v, "__dataclass_fields__") else
+                       (float(v[0]) if isinstance(v, np.ndarray) else v))
+                   for k, v in sub.items()}
+            us = float(us[0])
+        best, med = timings(lambda s=sub, u=us: at.collide(**s, u0=u, details=False), 2001)
+        line(f"collide n = {m}, details off", med * 1e6, "us/call", best, med,
+             goal=f"goal median < {goal * 1e6:.0f} us")
 
     # Critical speeds.
-    pj = at.Particle(d=rng.uniform(300e-6, 1500e-6, n_crit), rho=2650.0,
-                     h0=rng.uniform(1e-6, 9e-6, n_crit), ha=0.1e-6)
-    beta = rng.uniform(0.0, 360.0, n_crit)
-    t, u_star = best_of(lambda: at.critical_impact_speed(p, pj, liquid=water, gas=air, bed=bed,
-                                                         beta_deg=beta))
-    print(f"critical_impact_speed, water, mixed    : {n_crit / t:8.0f} solves/s "
-          f"({t:.3f} s for {n_crit:.0e}; median u0* {np.median(u_star):.4f} m/s)")
-    slag = at.Liquid(mu=10.0, gamma=0.4, rho=2500.0, theta_deg=10.0)
-    hot = at.Gas(mu=45.48e-6, rho=0.324)
-    ps = at.Particle(d=1000e-6, rho=2650.0, h0=0.15e-6, ha=0.1e-6)
-    pj = at.Particle(d=rng.uniform(300e-6, 1500e-6, n_crit), rho=2650.0,
-                     h0=rng.uniform(0.11e-6, 0.3e-6, n_crit), ha=0.1e-6)
-    t, u_star = best_of(lambda: at.critical_impact_speed(ps, pj, liquid=slag, gas=hot, bed=bed,
-                                                         beta_deg=beta))
-    print(f"critical_impact_speed, slag, mixed     : {n_crit / t:8.0f} solves/s "
-          f"({t:.3f} s for {n_crit:.0e}; median u0* {np.median(u_star):.4f} m/s)")
+    for label, sub in (("mixed water and slag", take(pool, np.arange(n_crit))),):
+        for mode in ("paper", "relative"):
+            best, med = timings(lambda s=sub, m=mode: at.critical_impact_speed(**s, mode=m), 5)
+            line(f"critical_impact_speed 1e4, {label}, {mode}", n_crit / med, "solves/s", best,
+                 med, goal="goal < 100 ms")
+    print(f"load average at end {os.getloadavg()}")
 
 
 if __name__ == "__main__":

@@ -45,9 +45,13 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .bridge import g_diff, ln_f_diff
+from ._codes import APP_EN, APP_VIS, CONTACT, P_BROKEN, P_NO_BRIDGE, REBOUND, SEP_EN, SEP_VIS
+from ._jit import CACHE, parallel_launch
+from .bridge import bridge_volume, g_diff, ln_f_diff, rupture_distance
+from .fused import _one, prepare_at
 from .ode import ode_batch
 from .outcome import DETAIL_NAMES
+from .paper import _viscous_loss
 from .relative import reduced_mass, relative_body_force, relative_kernel
 
 __all__ = [
@@ -82,7 +86,7 @@ _H_RUPT = DETAIL_NAMES.index("h_rupt")
 _W_CONTACT = DETAIL_NAMES.index("w_contact")
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def closed_form_indicator(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
                           det):
     """The closed forms' ``e_w`` and their error indicator ``g`` (module docstring).
@@ -119,7 +123,131 @@ def closed_form_indicator(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_
     return ew, st, pa, eta / max(ew, math.sqrt(eta))
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=CACHE)
+def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j,
+                               e):
+    """:func:`closed_form_indicator` in one pass, without a details row: the closed forms of
+    :func:`~.relative.relative_kernel` written out with the same arithmetic, each ``ln f``
+    difference, capillary work and the rupture gap computed once for both the outcome and
+    the indicator. Bitwise the same ``(e_w, stage, path, g)`` (tested)."""
+    m_r, _, _ = reduced_mass(m_i, m_j)
+    if not H0 > Ha:
+        if e > 0.0:
+            return e, REBOUND, P_NO_BRIDGE, 0.0
+        return 0.0, CONTACT, P_NO_BRIDGE, 0.0
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    kcap = 2.0 * math.pi * gamma * r * cos_t
+    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    k0 = 0.5 * m_r * w * w
+    c_delta = c * -ln_f_diff(H0, Ha, a2)
+    l_cap = kcap * g_diff(H0, Ha, a2)
+    l_bdw = -f_b * (H0 - Ha)
+    if not c_delta < m_r * w:
+        return 0.0, APP_VIS, 0, math.inf
+    k_app = k0 - l_cap - _viscous_loss(w, m_r, c_delta) - l_bdw
+    if not k_app > 0.0:
+        return 0.0, APP_EN, 0, math.inf
+    w_s = e * math.sqrt(2.0 * k_app / m_r)
+    if not w_s > 0.0:
+        return 0.0, CONTACT, 0, math.inf
+    k_s = 0.5 * m_r * w_s * w_s
+    h_rupt = rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2))
+    path = 0
+    sep = h_rupt > Ha
+    c_delta_s = 0.0
+    l_cap_s = 0.0
+    if not sep:
+        path |= P_BROKEN
+        k_end = k_s
+    else:
+        c_delta_s = c * ln_f_diff(Ha, h_rupt, a2)
+        l_cap_s = kcap * g_diff(Ha, h_rupt, a2)
+        if not c_delta_s < m_r * w_s:
+            return 0.0, SEP_VIS, path, math.inf
+        k_end = k_s - l_cap_s - _viscous_loss(w_s, m_r, c_delta_s) - f_b * (h_rupt - Ha)
+        if not k_end > 0.0:
+            return 0.0, SEP_EN, path, math.inf
+    ew = math.sqrt(k_end / k0)
+    if not ew > 0.0:
+        return 0.0, SEP_EN, path, math.inf
+    eta = c_delta / (m_r * (w - c_delta / m_r)) * (abs(l_cap) + abs(f_b) * (H0 - Ha))
+    if sep:
+        eta += c_delta_s / (m_r * (w_s - c_delta_s / m_r)) * (abs(l_cap_s)
+                                                              + abs(f_b) * (h_rupt - Ha))
+    eta /= k0
+    return ew, REBOUND, path, eta / max(ew, math.sqrt(eta))
+
+
+@njit(cache=CACHE)
+def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol):
+    """The closed forms' outcome and the tier to use for one collision:
+    ``(e_w, stage, path, tier, bound)`` as :func:`_choose` decides."""
+    ew, st, pa, g = closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
+                                               theta, w, fn_i, fn_j, e)
+    tier = TIER_RELATIVE
+    bound = 0.0
+    if ew > 0.0:
+        b = CLOSED_FORM_BOUND * g
+        if g <= G_MAX and b <= tol:
+            bound = b
+        else:
+            tier = TIER_ODE
+    elif H0 > Ha:
+        ew2, _, _, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
+                                       w * STICK_MARGIN, fn_i, fn_j, e, np.empty(0))
+        if ew2 > 0.0:
+            tier = TIER_ODE
+    return ew, st, pa, tier, bound
+
+
+@njit(parallel=True, cache=CACHE)
+def _choose_fused(ins, st, body, particle_slip, tol, e_w, stage, path, w_out, tier, bound):
+    for q in prange(e_w.shape[0]):
+        m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, q, body,
+                                                                   particle_slip)
+        ew, sg, pa, ti, b = _decide(m_i, m_j, r, H0, Ha, ins[8][q * st[8]], ins[9][q * st[9]],
+                                    cos_t, theta, w, fn_i, fn_j, ins[17][q * st[17]], tol)
+        e_w[q] = ew
+        stage[q] = sg
+        path[q] = pa
+        w_out[q] = w
+        tier[q] = ti
+        bound[q] = b
+
+
+def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL):
+    """Mode "auto" without details from the fused kernels' inputs (:mod:`.fused`): the
+    preparation and the choice in one compiled loop (no details rows), then "ode" on the
+    collisions that need it, prepared for those only. Returns ``(e_w, stage, path, w)``,
+    bitwise what :func:`auto_batch` gives on the prepared arrays (tested)."""
+    tol = _check_tol(tol)
+    e_w = np.empty(n)
+    stage = np.empty(n, dtype=np.int8)
+    path = np.empty(n, dtype=np.int8)
+    w = np.empty(n)
+    tier = np.empty(n, dtype=np.int8)
+    bound = np.empty(n)
+    parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol, e_w,
+                    stage, path, w, tier, bound)
+    idx = np.flatnonzero(tier == TIER_ODE)
+    if idx.size:
+        rtol = min(1e-5, ODE_RTOL_PER_TOL * tol)
+        k = prepare_at(ins, steps, idx, body, particle_slip)
+        e_o, st_o, pa_o, _, _ = ode_batch(*k[:13], details=False, rtol=rtol,
+                                          atol=1e-2 * rtol)
+        e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
+    return e_w, stage, path, w
+
+
+def _check_tol(tol):
+    tol = float(tol)
+    if not (1e-6 <= tol <= 0.5):
+        raise ValueError(f"tol = {tol!r} is outside the allowed range [1e-6, 0.5]")
+    return tol
+
+
+@njit(parallel=True, cache=CACHE)
 def _choose(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol,
             e_w, stage, path, tier, bound, det):
     n = e_w.shape[0]
@@ -154,9 +282,7 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
                details=False, tol=DEFAULT_TOL):
     """:func:`run_auto` that also returns the tier used per collision (``TIER_RELATIVE`` or
     ``TIER_ODE``) and its error bound in ``e_w`` [-] (fifth and sixth arrays)."""
-    tol = float(tol)
-    if not (1e-6 <= tol <= 0.5):
-        raise ValueError(f"tol = {tol!r} is outside the allowed range [1e-6, 0.5]")
+    tol = _check_tol(tol)
     n = w.shape[0]
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
@@ -165,7 +291,7 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     bound = np.empty(n)
     det = np.empty((n, len(DETAIL_NAMES)))
     args = (m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e)
-    _choose(*args, tol, e_w, stage, path, tier, bound, det)
+    parallel_launch(_choose, *args, tol, e_w, stage, path, tier, bound, det)
     idx = np.flatnonzero(tier == TIER_ODE)
     if idx.size:
         rtol = min(1e-5, ODE_RTOL_PER_TOL * tol)

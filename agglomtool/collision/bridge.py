@@ -14,6 +14,8 @@ import math
 
 from numba import njit, vectorize
 
+from ._jit import CACHE
+
 _LN4 = math.log(4.0)
 
 __all__ = [
@@ -29,7 +31,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def ln_f(D, a2):
     """``ln f(D)`` of the distance function of Eq. 76 [-].
 
@@ -52,7 +54,7 @@ def ln_f(D, a2):
     return math.log(D) + math.log(s) - 2.0 * math.log(D + s)
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def ln_f_parts(D, a2):
     """``(kind, value)``: kind 1 when ``ln f = value - ln 4`` (the log1p form), else 0 and
     ``ln f = value``."""
@@ -65,7 +67,7 @@ def ln_f_parts(D, a2):
     return 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def ln_f_diff(D1, D2, a2):
     """``ln f(D2) - ln f(D1)`` [-], keeping its digits where both gaps are ``>> a``.
 
@@ -78,7 +80,7 @@ def ln_f_diff(D1, D2, a2):
     return ln_f_diff_from(k1, v1, D2, a2)
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def ln_f_diff_from(k1, v1, D2, a2):
     """:func:`ln_f_diff` from ``(k1, v1) = ln_f_parts(D1, a2)``, for callers that measure
     many gaps from one start and compute its parts once."""
@@ -86,7 +88,7 @@ def ln_f_diff_from(k1, v1, D2, a2):
     return (v2 - v1) + (k1 - k2) * _LN4
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def g_diff(D1, D2, a2):
     """``g(D2) - g(D1)`` for the capillary potential ``g(D) = D - sqrt(D^2 + a^2)`` [m].
 
@@ -101,13 +103,13 @@ def g_diff(D1, D2, a2):
     return a2 * (D2 - D1) * (1.0 + (D1 + D2) / (s1 + s2)) / ((D1 + s1) * (D2 + s2))
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def bridge_volume(r, a2):
     """Bridge volume ``V_b = (pi r / 2) (H0^2 - Ha^2)`` [m3] (Eq. 30), from ``a^2``."""
     return 0.5 * math.pi * r * a2
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def rupture_distance(theta, capillary_number, volume):
     """Gap at which the bridge ruptures [m] (Eq. 94, Pitois et al. 2001).
 
@@ -117,9 +119,9 @@ def rupture_distance(theta, capillary_number, volume):
 
 
 #: :func:`ln_f` as a numpy ufunc, for array code outside the kernels.
-ln_f_array = vectorize(["float64(float64, float64)"], cache=True)(ln_f.py_func)
+ln_f_array = vectorize(["float64(float64, float64)"], cache=CACHE)(ln_f.py_func)
 
 #: :func:`ln_f_diff` as a numpy ufunc.
-ln_f_diff_array = vectorize(["float64(float64, float64, float64)"], cache=True)(
+ln_f_diff_array = vectorize(["float64(float64, float64, float64)"], cache=CACHE)(
     ln_f_diff.py_func
 )

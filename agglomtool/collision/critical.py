@@ -9,10 +9,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit, prange
 
-from .bridge import ln_f_diff_array
+from ._jit import CACHE, parallel_launch
+from .bridge import ln_f_diff, ln_f_diff_array
+from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one
+from .paper import paper_kernel
+from .relative import relative_kernel
 
-__all__ = ["first_rebound_speed", "viscous_lower_bound"]
+__all__ = ["first_rebound_speed", "viscous_lower_bound", "critical_speeds"]
 
 #: Geometric points scanned inside the first doubling that rebounds.
 FINE_POINTS = 16
@@ -102,4 +107,132 @@ def first_rebound_speed(state, sticks, rtol):
         lo = np.where(s, mid, lo)
         hi = np.where(s, hi, mid)
     out[active] = hi
+    return out
+
+
+# ---- compiled solver for the tiers with fused kernels ("paper", "relative") -------------
+
+
+@njit(cache=CACHE)
+def _sticks(vals, ins, st, q, w_rel, tier, body, particle_slip, empty):
+    """True where collision ``q`` sticks at relative speed ``w_rel`` [m/s]; ``vals`` holds
+    its prepared numbers (``fused.prepare_one`` at zero speed)."""
+    m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, w_per_u0 = vals
+    if body and particle_slip:  # the drag depends on the particles' own speed
+        u = w_rel / w_per_u0
+        pre = _one_at_speed(ins, st, q, u, body, particle_slip)
+        fn_i, fn_j = pre[7], pre[8]
+    mu_l = ins[8][q * st[8]]
+    gamma = ins[9][q * st[9]]
+    e = ins[17][q * st[17]]
+    if tier == TIER_PAPER:
+        ew, _, _ = paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w_rel, fn_i,
+                                fn_j, e, empty)
+    else:
+        ew, _, _, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w_rel,
+                                      fn_i, fn_j, e, empty)
+    return ew == 0.0
+
+
+@njit(cache=CACHE)
+def _one_at_speed(ins, st, q, u, body, particle_slip):
+    return prepare_one(
+        ins[0][q * st[0]], ins[1][q * st[1]], ins[2][q * st[2]], ins[3][q * st[3]],
+        ins[4][q * st[4]], ins[5][q * st[5]], ins[6][q * st[6]], ins[7][q * st[7]],
+        ins[8][q * st[8]], ins[9][q * st[9]], ins[10][q * st[10]], ins[11][q * st[11]],
+        ins[12][q * st[12]], ins[13][q * st[13]], ins[14][q * st[14]], ins[15][q * st[15]],
+        ins[16][q * st[16]], ins[17][q * st[17]], u, math.nan, body, particle_slip,
+    )
+
+
+@njit(cache=CACHE)
+def _solve_one(ins, st, q, tier, body, particle_slip, rtol, u_max):
+    """u0* [m/s] of collision ``q`` by the search of :func:`first_rebound_speed`, run to
+    this collision's own convergence; ``inf`` where it exceeds ``u_max`` [m/s] (the search
+    stops as soon as every speed up to ``u_max`` is known to stick)."""
+    empty = np.empty(0)
+    vals = _one_at_speed(ins, st, q, 0.0, body, particle_slip)
+    m_i, m_j, r, H0, Ha = vals[0], vals[1], vals[2], vals[3], vals[4]
+    w_per_u0 = vals[10]
+    e = ins[17][q * st[17]]
+    if not H0 > Ha:
+        return 0.0 if e > 0.0 else math.inf
+    if e == 0.0 or Ha == 0.0:
+        return math.inf
+    mu_l = ins[8][q * st[8]]
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    delta = -ln_f_diff(H0, Ha, a2)
+    if math.isinf(m_j):
+        m_r = m_i
+    elif math.isinf(m_i):
+        m_r = m_j
+    else:
+        m_r = m_i * (m_j / (m_i + m_j))
+    # 1. Double from the viscous bound (which sticks) until a rebound.
+    hi = max(c * delta / m_r, MIN_SPEED)
+    w_max = u_max * w_per_u0
+    found = False
+    for _ in range(MAX_DOUBLINGS):
+        hi *= 2.0
+        if 0.5 * hi >= w_max:  # every speed up to w_max sticks: u0* > u_max
+            return math.inf
+        if not _sticks(vals, ins, st, q, hi, tier, body, particle_slip, empty):
+            found = True
+            break
+    if not found:
+        return math.inf
+    # 2. Scan the last doubling (hi/2, hi] on FINE_POINTS geometric points.
+    base = 0.5 * hi
+    lo = base  # below the first point lies the previous doubling, which stuck
+    top = hi
+    for k in range(1, FINE_POINTS):
+        g = base * 2.0 ** (k / FINE_POINTS)
+        if not _sticks(vals, ins, st, q, g, tier, body, particle_slip, empty):
+            top = g
+            break
+        lo = g
+    hi = top
+    # 3. Bisect in ln w between a sticking lo and a rebounding hi.
+    for _ in range(64):
+        if hi - lo <= rtol * hi:
+            break
+        mid = math.sqrt(lo) * math.sqrt(hi)
+        if _sticks(vals, ins, st, q, mid, tier, body, particle_slip, empty):
+            lo = mid
+        else:
+            hi = mid
+    u_star = hi / w_per_u0
+    return u_star if u_star <= u_max else math.inf
+
+
+@njit(parallel=True, cache=CACHE)
+def _solve_parallel(ins, st, tier, body, particle_slip, rtol, u_max, out):
+    for q in prange(out.shape[0]):
+        out[q] = _solve_one(ins, st, q, tier, body, particle_slip, rtol, u_max)
+
+
+@njit(cache=CACHE)
+def _solve_serial(ins, st, tier, body, particle_slip, rtol, u_max, out):
+    for q in range(out.shape[0]):
+        out[q] = _solve_one(ins, st, q, tier, body, particle_slip, rtol, u_max)
+
+
+def critical_speeds(ins, steps, n, tier, body, particle_slip, rtol, u_max=math.inf):
+    """Head-on u0* [m/s] of ``n`` collisions given as the fused kernels' inputs
+    (:mod:`.fused`), for ``tier`` ``fused.TIER_PAPER`` or ``fused.TIER_RELATIVE``.
+
+    The search of :func:`first_rebound_speed` (doubling from the viscous bound, a 16-point
+    geometric scan of the last doubling, bisection in ``ln w`` to ``rtol``), compiled and
+    run per collision: each stops at its own convergence, so a collision's u0* does not
+    depend on the rest of the batch. ``inf`` where u0* exceeds ``u_max`` [m/s]: the search
+    stops once every speed up to ``u_max`` is known to stick.
+    """
+    out = np.empty(n)
+    args = (ins, steps, int(tier), bool(body), bool(particle_slip), float(rtol), float(u_max),
+            out)
+    if n < SERIAL_BELOW // 100:
+        _solve_serial(*args)
+    else:
+        parallel_launch(_solve_parallel, *args)
     return out

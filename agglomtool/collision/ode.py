@@ -80,6 +80,7 @@ from ._codes import (
     W_CONTACT,
     W_VOLCORR,
 )
+from ._jit import CACHE, parallel_launch
 from .bridge import bridge_volume, g_diff, ln_f, rupture_distance
 from .relative import reduced_mass, relative_body_force, term_work_fractions
 
@@ -107,7 +108,7 @@ RUPTURE_MODES = ("contact", "self-consistent")
 _REACHED, _STOPPED, _CANNOT, _EVENT, _TOO_MANY = 0, 1, 2, 3, 4
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def volume_correction(D, a2):
     """Bridge-volume correction ``X_v(D) = 1 - D / sqrt(D^2 + a^2)`` [-] (Eqs. 25-26, 28),
     evaluated as ``a^2 / (s (s + D))`` without cancellation; ``a2`` = ``a^2`` [m2]."""
@@ -115,7 +116,7 @@ def volume_correction(D, a2):
     return a2 / (s * (s + D))
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def _rhs(y, k, sigma, a2, kc, fb, vis, volcorr):
     """``dk/dy`` (module docstring); ``kc = kcap/K0``, ``fb = F_b/K0`` [1/m],
     ``vis = 2 c / (m_r w)`` [-]."""
@@ -124,7 +125,7 @@ def _rhs(y, k, sigma, a2, kc, fb, vis, volcorr):
     return -D * (kc * x + fb) + sigma * vis * x * x * math.sqrt(max(k, 0.0))
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
     """One Dormand-Prince 5(4) step from ``(y, k)`` of size ``h`` with ``f1 = dk/dy`` there.
 
@@ -156,7 +157,7 @@ def _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
     return k5, err, f7
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def _cannot_rebound(D, k, a2, kc, fb, vis, e2, need):
     """True when the approach, now at gap ``D`` with ``k``, cannot end in a rebound.
 
@@ -173,13 +174,13 @@ def _cannot_rebound(D, k, a2, kc, fb, vis, e2, need):
     return e2 * m * m <= need
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def _rupture_gap_log(theta, ca_per_sqrtk, vol, k):
     """``ln h_rupt`` (Eq. 94) at the opening speed ``w sqrt(k)``."""
     return math.log(rupture_distance(theta, ca_per_sqrtk * math.sqrt(max(k, 0.0)), vol))
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
                e2, need, event, theta, ca_per_sqrtk, vol):
     """Integrate ``dk/dy`` from ``y0`` towards ``y1``.
@@ -235,7 +236,7 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
     return k, y, _TOO_MANY, steps
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det,
                rtol, atol, self_consistent, volcorr):
     """One collision integrated. Returns ``(e_w, stage, path, steps, status)``.
@@ -360,7 +361,7 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     return math.sqrt(k_end), REBOUND, path, steps, 0
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=CACHE)
 def _run_ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
                    rtol, atol, self_consistent, volcorr, e_w, stage, path, steps, status, det):
     for q in prange(e_w.shape[0]):
@@ -401,7 +402,8 @@ def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     steps = np.empty(n, dtype=np.int64)
     status = np.empty(n, dtype=np.int8)
     det = np.empty((n, N_DETAILS if details else 0))
-    _run_ode_batch(
+    parallel_launch(
+        _run_ode_batch,
         m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         float(rtol), float(atol), rupture == "self-consistent", bool(volume_corrected),
         e_w, stage, path, steps, status, det,

@@ -75,6 +75,7 @@ from ._codes import (
     W_CONTACT,
     W_VOLCORR,
 )
+from ._jit import CACHE, parallel_launch
 from .bridge import bridge_volume, g_diff, ln_f, ln_f_diff, rupture_distance
 from .paper import _viscous_loss
 
@@ -94,7 +95,7 @@ NEGLIGIBLE_FRACTION = 1e-3
 
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def reduced_mass(m_i, m_j):
     """Reduced mass [kg] and the mass fractions ``(m_r, frac_i, frac_j)``; exact for a plate
     on either side (``frac = m / (m_i + m_j)``)."""
@@ -108,7 +109,7 @@ def reduced_mass(m_i, m_j):
     return m_i * frac_j, frac_i, frac_j
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def relative_body_force(m_i, m_j, fn_i, fn_j):
     """Body force on the relative motion [N], positive when it pushes the pair together:
     ``m_r (fn_i / m_i - fn_j / m_j)``; a plate (infinite mass, held) contributes 0."""
@@ -118,7 +119,7 @@ def relative_body_force(m_i, m_j, fn_i, fn_j):
     return m_r * (acc_i - acc_j)
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2):
     """Bounds of the work of two optional terms, as fractions of the initial relative kinetic
     energy ``k0`` [J]: ``(body, volume correction)``.
@@ -145,7 +146,7 @@ def term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2):
     return body, (cap + vis) / k0
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det):
     """One collision by the paper's closed forms on the relative motion.
 
@@ -252,10 +253,13 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
         det[W_VOLCORR] = vol
     if stage != REBOUND:
         return 0.0, stage, path, 0.0
-    return math.sqrt(k_fin), REBOUND, path, k_fin
+    e_w = math.sqrt(k_fin)
+    if not e_w > 0.0:  # the energy left underflowed: a stick, as in the paper kernel
+        return 0.0, SEP_EN, path, 0.0
+    return e_w, REBOUND, path, k_fin
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=CACHE)
 def _run_relative_batch(
     m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path, k_fin,
     det,
@@ -281,7 +285,8 @@ def relative_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j
     path = np.empty(n, dtype=np.int8)
     k_fin = np.empty(n)
     det = np.empty((n, N_DETAILS if details else 0))
-    _run_relative_batch(
+    parallel_launch(
+        _run_relative_batch,
         m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path,
         k_fin, det,
     )

@@ -26,6 +26,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ._jit import CACHE, parallel_launch
 from .outcome import DETAIL_NAMES, Path, Stage
 from .relative import reduced_mass
 
@@ -43,7 +44,7 @@ _ST_APP, _W_CONTACT, _K_INI_I, _K_INI_J = (
 )
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def stokes_kernel(m_i, m_j, r, H0, Ha, mu_l, e, w, det):
     """One collision by the Ennis criterion. Returns ``(e_w, stage, path)``."""
     want = det.shape[0] > 0
@@ -76,7 +77,7 @@ def stokes_kernel(m_i, m_j, r, H0, Ha, mu_l, e, w, det):
     return e - (1.0 + e) * ln_gap / st, _REBOUND, 0
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=CACHE)
 def _run_stokes_batch(m_i, m_j, r, H0, Ha, mu_l, e, w, e_w, stage, path, det):
     for q in prange(e_w.shape[0]):
         ew, st, pa = stokes_kernel(m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], e[q], w[q],
@@ -98,5 +99,5 @@ def run_stokes(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     det = np.empty((n, N_DETAILS if details else 0))
-    _run_stokes_batch(m_i, m_j, r, H0, Ha, mu_l, e, w, e_w, stage, path, det)
+    parallel_launch(_run_stokes_batch, m_i, m_j, r, H0, Ha, mu_l, e, w, e_w, stage, path, det)
     return e_w, stage, path, det

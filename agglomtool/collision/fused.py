@@ -1,0 +1,424 @@
+"""Pair preparation fused into the compiled loops: from raw inputs to outcomes in one pass.
+
+:func:`agglomtool.pair.prepare_pair` is the readable numpy reference of the preparation
+(wet masses, Eqs. 32-33; harmonic radius, Eq. 3; Wen-Yu ``U_mf``; Gidaspow drag, Eqs. 18-21;
+weight and buoyancy, Eqs. 22-24; projection on the collision axis, Eqs. 116-119). This
+module computes the same numbers per collision inside the compiled loop, so a batch makes no
+intermediate arrays: the inputs are read once and only ``e_w``, ``stage``, ``path`` and ``w``
+are written.
+
+Same arithmetic, same order of operations as the reference, with two differences:
+
+- powers (``x**3``, ``re**0.687``, ``eps**-1.65``) come from the C library here and from
+  numpy's own vectorised ``power`` there; the two differ by at most one unit in the last
+  place, so the prepared numbers agree to a relative 1e-12 (tested: ``tests/test_fused_*``),
+  and the kernels are then the very same compiled functions;
+- only the drag branch that is used is evaluated (the reference computes both).
+
+Inputs
+------
+Twenty float64 arrays, in the order of :data:`INPUT_NAMES`, each 1-D, C-contiguous and of
+length 1 (broadcast to every collision) or ``n``; ``U`` is NaN where ``Bed.U`` is None and
+``u0_j`` NaN where it is None (head-on: ``u0`` for both). Flags: ``body`` (body forces on),
+``particle_slip`` (``drag_slip="particle"``).
+
+Batches below :data:`SERIAL_BELOW` collisions run in a plain loop on the calling thread:
+launching the parallel loop costs tens of microseconds, more than a small batch itself.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ..properties.fluidization import GRAVITY
+from ._codes import N_DETAILS
+from ._jit import CACHE, parallel_launch
+from .paper import paper_kernel
+from .relative import relative_kernel
+
+__all__ = [
+    "INPUT_NAMES",
+    "SERIAL_BELOW",
+    "prepare_one",
+    "prepare_flat",
+    "prepare_at",
+    "fused_batch",
+    "check_speeds",
+]
+
+#: The inputs, in the order the fused kernels take them.
+INPUT_NAMES = (
+    "p_i.d", "p_i.rho", "p_i.h0", "p_i.ha", "p_j.d", "p_j.rho", "p_j.h0", "p_j.ha",
+    "liquid.mu", "liquid.gamma", "liquid.rho", "liquid.theta_deg", "gas.mu", "gas.rho",
+    "bed.eps", "bed.U", "beta_deg", "e", "u0", "u0_j",
+)
+N_INPUTS = len(INPUT_NAMES)
+
+#: Batches smaller than this run serially on the calling thread. Measured on 2 busy cores:
+#: with its threads awake the parallel loop wins from about 30 collisions (100: 18 against
+#: 28 us; 1000: 0.15 against 0.27 ms), but when a worker thread has been descheduled the
+#: launch waits at the barrier for milliseconds (7.7 ms seen at 1000 collisions). Below 2000
+#: collisions (0.6 ms serially) the serial loop's steady time is preferred.
+SERIAL_BELOW = 2000
+
+#: Tier codes of :func:`fused_batch`.
+TIER_PAPER, TIER_RELATIVE = 0, 1
+
+_DEG = math.pi / 180.0  # numpy's deg2rad multiplies by the same constant
+_WY_C1, _WY_C2 = 33.7, 0.0408  # Wen and Yu (1966), as in properties.fluidization
+_EPS_SWITCH = 0.8  # Gidaspow's switch, as in properties.drag
+
+
+@njit(cache=CACHE)
+def _wet_mass(d, rho, h0, rho_l):
+    """Wet mass [kg] (Eqs. 32-33), ``inf`` for a plate; as ``pair.wet_mass``."""
+    r = 0.5 * d
+    if math.isinf(r):
+        return math.inf
+    solid = rho * r**3.0
+    shell = rho_l * h0 * (3.0 * r * r + 3.0 * r * h0 + h0 * h0)
+    return (4.0 / 3.0) * math.pi * (solid + shell)
+
+
+@njit(cache=CACHE)
+def _umf(d, h0, m, mu_g, rho_g):
+    """Wen-Yu ``U_mf`` of the wet particle [m/s]; 0 for a plate (``pair.emulsion_velocity``)."""
+    if math.isinf(d):
+        return 0.0
+    d_wet = d + 2.0 * h0
+    vol = (math.pi / 6.0) * d_wet**3.0
+    rho_p = m / vol
+    ar = d_wet**3.0 * rho_g * (rho_p - rho_g) * GRAVITY / (mu_g * mu_g)
+    re_mf = _WY_C2 * ar / (math.sqrt(_WY_C1 * _WY_C1 + _WY_C2 * ar) + _WY_C1)
+    return re_mf * mu_g / (rho_g * d_wet)
+
+
+@njit(cache=CACHE)
+def _drag(speed, d, volume, eps, mu_g, rho_g):
+    """Gidaspow drag [N] at slip speed ``speed`` >= 0 (``properties.drag``), the used branch
+    only."""
+    if eps < _EPS_SWITCH:
+        return (
+            (150.0 * (1.0 - eps) * mu_g / (eps * d * d) + 1.75 * rho_g * speed / d)
+            * volume * speed
+        )
+    re = rho_g * eps * d * speed / mu_g
+    if re < 1000.0:
+        cd_re = 24.0 * (1.0 + 0.15 * re**0.687)
+    else:
+        cd_re = 0.44 * re
+    cd_speed = cd_re * mu_g / (rho_g * eps * d)
+    return 0.75 * cd_speed * rho_g * speed * eps**-1.65 * volume / d
+
+
+@njit(cache=CACHE)
+def _body_force_n(d, h0, m, mu_g, rho_g, eps, U_e, uy, uz, particle_slip, cos_b, sin_b):
+    """Net body force on one particle projected on the axis ``n`` [N]
+    (``pair.body_force_vector`` then Eq. 118); ``(uy, uz)`` its lab velocity [m/s]."""
+    if math.isinf(d):
+        vol = 0.0
+        d_wet = 1.0
+        m_f = 0.0
+    else:
+        d_wet = d + 2.0 * h0
+        vol = (math.pi / 6.0) * d_wet**3.0
+        m_f = m
+    slip_z = U_e / eps
+    slip_y = 0.0
+    if particle_slip:
+        slip_y = slip_y - uy
+        slip_z = slip_z - uz
+    speed = math.hypot(slip_y, slip_z)
+    f_drag = _drag(speed, d_wet, vol, eps, mu_g, rho_g)
+    safe = speed if speed > 0.0 else 1.0
+    f_y = f_drag * slip_y / safe
+    f_z = f_drag * slip_z / safe + (rho_g * vol - m_f) * GRAVITY
+    return f_y * cos_b + f_z * sin_b
+
+
+@njit(cache=CACHE)
+def prepare_one(d_i, rho_i, h0_i, ha_i, d_j, rho_j, h0_j, ha_j, mu_l, gamma, rho_l,
+                theta_deg, mu_g, rho_g, eps, U, beta_deg, e, u0, u0_j, body, particle_slip):
+    """The kernel numbers of one collision from its raw inputs (module docstring).
+
+    Returns ``(m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, w_per_u0)``: masses [kg],
+    harmonic radius [m], gaps [m], cosine of the contact angle and the angle [rad], projected
+    body forces [N], relative normal speed ``u_i + u_j`` [m/s] and its ratio to a head-on
+    ``u0`` [-] (2, or 1 with a plate).
+    """
+    plate_i = math.isinf(d_i)
+    plate_j = math.isinf(d_j)
+    m_i = _wet_mass(d_i, rho_i, h0_i, rho_l)
+    m_j = _wet_mass(d_j, rho_j, h0_j, rho_l)
+    r = 2.0 / (2.0 / d_i + 2.0 / d_j)
+    theta = theta_deg * _DEG
+    cos_t = math.cos(theta)
+    u_i = 0.0 if plate_i else u0
+    if math.isnan(u0_j):
+        u_j = 0.0 if plate_j else u0
+    else:
+        u_j = u0_j
+    if body:
+        if math.isnan(U):
+            U_e = 1.1 * max(_umf(d_i, h0_i, m_i, mu_g, rho_g), _umf(d_j, h0_j, m_j, mu_g, rho_g))
+        else:
+            U_e = U
+        beta = beta_deg * _DEG
+        cos_b = math.cos(beta)
+        sin_b = math.sin(beta)
+        fn_i = _body_force_n(d_i, h0_i, m_i, mu_g, rho_g, eps, U_e, u_i * cos_b, u_i * sin_b,
+                             particle_slip, cos_b, sin_b)
+        fn_j = _body_force_n(d_j, h0_j, m_j, mu_g, rho_g, eps, U_e, -u_j * cos_b,
+                             -u_j * sin_b, particle_slip, cos_b, sin_b)
+    else:
+        fn_i = 0.0
+        fn_j = 0.0
+    w_per_u0 = 1.0 if (plate_i or plate_j) else 2.0
+    return (m_i, m_j, r, h0_i + h0_j, ha_i + ha_j, cos_t, theta, fn_i, fn_j, u_i + u_j,
+            w_per_u0)
+
+
+@njit(cache=CACHE, inline="always")
+def _one(ins, st, k, body, particle_slip):
+    return prepare_one(
+        ins[0][k * st[0]], ins[1][k * st[1]], ins[2][k * st[2]], ins[3][k * st[3]],
+        ins[4][k * st[4]], ins[5][k * st[5]], ins[6][k * st[6]], ins[7][k * st[7]],
+        ins[8][k * st[8]], ins[9][k * st[9]], ins[10][k * st[10]], ins[11][k * st[11]],
+        ins[12][k * st[12]], ins[13][k * st[13]], ins[14][k * st[14]], ins[15][k * st[15]],
+        ins[16][k * st[16]], ins[17][k * st[17]], ins[18][k * st[18]], ins[19][k * st[19]],
+        body, particle_slip,
+    )
+
+
+# The loop bodies are written out in both loops: an inlined helper taking the output arrays
+# made the serial loop twice as slow.
+
+
+@njit(parallel=True, cache=CACHE)
+def _fused_parallel(ins, st, body, particle_slip, tier, e_w, stage, path, w_out, det):
+    want = det.shape[1] > 0
+    empty = np.empty(0)
+    for k in prange(e_w.shape[0]):
+        row = det[k] if want else empty
+        m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, k, body,
+                                                                   particle_slip)
+        mu_l = ins[8][k * st[8]]
+        gamma = ins[9][k * st[9]]
+        e = ins[17][k * st[17]]
+        if tier == TIER_PAPER:
+            ew, sg, pa = paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
+                                      fn_j, e, row)
+        else:
+            ew, sg, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
+                                            fn_i, fn_j, e, row)
+        e_w[k] = ew
+        stage[k] = sg
+        path[k] = pa
+        w_out[k] = w
+
+
+@njit(cache=CACHE)
+def _fused_serial(ins, st, body, particle_slip, tier, e_w, stage, path, w_out, det):
+    want = det.shape[1] > 0
+    empty = np.empty(0)
+    for k in range(e_w.shape[0]):
+        row = det[k] if want else empty
+        m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, k, body,
+                                                                   particle_slip)
+        mu_l = ins[8][k * st[8]]
+        gamma = ins[9][k * st[9]]
+        e = ins[17][k * st[17]]
+        if tier == TIER_PAPER:
+            ew, sg, pa = paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
+                                      fn_j, e, row)
+        else:
+            ew, sg, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
+                                            fn_i, fn_j, e, row)
+        e_w[k] = ew
+        stage[k] = sg
+        path[k] = pa
+        w_out[k] = w
+
+
+@njit(cache=CACHE)
+def _prepare_serial(ins, st, body, particle_slip, out):
+    for k in range(out.shape[1]):
+        m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, wpu = _one(ins, st, k, body,
+                                                                     particle_slip)
+        out[0, k] = m_i
+        out[1, k] = m_j
+        out[2, k] = r
+        out[3, k] = H0
+        out[4, k] = Ha
+        out[5, k] = ins[8][k * st[8]]
+        out[6, k] = ins[9][k * st[9]]
+        out[7, k] = cos_t
+        out[8, k] = theta
+        out[9, k] = w
+        out[10, k] = fn_i
+        out[11, k] = fn_j
+        out[12, k] = ins[17][k * st[17]]
+        out[13, k] = wpu
+
+
+@njit(parallel=True, cache=CACHE)
+def _prepare_parallel(ins, st, body, particle_slip, out):
+    for k in prange(out.shape[1]):
+        m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, wpu = _one(ins, st, k, body,
+                                                                     particle_slip)
+        out[0, k] = m_i
+        out[1, k] = m_j
+        out[2, k] = r
+        out[3, k] = H0
+        out[4, k] = Ha
+        out[5, k] = ins[8][k * st[8]]
+        out[6, k] = ins[9][k * st[9]]
+        out[7, k] = cos_t
+        out[8, k] = theta
+        out[9, k] = w
+        out[10, k] = fn_i
+        out[11, k] = fn_j
+        out[12, k] = ins[17][k * st[17]]
+        out[13, k] = wpu
+
+
+@njit(parallel=True, cache=CACHE)
+def _prepare_at(ins, st, idx, body, particle_slip, out):
+    for j in prange(idx.shape[0]):
+        k = idx[j]
+        m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, wpu = _one(ins, st, k, body,
+                                                                     particle_slip)
+        out[0, j] = m_i
+        out[1, j] = m_j
+        out[2, j] = r
+        out[3, j] = H0
+        out[4, j] = Ha
+        out[5, j] = ins[8][k * st[8]]
+        out[6, j] = ins[9][k * st[9]]
+        out[7, j] = cos_t
+        out[8, j] = theta
+        out[9, j] = w
+        out[10, j] = fn_i
+        out[11, j] = fn_j
+        out[12, j] = ins[17][k * st[17]]
+        out[13, j] = wpu
+
+
+def prepare_at(ins, steps, idx, body, particle_slip):
+    """:func:`prepare_flat` of the collisions ``idx`` only (an int64 index array)."""
+    idx = np.ascontiguousarray(idx, dtype=np.int64)
+    out = np.empty((14, idx.shape[0]))
+    parallel_launch(_prepare_at, ins, steps, idx, bool(body), bool(particle_slip), out)
+    return out
+
+
+@njit(cache=CACHE)
+def check_speeds(d_i, d_j, u0, u0_j, n):
+    """Validate the lab speeds of ``n`` collisions (arrays of length 1 or ``n``).
+
+    Returns ``(code, index)`` of the first failing rule, in the order the rules are checked
+    (``code`` 0: all good): 1 a plate j with ``u0_j != 0``; 2 a plate i with ``u0 != 0``
+    when ``u0_j`` is given; 3 not approaching (``u_i + u_j <= 0``); 4 an infinite speed.
+    ``u0_j`` of length 0 means None.
+    """
+    given = u0_j.shape[0] > 0
+    si = 1 if d_i.shape[0] > 1 else 0
+    sj = 1 if d_j.shape[0] > 1 else 0
+    su = 1 if u0.shape[0] > 1 else 0
+    sv = 1 if (given and u0_j.shape[0] > 1) else 0
+    first = np.full(5, -1, dtype=np.int64)
+    for k in range(n):
+        plate_i = math.isinf(d_i[k * si])
+        plate_j = math.isinf(d_j[k * sj])
+        u = u0[k * su]
+        if given:
+            v = u0_j[k * sv]
+            if first[1] < 0 and plate_j and v != 0.0:
+                first[1] = k
+            if first[2] < 0 and plate_i and u != 0.0:
+                first[2] = k
+            w = u + v
+        else:
+            w = (0.0 if plate_i else u) + (0.0 if plate_j else u)
+        if first[3] < 0 and not w > 0.0:
+            first[3] = k
+        if first[4] < 0 and math.isinf(w):
+            first[4] = k
+    for code in range(1, 5):
+        if first[code] >= 0:
+            return code, first[code]
+    return 0, -1
+
+
+def _flat_input(a, shape, n):
+    """``a`` as a writable C-contiguous float64 1-D array of length 1 or ``n``, and its
+    step (0 or 1)."""
+    a = np.asarray(a, dtype=np.float64)
+    if a.size == 1:
+        return np.array(a, dtype=np.float64).reshape(1), 0
+    if a.size != n:
+        a = np.broadcast_to(a, shape)
+    a = np.require(a, dtype=np.float64, requirements=("C", "W")).reshape(-1)
+    return a, 1
+
+
+def _is_scalar(v) -> bool:
+    return type(v) is float or v.ndim == 0
+
+
+def flat_inputs(values, shape):
+    """The tuple of flat input arrays and the array of their steps for :data:`INPUT_NAMES`
+    ``values`` broadcasting to ``shape``. Scalars share one small array (one allocation:
+    a call with scalar inputs costs microseconds, not tens of them)."""
+    n = 1
+    for s in shape:
+        n *= s
+    arrays = [None] * len(values)
+    steps = np.zeros(len(values), dtype=np.int64)
+    scalar_at, scalars = [], []
+    for q, v in enumerate(values):
+        if _is_scalar(v):
+            scalar_at.append(q)
+            scalars.append(float(v))
+        else:
+            arrays[q], steps[q] = _flat_input(v, shape, n)
+    if scalars:
+        packed = np.array(scalars)
+        for j, q in enumerate(scalar_at):
+            arrays[q] = packed[j:j + 1]
+    return tuple(arrays), steps
+
+
+def fused_batch(ins, steps, n, tier, body, particle_slip, details=False):
+    """Run the fused preparation and the ``tier`` kernel (:data:`TIER_PAPER` or
+    :data:`TIER_RELATIVE`) on ``n`` collisions.
+
+    Returns ``(e_w, stage, path, w, det)``; ``det`` has shape ``(n, N_DETAILS)`` with
+    ``details``, else ``(n, 0)``.
+    """
+    e_w = np.empty(n)
+    stage = np.empty(n, dtype=np.int8)
+    path = np.empty(n, dtype=np.int8)
+    w = np.empty(n)
+    det = np.empty((n, N_DETAILS if details else 0))
+    args = (ins, steps, bool(body), bool(particle_slip), int(tier), e_w, stage, path, w, det)
+    if n < SERIAL_BELOW:
+        _fused_serial(*args)
+    else:
+        parallel_launch(_fused_parallel, *args)
+    return e_w, stage, path, w, det
+
+
+def prepare_flat(ins, steps, n, body, particle_slip):
+    """The kernel arrays of ``n`` collisions, compiled: a ``(14, n)`` float64 array whose
+    rows are ``m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, w_per_u0``
+    (the reference: :func:`agglomtool.pair.prepare_pair`)."""
+    out = np.empty((14, n))
+    if n < SERIAL_BELOW:
+        _prepare_serial(ins, steps, bool(body), bool(particle_slip), out)
+    else:
+        parallel_launch(_prepare_parallel, ins, steps, bool(body), bool(particle_slip), out)
+    return out
