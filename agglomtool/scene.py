@@ -562,9 +562,11 @@ class Resolved:
 
     @cached_property
     def u_star(self):
-        """Critical impact speed ``u0*`` [m/s] (shape of the inputs it depends on)."""
+        """Critical impact speed ``u0*`` [m/s] (shape of the inputs it depends on); ``inf``
+        above the ceiling ``u_ceiling``, where the search stops early."""
         p_i, p_j = self.particles
-        return critical_impact_speed(p_i, p_j, **self._common())
+        ceiling = float(np.max(self.num("u_ceiling")))
+        return critical_impact_speed(p_i, p_j, u_max=ceiling, **self._common())
 
     def stokes(self, u0):
         """Viscous Stokes number of the pair at head-on speed ``u0`` [-]:
