@@ -101,7 +101,8 @@ def test_out_of_range_raises_and_documented_fallback():
 @pytest.mark.parametrize(
     ("comp", "match"),
     [({"N2": 0.8, "O2": 0.1}, "sum to 0.9"), ({"Xe": 1.0}, "unknown gas species"),
-     ({"N2": 79, "O2": 21}, "outside the allowed range"), ("argonne", "gas = 'argonne' is not in the materials database")],
+     ({"N2": 79, "O2": 21}, "outside the allowed range"),
+     ("argonne", "gas = 'argonne' is not in the materials database")],
 )
 def test_bad_composition_raises(comp, match):
     with pytest.raises((ValueError, KeyError), match=match):
