@@ -14,13 +14,36 @@ def _first_bad(arr: np.ndarray, bad: np.ndarray) -> float:
     return float(np.broadcast_to(arr, bad.shape)[bad].flat[0])
 
 
+#: SI unit of each input field of the core's API, for pint Quantities given there.
+FIELD_UNITS = {
+    "d": "m", "h0": "m", "ha": "m", "rho": "kg/m**3", "mu": "Pa*s", "gamma": "N/m",
+    "theta_deg": "degree", "eps": "dimensionless", "U": "m/s", "u0": "m/s", "u0_j": "m/s",
+    "beta_deg": "degree", "e": "dimensionless", "tol": "dimensionless", "u_max": "m/s",
+}
+
+
+def _from_quantity(name: str, value):
+    """A pint Quantity given for field ``name``, in the field's SI unit (a ValueError for a
+    field without a unit or a Quantity of another dimension)."""
+    from .units import to_si
+
+    unit = FIELD_UNITS.get(name.split(".")[-1].split("[")[0])
+    if unit is None:
+        raise ValueError(f"{name} = {value!r}: give a plain number (SI) here")
+    return to_si(name, value, unit)
+
+
 def as_float_array(name: str, value, allowed: str = "finite numbers") -> np.ndarray:
     """Convert ``value`` to a float64 array; reject NaN and non-numeric input, naming the
-    field, the value and the ``allowed`` range in the message."""
+    field, the value and the ``allowed`` range in the message. A pint Quantity is converted
+    to the field's SI unit (:data:`FIELD_UNITS`) first: ``d = 500 um`` is 5e-4 m, never
+    500 m."""
     if type(value) is float or type(value) is int:  # the common scalar, without numpy
         if value != value:
-            raise ValueError(f"{name} = nan is outside the allowed range {allowed}")
+            raise ValueError(f"{name} = nan is not a number; allowed: {allowed}")
         return np.array(value, dtype=np.float64)
+    if hasattr(value, "magnitude") and hasattr(value, "units") and hasattr(value, "to"):
+        value = _from_quantity(name, value)
     if isinstance(value, (bool, np.bool_)) or getattr(value, "dtype", None) == np.bool_:
         raise ValueError(f"{name} = {value!r} is a boolean, not a number; allowed: {allowed}")
     try:
@@ -32,7 +55,7 @@ def as_float_array(name: str, value, allowed: str = "finite numbers") -> np.ndar
     nan = np.isnan(arr)
     if nan.any():
         where = "" if arr.ndim == 0 else f" at index {tuple(int(i) for i in np.argwhere(nan)[0])}"
-        raise ValueError(f"{name} = nan{where} is outside the allowed range {allowed}")
+        raise ValueError(f"{name} = nan{where} is not a number; allowed: {allowed}")
     return arr
 
 
@@ -55,7 +78,7 @@ def check_range(
     lo_s = "-inf" if lo is None else f"{lo:g}"
     hi_s = "inf" if hi is None else f"{hi:g}"
     rng = f"{'(' if lo_open else '['}{lo_s}, {hi_s}{')' if hi_open or hi is None else ']'}"
-    if unit:
+    if unit and unit not in ("-", "dimensionless"):
         rng += f" {unit}"
     arr = as_float_array(name, value, rng)
     bad = np.zeros(arr.shape, dtype=bool)

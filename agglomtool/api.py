@@ -104,10 +104,35 @@ class CollisionResult:
         ]
         for name in DETAIL_NAMES:
             if name in self.details:
-                val = float(np.asarray(self.details[name])[index])
+                val = float(np.asarray(self.details[name])[index]) + 0.0  # no "-0"
                 if not np.isnan(val):
-                    lines.append(f"  {name:12s} = {val:.6g}")
+                    unit = _detail_unit(name)
+                    lines.append(f"  {name:14s} = {val:.6g}{' ' + unit if unit else ''}")
         return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        """Shape, outcome counts and the range of ``e_w`` (not every array)."""
+        e_w = np.asarray(self.e_w)
+        n = e_w.size
+        stuck = int(np.count_nonzero(self.agglomerated))
+        rebound = e_w[e_w > 0.0]
+        rng = (f", e_w of rebounds {rebound.min():.4g}-{rebound.max():.4g}" if rebound.size
+               else "")
+        details = f", details: {len(self.details)} quantities" if self.details else ""
+        return (f"CollisionResult(mode={self.mode!r}, shape={e_w.shape}, {n} collision"
+                f"{'s' if n != 1 else ''}: {stuck} agglomerate, {n - stuck} rebound{rng}"
+                f"{details})")
+
+
+def _detail_unit(name: str) -> str:
+    """Unit of a detail quantity: energies and losses [J], gaps [m], speeds [m/s]."""
+    if name.startswith(("K_", "L_")):
+        return "J"
+    if name.startswith(("D_", "h_")):
+        return "m"
+    if name.startswith("w_"):
+        return "m/s"
+    return ""  # Ca, St_app and the work fractions are dimensionless
 
 
 def _check_mode(mode: str) -> None:

@@ -5,15 +5,21 @@ configurations, command-line options).
 Plain numbers are SI already and pass through untouched. pint is imported only when a
 Quantity or a unit string is actually given, so plain-number use pays nothing for it.
 
-Conversions by a power of ten divide by the exact integer rather than multiply by its
-inexact reciprocal, so that ``"5 um"`` is exactly ``5e-6`` m, as the plain number is.
+Conversions by a power of ten shift the decimal exponent of the number as typed rather
+than multiply by an inexact factor, so that ``"5 um"`` is exactly ``5e-6`` m and
+``"0.1 um"`` exactly ``1e-7`` m, as the plain numbers are.
 """
 
 from __future__ import annotations
 
+import math
 import re
 
 import numpy as np
+
+#: Arrays up to this size get the exact decimal power-of-ten conversion (a grid axis, a
+#: few parameters); larger ones are multiplied (within one rounding of it).
+_EXACT_MAX = 100_000
 
 __all__ = ["is_quantity", "to_si", "to_si_array", "registry"]
 
@@ -57,16 +63,19 @@ def _convert(field: str, q, unit: str, long_name: str):
         factor = q._REGISTRY.Quantity(1.0, q.units).to(target).magnitude - offset
     except pint.DimensionalityError:
         raise ValueError(
-            f"{field} = {q:~P} has units of {q.dimensionality}, but {field} ({long_name}) "
-            f"is in {unit}") from None
+            f"{field} = {q:~P} has units of {q.dimensionality}, but {field}"
+            + (f" ({long_name})" if long_name != field else "") + f" is in {unit}") from None
     mag = np.asarray(q.magnitude, dtype=float)
     if offset != 0.0:  # temperatures: degC, degF
         return q.to(target).magnitude
     if factor == 1.0:
         return mag
-    inverse = 1.0 / factor
-    if factor < 1.0 and abs(inverse - round(inverse)) <= 1e-9 * inverse:
-        return mag / round(inverse)
+    k = round(math.log10(factor))
+    if abs(factor / 10.0**k - 1.0) <= 1e-12 and mag.size <= _EXACT_MAX:
+        # A power of ten: shift the decimal exponent of the number as typed, so that
+        # "0.1 um" is the double nearest 1e-7, exactly as the plain number 1e-7 is.
+        out = np.array([float(f"{x!r}e{k}") for x in mag.ravel().tolist()])
+        return out.reshape(mag.shape)
     return mag * factor
 
 

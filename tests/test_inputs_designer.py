@@ -110,3 +110,29 @@ def test_map_lists_origins_and_assumptions():
     fig = operating_window(ds)
     notes = [t.get_text() for t in fig.texts]
     assert any("ilmenite asperity_height = 1 um" in n for n in notes)
+
+
+def test_core_api_converts_quantities_once_at_the_edge():
+    water = at.Liquid(mu=8.9e-4, gamma=0.073, rho=997.0, theta_deg=10.0)
+    air = at.Gas(mu=1.8e-5, rho=1.2)
+    si = at.Particle(d=500e-6, rho=2650.0, h0=5e-6, ha=1e-7)
+    q = at.Particle(d=500 * UREG.um, rho=2.65 * UREG("g/cm**3"), h0="5 um" and 5 * UREG.um,
+                    ha=0.1 * UREG.um)
+    assert (float(q.d), float(q.h0), float(q.ha)) == (500e-6, 5e-6, 1e-7)
+    a = at.collide(si, si, liquid=water, gas=air, u0=0.1)
+    b = at.collide(q, q, liquid=water, gas=air, u0=10 * UREG("cm/s"))
+    np.testing.assert_allclose(b.e_w, a.e_w, rtol=1e-12)  # rho: 2.65 g/cm3 -> 2650.0000000000005
+    with pytest.raises(ValueError, match=r"d = 5 kg has units of \[mass\]"):
+        at.Particle(d=5 * UREG.kg, rho=2650.0, h0=0.0, ha=0.0)
+
+
+def test_readable_result_and_explanation():
+    water = at.Liquid(mu=8.9e-4, gamma=0.073, rho=997.0, theta_deg=10.0)
+    air = at.Gas(mu=1.8e-5, rho=1.2)
+    p = at.Particle(d=500e-6, rho=2650.0, h0=5e-6, ha=1e-7)
+    r = at.collide(p, p, liquid=water, gas=air, u0=np.linspace(0.01, 1.0, 50))
+    text = repr(r)
+    assert "shape=(50,)" in text and "agglomerate" in text and len(text) < 300
+    one = at.collide(p, p, liquid=water, gas=air, u0=0.1, details=True).explain()
+    assert "K_ini_i" in one and " J" in one and " m/s" in one
+    assert "= -0 " not in one + " " and "= -0\n" not in one
