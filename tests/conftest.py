@@ -18,15 +18,11 @@ Two checks are written here from MODEL.md alone, not from the package's code:
                     sticks if c Ds >= m_r w_s or E_fin <= 0
         e_w = sqrt(2 E_fin / m_r) / w
 
-    It holds for identical particles and any size ratio. A plate is different in MODEL.md:
-    section 5 routes it through the lone-mover path of step 4 (``D_app = H0``; the
-    separation mirror with ``D_sep = Ha``) AFTER the checks of steps 1-3, which a plate
-    (energy and share 0, so "<= 0") reaches with the mover's ordinary-path energy. So for a
-    plate the stage sticks if ``c D >= m v`` or the ordinary ``E_end <= 0``; otherwise the
-    mover first takes the whole capillary work, ``E_mid = E_start - L_cap``, and then loses
-    ``c D (v_mid - c D / (2 m))`` from ``v_mid = sqrt(2 E_mid / m)``, sticking if
-    ``c D >= m v_mid`` (Eqs. 140-145). ``reference_e_w`` follows that literally for a plate;
-    see ``test_stability.test_plate_is_the_heavy_partner_limit`` for why it matters.
+    It holds for identical particles, any size ratio and a plate: without body forces both
+    particles carry the same CM momentum, so their running energies per unit CM speed are
+    equal and neither stops before the other; a plate, the limit of an infinitely heavy
+    partner, takes the same path with share 1 (see
+    ``test_stability.test_plate_is_the_heavy_partner_limit_in_every_tier``).
 
 ``energy_terms`` / ``assert_energy_bound``
     An upper bound that the paper's bookkeeping guarantees for every collision it calls a
@@ -128,17 +124,15 @@ def reference_e_w(p_i, p_j, liquid, w, e):
     Ha = p_i.ha + p_j.ha
     theta = np.deg2rad(liquid.theta_deg)
     mu, gamma = liquid.mu, liquid.gamma
-    plate = np.isinf(d_i) | np.isinf(d_j)
     arrs = np.broadcast_arrays(m_r, r, H0, Ha, mu, gamma, theta, np.asarray(w, float),
-                               np.asarray(e, float), plate)
-    m_r, r, H0, Ha, mu, gamma, theta, w, e = (a.astype(float).ravel() for a in arrs[:-1])
-    plate = arrs[-1].ravel()
+                               np.asarray(e, float))
+    m_r, r, H0, Ha, mu, gamma, theta, w, e = (a.astype(float).ravel() for a in arrs)
     n = w.size
     out = np.zeros(n)
     scale = np.zeros(n)
     for k in range(n):
         out[k], scale[k] = _reference_one(
-            m_r[k], r[k], H0[k], Ha[k], mu[k], gamma[k], theta[k], w[k], e[k], bool(plate[k])
+            m_r[k], r[k], H0[k], Ha[k], mu[k], gamma[k], theta[k], w[k], e[k]
         )
     shape = arrs[0].shape
     return out.reshape(shape), scale.reshape(shape)
@@ -154,24 +148,17 @@ LNF_ABS_ERR = 1e-13
 ENERGY_RTOL = 1e-9
 
 
-def _after_stage(k_start, v_start, m_r, c, delta, loss_cap, lone):
+def _after_stage(k_start, v_start, m_r, c, delta, loss_cap):
     """Energy left after one liquid stage (0 = sticks), MODEL.md section 5."""
     if not c * delta < m_r * v_start:  # steps 1 / 7
         return 0.0
     k_end = k_start - loss_cap - c * delta * (v_start - c * delta / (2.0 * m_r))
     if not k_end > 0.0:  # steps 3 / 8, "both <= 0"
         return 0.0
-    if not lone:
-        return k_end
-    k_mid = k_start - loss_cap  # step 4 with D_app = H0 (or its separation mirror)
-    v_mid = math.sqrt(2.0 * k_mid / m_r)
-    if not c * delta < m_r * v_mid:
-        return 0.0
-    k_end = k_mid - c * delta * (v_mid - c * delta / (2.0 * m_r))
-    return k_end if k_end > 0.0 else 0.0
+    return k_end
 
 
-def _reference_one(m_r, r, H0, Ha, mu, gamma, theta, w, e, lone):
+def _reference_one(m_r, r, H0, Ha, mu, gamma, theta, w, e):
     """(e_w, tolerance [J]) for one collision; the tolerance is ENERGY_RTOL times the sum of
     the energies involved plus the viscous loss that the rounding of ln f can shift."""
     k0 = 0.5 * m_r * w * w
@@ -183,7 +170,7 @@ def _reference_one(m_r, r, H0, Ha, mu, gamma, theta, w, e, lone):
     da = float(_ln_f(H0, a2) - _ln_f(Ha, a2))
     gain = kcap * float(_g(H0, a2) - _g(Ha, a2))  # capillary work gained on approach
     tol = ENERGY_RTOL * (k0 + abs(gain) + c * da * w) + 2.0 * LNF_ABS_ERR * c * w
-    e_app = _after_stage(k0, w, m_r, c, da, -gain, lone)
+    e_app = _after_stage(k0, w, m_r, c, da, -gain)
     if not e_app > 0.0:
         return 0.0, tol
     w_s = e * math.sqrt(2.0 * e_app / m_r)
@@ -197,7 +184,7 @@ def _reference_one(m_r, r, H0, Ha, mu, gamma, theta, w, e, lone):
     ds = float(_ln_f(h, a2) - _ln_f(Ha, a2))
     loss_cap = kcap * float(_g(h, a2) - _g(Ha, a2))
     tol += ENERGY_RTOL * (abs(loss_cap) + c * ds * w_s) + 2.0 * LNF_ABS_ERR * c * w_s
-    e_fin = _after_stage(e_s, w_s, m_r, c, ds, loss_cap, lone)
+    e_fin = _after_stage(e_s, w_s, m_r, c, ds, loss_cap)
     if not e_fin > 0.0:
         return 0.0, tol
     return math.sqrt(2.0 * e_fin / m_r) / w, tol

@@ -59,7 +59,7 @@ def _random_cases(rng, n):
 
 def _near_threshold_cases(checks):
     """The paper's two cases at beta 45 and 90 around u0*, where one particle stops first,
-    and a particle on a plate around its u0*."""
+    a particle on a plate around its u0*, and a big grain above a small one."""
     out = []
     plate = at.Particle.plate(h0=100e-6, ha=0.5e-6)
     glass = at.Particle(d=1.74e-3, rho=2500.0, h0=0.0, ha=1e-6)
@@ -68,6 +68,12 @@ def _near_threshold_cases(checks):
              for b in (45.0, 90.0, 225.0, 270.0)]
     specs.append((plate, glass, water, AIR, 90.0))
     specs.append((glass, plate, water, AIR, 270.0))
+    # A 2 mm grain above a 200 um one: the big one stops first on the approach (a plate,
+    # the heavy-partner limit, does so only in a viscous-dominated approach).
+    big = at.Particle(d=2e-3, rho=2650.0, h0=20e-6, ha=0.1e-6)
+    small = at.Particle(d=200e-6, rho=2650.0, h0=20e-6, ha=0.1e-6)
+    specs.append((big, small, water, AIR, 90.0))
+    specs.append((small, big, water, AIR, 270.0))  # the mirror: j stops first
     factors = np.geomspace(0.7, 1.5, 25)
     for p_i, p_j, liq, gas, beta in specs:
         u_star = float(at.critical_impact_speed(p_i, p_j, liquid=liq, gas=gas, beta_deg=beta))

@@ -341,12 +341,25 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
     l_bdw_j = -f_j * share_j * dist
     e_i = k_i - share_i * l_cap - _viscous_loss(v_i, m_i, c_delta) - l_bdw_i
     e_j = k_j - share_j * l_cap - _viscous_loss(v_j, m_j, c_delta) - l_bdw_j
-    if e_i > 0.0 and e_j > 0.0:
+    # A plate (infinite mass, zero CM speed) is the limit of a partner far heavier than the
+    # particle: its energy and share vanish, but its running energy per unit CM speed stays
+    # finite. With k/v = p/2, share/v = 1/(v_i + v_j) and m v = p, that ratio is the running
+    # energy of a unit-speed particle of mass p (the same functions, scaled arguments); its
+    # sign decides whether the plate "stops first" (a viscous-dominated approach) or the
+    # particle takes the ordinary path with share 1.
+    v_sum = v_i + v_j
+    s_i = e_i
+    s_j = e_j
+    if math.isinf(m_i):
+        s_i = 0.5 * p - l_cap / v_sum - _viscous_loss(1.0, p, c_delta) + f_i * dist / v_sum
+    if math.isinf(m_j):
+        s_j = 0.5 * p - l_cap / v_sum - _viscous_loss(1.0, p, c_delta) + f_j * dist / v_sum
+    if s_i > 0.0 and s_j > 0.0:
         return 0, e_i, e_j, nan, 0, l_cap, l_vis, l_bdw_i, l_bdw_j
-    if e_i <= 0.0 and e_j <= 0.0:
+    if s_i <= 0.0 and s_j <= 0.0:
         return 2, 0.0, 0.0, nan, 0, l_cap, l_vis, l_bdw_i, l_bdw_j
     # One particle stops first (x); the other (y) goes on alone (Section 2.3.5, Eqs. 136-145).
-    if e_i <= 0.0:
+    if s_i <= 0.0:
         flag = 1
         k_x, share_x, v_x, m_x, f_x = k_i, share_i, v_i, m_i, f_i
         k_y, share_y, v_y, m_y, f_y = k_j, share_j, v_j, m_j, f_j
@@ -354,9 +367,14 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
         flag = 2
         k_x, share_x, v_x, m_x, f_x = k_j, share_j, v_j, m_j, f_j
         k_y, share_y, v_y, m_y, f_y = k_i, share_i, v_i, m_i, f_i
-    if k_x <= 0.0:
-        # Zero CM speed from the start (a plate): it never moves, the other takes every loss.
-        d_stop = d_start
+    if math.isinf(m_x):
+        # The plate stops first: where its running energy per unit speed reaches zero.
+        d_stop = _first_zero(
+            d_start, d_end, start_kind, start_val, 0.5 * p, 1.0 / v_sum, 1.0, p, f_x, c,
+            kcap, a2
+        )
+    elif k_x <= 0.0:
+        d_stop = d_start  # zero energy from the start: it never moves
     else:
         d_stop = _first_zero(
             d_start, d_end, start_kind, start_val, k_x, share_x, v_x, m_x, f_x, c, kcap, a2
