@@ -87,6 +87,17 @@ def scene_findings(values: dict) -> list[tuple[str, str]]:
                            "absolute, in Pa (write 1.5e5 or \"1.5 bar\")"))
     if pmax is not None and pmax > PRESSURE_RANGE[1]:
         found.append(("P", f"P = {pmax:g} Pa is above {PRESSURE_RANGE[1]:g} Pa (100 bar)"))
+    liquid = values.get("liquid")
+    if liquid is not None and materials.liquid_entry(str(liquid)).model == "water":
+        tmax = _extreme(values, "T", hi)
+        pmin = _extreme(values, "P", lo)
+        if tmax is not None and pmin is not None and pmin > 0.0:
+            t_boil = _water_boiling_point(pmin)
+            if tmax >= t_boil:
+                found.append(("T", f"T = {tmax:g} K is at or above water's boiling point at "
+                                   f"P = {pmin:g} Pa ({t_boil:.2f} K): a water film would "
+                                   "evaporate (the properties are those of superheated "
+                                   "liquid)"))
     umax, ceiling = _extreme(values, "u0", hi), _extreme(values, "u_ceiling", lo)
     if (values.get("speed") in ("fixed", "lognormal") and umax is not None
             and ceiling is not None and umax > ceiling):
@@ -100,3 +111,11 @@ def warn_findings(findings, stacklevel: int = 3) -> None:
     """Issue one :class:`PlausibilityWarning` per finding."""
     for _field, message in findings:
         warnings.warn(message, PlausibilityWarning, stacklevel=stacklevel + 1)
+
+
+def _water_boiling_point(P: float) -> float:
+    """Saturation temperature of water at ``P`` [Pa] (IAPWS-95 through CoolProp) [K]."""
+    from .properties._gas_tables import _cp
+
+    P = min(max(P, 611.7), 22.06e6)  # the triple point to the critical pressure
+    return float(_cp().PropsSI("T", "P", P, "Q", 0, "Water"))

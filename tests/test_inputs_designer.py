@@ -136,3 +136,14 @@ def test_readable_result_and_explanation():
     one = at.collide(p, p, liquid=water, gas=air, u0=0.1, details=True).explain()
     assert "K_ini_i" in one and " J" in one and " m/s" in one
     assert "= -0 " not in one + " " and "= -0\n" not in one
+
+
+def test_water_above_its_boiling_point_and_melts_outside_calibration_warn():
+    with pytest.warns(PlausibilityWarning, match=r"^T = 383.15 K is at or above water's "
+                                                 "boiling point"):
+        at.Scene(liquid="water", T=383.15, h0=5e-6, d_i=300e-6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        at.Scene(liquid="water", T=383.15, P=3e5, h0=5e-6, d_i=300e-6)  # 3 bar: still liquid
+    with pytest.warns(PlausibilityWarning, match="calibration"):
+        at.materials.liquid("blast-furnace-slag", T=1773.15, viscosity_model="grd")

@@ -21,7 +21,10 @@ __all__ = ["viscosity_giordano_russell_dingwell", "viscosity_urbain_mills", "vis
 
 
 def _warn(msg: str) -> None:
-    warnings.warn(msg, UserWarning, stacklevel=3)
+    """A value outside a correlation's calibration: plausible input, implausible answer."""
+    from ..plausibility import PlausibilityWarning
+
+    warnings.warn(msg, PlausibilityWarning, stacklevel=3)
 
 
 def _temperature(T) -> np.ndarray:
