@@ -64,6 +64,8 @@ def scene_findings(values: dict) -> list[tuple[str, str]]:
         size = d if values.get(d) is not None else "d_i"  # d_j defaults to d_i
         if values.get(size) is None or name is None:
             continue
+        if d == "d_j" and size == "d_i" and str(name) == str(values.get("solid_i")):
+            continue  # the same size of the same solid: said once, for d_i
         label = d if size == d else f"{d} (= d_i)"
         entry = materials.solid(str(name))
         r_lo, r_hi = entry.size_range
