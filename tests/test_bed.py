@@ -56,6 +56,14 @@ def test_pair_matrix_symmetric_with_direction_reversed(cond):
         np.testing.assert_allclose(m, swapped, rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(ds.efficiency.values, ds.efficiency.values.T, rtol=1e-12,
                                atol=1e-15)
+    # Across components, compare with the bed listed the other way round (the block with
+    # ilmenite as particle i is then computed, not filled by symmetry).
+    rev = bed_propensity(scene, comps[::-1], directions=4)
+    order = np.r_[np.arange(3) + 2, np.arange(2)]  # rev's classes in ds's order
+    for name in ("u_star", "sticking_probability"):
+        np.testing.assert_allclose(rev[name].values[np.ix_(order, order)], ds[name].values,
+                                   rtol=1e-12, atol=1e-15)
+    assert list(rev.component_cls.values[order]) == list(ds.component_cls.values)
     # A dry particle against a dry one cannot form a bridge; against a wet one it may (with
     # the 5 um water film; the 0.15 um slag film alone is too thin for the asperities).
     ilm = ds.component_cls.values == "ilmenite"

@@ -26,10 +26,14 @@ Directions: the axis ``i -> j`` of a collision has the isotropic distribution, s
 ``s = sin(beta)`` (``beta`` its elevation from the horizontal) is uniform on [-1, 1]. The
 sticking probability ``P_ab(s)`` under the scene's speed distribution is averaged with
 ``directions`` Gauss-Legendre nodes in ``s`` (weights / 2). ``beta`` enters only through the
-body forces' component along the axis, linear in ``s``, so ``P_ab(s)`` is smooth where the
-speed distribution is, and 8 nodes integrate polynomials of degree 15 exactly; the nodes come
-in pairs ``+-s``, so ``E_ab = E_ba`` exactly (``(a, b)`` at ``beta`` is ``(b, a)`` at
-``-beta``). The coalescence efficiency ``E_ab = sum_k (w_k / 2) P_ab(s_k)``, and the bed's
+body forces' component along the axis, linear in ``s``, so ``P_ab(s)`` is smooth except
+where a bridge outcome switches (a kink); 8 nodes integrate polynomials of degree 15
+exactly, and on a 70 % sand (gsd 1.6) + 30 % ilmenite bed at the paper's water and slag
+conditions they are within 0.03 % (water) and 1e-5 absolute (slag) of 32 nodes (2 nodes:
+2 %). The nodes come in pairs ``+-s``, so ``E_ab = E_ba`` exactly (``(a, b)`` at ``beta``
+is ``(b, a)`` at ``-beta``): the blocks of two different components are computed once and
+the swapped block filled from them; within a component both orders are computed.
+The coalescence efficiency ``E_ab = sum_k (w_k / 2) P_ab(s_k)``, and the bed's
 propensity ``P_bed = sum_ab W_ab E_ab``: the fraction of all collisions that stick.
 
 One bed, one gas velocity: ``U_mf`` is that of the mixture, by the scene's ``umf_method``
@@ -204,7 +208,12 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
         pts = {k: v[g].reshape(gn, 1, 1, 1) for k, v in col.items() if k in base}
         for a, ca in enumerate(comps):
             ia = np.flatnonzero(cidx == a)
-            for b, cb in enumerate(comps):  # a loop over component pairs (names are scalars)
+            # A loop over unordered component pairs (names are scalars in a Resolved); the
+            # block (b, a) is the block (a, b) with i and j swapped and the direction
+            # reversed (node k -> D - 1 - k: the nodes are +-s pairs). Blocks (a, a) are
+            # computed whole, both orders.
+            for b in range(a, len(comps)):
+                cb = comps[b]
                 ib = np.flatnonzero(cidx == b)
                 vals = {**base, **pts, "solid_i": ca.name, "solid_j": cb.name,
                         "d_i": d[ia].reshape(1, -1, 1, 1), "d_j": d[ib].reshape(1, 1, -1, 1),
@@ -218,6 +227,10 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
                 u_star[g, ia[:, None], ib[None, :], :] = np.broadcast_to(crit["u_star"], shape)
                 prob[g, ia[:, None], ib[None, :], :] = np.broadcast_to(coll["propensity"],
                                                                        shape)
+                if b != a:
+                    for m in (u_star, prob):
+                        m[g, ib[:, None], ia[None, :], :] = np.swapaxes(
+                            m[g, ia[:, None], ib[None, :], :], 1, 2)[..., ::-1]
         U[g] = np.broadcast_to(r.U, (gn, 1, 1, 1)).reshape(gn)
     return dict(u_star=u_star, prob=prob, W=W, Umf=Umf, U=U, n=n, w_bed=w_bed, cidx=cidx,
                 d=d, lo=lo, hi=hi, D_wet=D_wet, h0_c=h0_c, s=s, beta=beta, wdir=wdir,
