@@ -176,3 +176,11 @@ def test_export_round_trips(tmp_path, suffix):
         assert list(back[f"component_{side}"].values) == list(ds[f"component_{side}"].values)
     with pytest.raises(ValueError, match="suffix"):
         export_efficiency(ds, tmp_path / "eff.txt")
+    # One point of a sweep with matrix=True: the efficiency only.
+    sw = bed_sweep(scene, comps, directions=4, matrix=True, U_Umf=[2.0, 3.0])
+    point = sw.sel(U_Umf=3.0)
+    back = read_efficiency(export_efficiency(point, tmp_path / f"sweep{suffix}"))
+    np.testing.assert_array_equal(back.efficiency.values, point.efficiency.values)
+    assert "u_star_min" not in back
+    with pytest.raises(ValueError, match="select one point"):
+        export_efficiency(sw, tmp_path / f"all{suffix}")

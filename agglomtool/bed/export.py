@@ -30,7 +30,8 @@ def _check(ds) -> None:
     if not isinstance(ds, xr.Dataset) or "efficiency" not in ds or \
             ds["efficiency"].dims != ("cls_i", "cls_j"):
         raise ValueError("ds must be the Dataset of agglomtool.bed.bed_propensity (an "
-                         "'efficiency' over (cls_i, cls_j)); for a bed_sweep select one point")
+                         "'efficiency' over (cls_i, cls_j)); for a bed_sweep(matrix=True) "
+                         "select one point (ds.isel(T=0, ...))")
 
 
 def _matrix_dataset(ds: xr.Dataset) -> xr.Dataset:
@@ -47,7 +48,8 @@ def export_efficiency(ds: xr.Dataset, path) -> Path:
     Parameters
     ----------
     ds : xarray.Dataset
-        The result of :func:`agglomtool.bed.bed_propensity`.
+        The result of :func:`agglomtool.bed.bed_propensity`, or one point of a
+        ``bed_sweep(..., matrix=True)`` (which holds the efficiency only).
     path : str or Path
         ``*.csv``: one row per ordered pair of classes ``(i, j)`` with both classes'
         component, diameter and edges [m], ``efficiency`` [-], ``rate_weight`` [-] and
@@ -79,6 +81,8 @@ def export_efficiency(ds: xr.Dataset, path) -> Path:
             units.append(unit)
             values.append(np.asarray(ds[f"{name}_cls_{side}"].values)[idx])
     for name, (unit, _) in EXPORTED.items():
+        if name not in ds:  # a bed_sweep's matrix has the efficiency only
+            continue
         cols.append(name)
         units.append(unit)
         values.append(np.asarray(ds[name].values).ravel())
@@ -124,6 +128,8 @@ def read_efficiency(path) -> xr.Dataset:
                 "units": unit, "long_name": long_name})
     data = {}
     for name, (unit, long_name) in EXPORTED.items():
+        if name not in col:
+            continue
         m = np.full((ni, nj), np.nan)
         m[i, j] = np.array(col[name], dtype=float)
         data[name] = xr.DataArray(m, dims=["cls_i", "cls_j"],
