@@ -184,3 +184,23 @@ def test_export_round_trips(tmp_path, suffix):
     assert "u_star_min" not in back
     with pytest.raises(ValueError, match="select one point"):
         export_efficiency(sw, tmp_path / f"all{suffix}")
+
+
+def test_sweep_over_temperature_and_coating():
+    """T and h0 axes (h0: every component that follows the scene's coating) equal single
+    points; a component with its own coating keeps it."""
+    scene = at.Scene(**WATER)
+    comps = [Component("silica-sand", 0.8, d50=700e-6, gsd=1.3, classes=2),
+             Component("olivine", 0.2, d50=400e-6, h0=0.0)]
+    ds = bed_sweep(scene, comps, directions=2, T=[298.15, 338.15], h0=[3e-6, 8e-6])
+    assert ds.propensity.dims == ("T", "h0")
+    values = set()
+    for T in (298.15, 338.15):
+        for h0 in (3e-6, 8e-6):
+            one = bed_propensity(scene.replace(T=T, h0=h0), comps, directions=2)
+            got = float(ds.propensity.sel(T=T, h0=h0))
+            assert got == pytest.approx(float(one.propensity), rel=1e-12, abs=1e-15)
+            assert float(ds.Umf.sel(T=T, h0=h0)) == pytest.approx(float(one.Umf), rel=1e-12)
+            assert float(one.h0_component.sel(component="olivine")) == 0.0
+            values.add(round(got, 12))
+    assert len(values) == 4  # every axis matters
