@@ -102,7 +102,7 @@ def main() -> str:
                         color="0.4", rotation=90, ha="right")
         ax.set(xlabel="geometric standard deviation of the sand sizes [-]",
                ylabel="bed agglomeration propensity [-]", title=f"(b) {title}")
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8, loc="upper left")
     fig.suptitle("Beds, not pairs: 1000 um sand with ilmenite (a) and with a size spread (b)")
     path = output_dir() / "bed_mixtures.png"
     fig.savefig(path, dpi=120)
