@@ -23,8 +23,10 @@ _LAZY = {
     "PlausibilityWarning": ".plausibility",
     "LogNormal": ".uncertainty", "Normal": ".uncertainty", "Uniform": ".uncertainty",
     "monte_carlo": ".uncertainty", "sobol_indices": ".uncertainty",
+    "Component": ".bed.mixture", "bed_propensity": ".bed.propensity",
+    "bed_sweep": ".bed.propensity",
 }
-_SUBMODULES = ("examples", "materials", "maps", "plots", "properties", "collision",
+_SUBMODULES = ("bed", "examples", "materials", "maps", "plots", "properties", "collision",
                "uncertainty")
 
 __all__ = sorted([*_LAZY, "examples", "materials", "__version__"])

@@ -70,6 +70,43 @@ def _cmd_map(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_bed(args: argparse.Namespace) -> int:
+    """Propensity of a bed of mixed solids and sizes (TOML); write it as netCDF."""
+    from pathlib import Path
+
+    from .bed.config import load_bed_config
+    from .bed.export import export_efficiency
+    from .bed.propensity import bed_propensity, bed_sweep
+    from .maps.export import write_map
+
+    cfg = load_bed_config(args.config)
+    out = Path(args.output)
+    if out.is_dir():
+        raise CommandError(f"output {str(out)!r} is a directory; give a file name (.nc)")
+    opts = cfg.options
+    if cfg.grid:
+        if args.efficiency:
+            raise CommandError("--efficiency needs a bed without [grid] (one operating point)")
+        ds = bed_sweep(cfg.scene, cfg.components, mix=opts["mix"], nodes=opts["nodes"],
+                       directions=opts["directions"], **cfg.grid)
+        p = ds["propensity"]
+        sizes = " x ".join(f"{k} {v}" for k, v in p.sizes.items())
+        print(f"bed propensity {float(p.min()):.4g}-{float(p.max()):.4g} over {sizes}")
+    else:
+        ds = bed_propensity(cfg.scene, cfg.components, nodes=opts["nodes"],
+                            directions=opts["directions"])
+        parts = ", ".join(f"{c} {float(v):.4g}" for c, v in
+                          zip(ds.component.values, ds.propensity_by_component.values,
+                              strict=True))
+        print(f"bed propensity {float(ds.propensity):.4g} (by component: {parts}); "
+              f"U_mf {float(ds.Umf):.4g} m/s, U {float(ds.U):.4g} m/s")
+        if args.efficiency:
+            print(f"wrote {export_efficiency(ds, args.efficiency)}")
+    write_map(ds, out)
+    print(f"wrote {out}")
+    return 0
+
+
 def _parse_sel(items) -> dict:
     sel = {}
     for item in items or []:
@@ -269,6 +306,15 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
     if command == "collide":
         _add_scene_options(co)
     co.set_defaults(func=_cmd_collide)
+
+    be = sub.add_parser("bed", help="propensity of a bed of mixed solids and sizes (TOML)",
+                        description="Bed-level agglomeration propensity of the [scene] and "
+                        "[[component]] tables of a TOML file, over its optional [grid].")
+    be.add_argument("config", help="TOML file with [scene], [[component]], [grid], [options]")
+    be.add_argument("-o", "--output", required=True, help="netCDF file to write")
+    be.add_argument("--efficiency", metavar="FILE",
+                    help="also write the coalescence-efficiency matrix (.csv or .nc)")
+    be.set_defaults(func=_cmd_bed)
 
     ma = sub.add_parser("materials", help="what the materials database holds, with sources")
     ma.set_defaults(func=_cmd_materials)

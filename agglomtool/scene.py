@@ -32,8 +32,8 @@ from ._fields import (
 )
 from ._validate import check_range
 from .api import MODES, collide, critical_impact_speed
+from .bed.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
 from .inputs import Bed, Liquid, Particle
-from .maps.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
 from .pair import DRAG_SLIP_MODES, wet_mass
 from .plausibility import scene_findings, warn_findings
 from .properties import gas_properties, umf, umf_methods
@@ -95,7 +95,7 @@ class Scene:
         Impact speed [m/s], head-on in the lab frame (relative speed ``2 u0``): the value
         for ``speed="fixed"``, the median for ``speed="lognormal"``.
     speed : {"fixed", "lognormal", "maxwellian", "excess-gas"}, optional
-        Impact-speed distribution (see :mod:`agglomtool.maps.speeds`). ``None`` picks
+        Impact-speed distribution (see :mod:`agglomtool.bed.speeds`). ``None`` picks
         ``"fixed"`` when ``u0`` is given, ``"maxwellian"`` when ``granular_temperature``
         is, and otherwise the default estimate ``"excess-gas"``.
     sigma_ln : float
@@ -375,15 +375,22 @@ def _compact(a):
 
 
 class Resolved:
-    """Lazily derived numbers of a mapping of field values (arrays that broadcast)."""
+    """Lazily derived numbers of a mapping of field values (arrays that broadcast).
 
-    def __init__(self, values: dict):
+    ``Umf`` [m/s], if given, is used instead of the pair's own minimum fluidization velocity
+    (a bed's, shared by all its pairs: see :func:`agglomtool.bed.bed_propensity`); the gas
+    velocity, the emulsion velocity and the speed distribution then follow it.
+    """
+
+    def __init__(self, values: dict, *, Umf=None):
         v = dict(values)
         for name in CATEGORICAL_FIELDS:
             if name in v and v[name] is not None:
                 v[name] = str(np.asarray(v[name]).reshape(-1)[0])
         v["body_forces"] = bool(np.asarray(v["body_forces"]).reshape(-1)[0])
         self.v = v
+        if Umf is not None:
+            self.__dict__["Umf"] = np.asarray(Umf, dtype=float)  # pre-sets the cached property
 
     def _default_hint(self, exc: Exception, *names) -> str:
         """``"; T = ... is the Scene's default ..."`` for the fields among ``names`` that the
@@ -597,7 +604,7 @@ def evaluate(values: dict, *, nodes: int = 16, u_star=None) -> dict:
         Field values (see :class:`Scene`); numeric fields may be arrays that broadcast.
     nodes : int
         Quadrature nodes of the impact-speed distribution (see
-        :func:`agglomtool.maps.speeds.sticking_probability`).
+        :func:`agglomtool.bed.speeds.sticking_probability`).
     u_star : array, optional
         ``u0*`` [m/s] if already known (it is then not recomputed).
 

@@ -6,7 +6,7 @@ import dataclasses
 
 from agglomtool import _fields
 from agglomtool.api import MODES
-from agglomtool.maps.speeds import SPEED_FAMILIES
+from agglomtool.bed.speeds import SPEED_FAMILIES
 from agglomtool.pair import DRAG_SLIP_MODES
 from agglomtool.properties import umf_methods
 from agglomtool.scene import Scene

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from agglomtool import critical_impact_speed
+from agglomtool.bed.speeds import SpeedModel, sticking_probability
 from agglomtool.examples import reference_cases
-from agglomtool.maps.speeds import SpeedModel, sticking_probability
 from agglomtool.scene import Scene
 
 

@@ -1,10 +1,11 @@
-"""Operating maps: impact-speed distributions, sweeps over scenes, resumable stores.
+"""Operating maps: sweeps over scenes, resumable stores.
 
-:mod:`agglomtool.scene` uses :mod:`.speeds`, and the sweep (:mod:`.grid`) uses the scene, so the
-sweep functions are imported on first use.
+The impact-speed distributions live one layer below the scene, in :mod:`agglomtool.bed.speeds`
+(re-exported here for compatibility). The sweep (:mod:`.grid`) uses the scene, so the sweep
+functions are imported on first use.
 """
 
-from .speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
+from ..bed.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
 
 __all__ = ["SPEED_FAMILIES", "SpeedModel", "build", "open_store", "sticking_probability",
            "sweep", "write_map"]
