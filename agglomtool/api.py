@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._fields import DEFAULT_MODE
 from ._validate import as_float_array, check_range
 from .collision.auto import DEFAULT_TOL, auto_fused
 from .collision.critical import critical_speeds, first_rebound_speed
@@ -78,7 +79,7 @@ class CollisionResult:
     path: np.ndarray
     w: np.ndarray
     details: dict = field(default_factory=dict)
-    mode: str = "paper"
+    mode: str = DEFAULT_MODE
 
     @property
     def stage_name(self) -> np.ndarray:
@@ -269,7 +270,7 @@ def collide(
     u0_j=None,
     beta_deg=0.0,
     e=0.9,
-    mode: str = "paper",
+    mode: str = DEFAULT_MODE,
     body_forces: bool = True,
     drag_slip: str = "emulsion",
     details: bool = True,
@@ -358,7 +359,7 @@ def critical_impact_speed(
     bed: Bed | None = None,
     beta_deg=0.0,
     e=0.9,
-    mode: str = "paper",
+    mode: str = DEFAULT_MODE,
     body_forces: bool = True,
     drag_slip: str = "emulsion",
     rtol: float = 1e-6,

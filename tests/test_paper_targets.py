@@ -121,14 +121,11 @@ def test_collision_direction_matters_only_near_critical_speed():
     """Section 3.3 and Fig. 6b: beta changes e_w only in a short range around u0*; far above
     it, body forces are negligible. At 10 u0* the water case differs by under 1e-3."""
     p, liquid, gas = case_water()
-    u_star = float(at.critical_impact_speed(p, p, liquid=liquid, gas=gas, bed=BED))
-    far = at.collide(
-        p, p, liquid=liquid, gas=gas, bed=BED, u0=10 * u_star, beta_deg=np.array([0.0, 45, 90])
-    )
+    kw = dict(liquid=liquid, gas=gas, bed=BED, mode="paper")  # the paper's model
+    u_star = float(at.critical_impact_speed(p, p, **kw))
+    far = at.collide(p, p, u0=10 * u_star, beta_deg=np.array([0.0, 45, 90]), **kw)
     assert np.ptp(far.e_w) < 1e-3
-    u_star_beta = at.critical_impact_speed(
-        p, p, liquid=liquid, gas=gas, bed=BED, beta_deg=np.array([0.0, 45.0, 90.0])
-    )
+    u_star_beta = at.critical_impact_speed(p, p, beta_deg=np.array([0.0, 45.0, 90.0]), **kw)
     assert np.ptp(u_star_beta) > 0.0  # body forces do move the threshold (Fig. 6b)
 
 

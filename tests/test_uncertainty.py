@@ -328,7 +328,7 @@ def test_bad_input_names_the_problem():
     with pytest.raises(ValueError, match="no probability"):
         monte_carlo(**{**kw, "uncertain": {"d_i": Normal(-1.0, 1e-3)}}, n=10)
     with pytest.raises(ValueError, match="mode"):
-        monte_carlo(**kw, n=10, mode="no-such-tier")
+        monte_carlo(**{**kw, "mode": "no-such-tier"}, n=10)
     with pytest.raises(ValueError, match="n = 0"):
         monte_carlo(**kw, n=0)
     with pytest.raises(ValueError, match="power of 2"):

@@ -17,6 +17,7 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
+from .._fields import DEFAULT_MODE
 from .._version import __version__
 from ..collision.outcome import Stage
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, check_names, evaluate_e_w
@@ -186,7 +187,7 @@ def monte_carlo(
     uncertain: Mapping[str, Distribution],
     n: int = 1_000_000,
     seed: int | None = None,
-    mode: str = "paper",
+    mode: str = DEFAULT_MODE,
     u0_j=None,
     beta_deg=0.0,
     e=0.9,

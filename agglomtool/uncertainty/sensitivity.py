@@ -17,6 +17,7 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
+from .._fields import DEFAULT_MODE
 from .._version import __version__
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, check_names, evaluate_e_w
 from .distributions import Distribution, to_si
@@ -61,7 +62,7 @@ def sobol_indices(
     groups: Mapping[str, tuple[str, ...]] | None = None,
     n_base: int = 2**13,
     seed: int | None = None,
-    mode: str = "paper",
+    mode: str = DEFAULT_MODE,
     u0_j=None,
     beta_deg=0.0,
     e=0.9,
@@ -241,7 +242,7 @@ def spread_by_input(
     groups: Mapping[str, tuple[str, ...]] | None = None,
     n: int = 100_000,
     seed: int | None = None,
-    mode: str = "paper",
+    mode: str = DEFAULT_MODE,
     **kwargs,
 ) -> xr.Dataset:
     """One-at-a-time spread of ``e_w``: one input (group) uncertain, the rest nominal.
