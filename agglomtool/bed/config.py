@@ -35,9 +35,6 @@ Every error names the file, the table and the key.
 
 from __future__ import annotations
 
-import tomllib
-from pathlib import Path
-
 from ..maps.config import ConfigError, _axis, parse_config
 from ..units import to_si
 from .mixture import Component
@@ -147,17 +144,6 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
 
 def load_bed_config(path) -> BedConfig:
     """Read and validate a bed configuration file (TOML)."""
-    path = Path(path)
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except FileNotFoundError:
-        raise ConfigError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise ConfigError(f"{path}: is a directory, not a TOML file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"{path}: not UTF-8 text (byte {exc.start}): TOML files are "
-                          "UTF-8") from None
-    return parse_bed_config(data, str(path))
+    from ..maps.config import read_toml
+
+    return parse_bed_config(read_toml(path), str(path))

@@ -32,7 +32,7 @@ from ..plausibility import PlausibilityWarning
 from ..scene import CATEGORICAL_FIELDS, Scene, field_names
 from ..units import to_si
 
-__all__ = ["ConfigError", "MapConfig", "load_config", "parse_config"]
+__all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "read_toml"]
 
 
 class ConfigError(ValueError):
@@ -172,6 +172,11 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
 
 def load_config(path) -> MapConfig:
     """Read and validate a map configuration file (TOML)."""
+    return parse_config(read_toml(path), str(path))
+
+
+def read_toml(path) -> dict:
+    """The parsed TOML file ``path``; every failure a :class:`ConfigError` naming it."""
     path = Path(path)
     try:
         with path.open("rb") as fh:
@@ -186,5 +191,5 @@ def load_config(path) -> MapConfig:
         raise ConfigError(f"{path}: not UTF-8 text (byte {exc.start}): TOML files are "
                           "UTF-8") from None
     except RecursionError:
-        raise ConfigError(f"{path}: nested too deeply to be a map configuration") from None
-    return parse_config(data, str(path))
+        raise ConfigError(f"{path}: nested too deeply to be a configuration") from None
+    return data
