@@ -567,6 +567,27 @@ class Resolved:
         p_i, p_j = self.particles
         return collide(p_i, p_j, u0=u0, details=details, **self._common())
 
+    def collide_on(self, mask):
+        """``f(u0)``: :meth:`collide` on the elements where ``mask`` (a boolean array of the
+        block's shape) is true, ``u0`` given there only (1-D). The inputs are cut once, so
+        a loop over speeds pays for the masked elements alone; each collision is the same
+        arithmetic as in :meth:`collide` (bitwise the same result)."""
+        shape = np.shape(mask)
+
+        def cut(x):
+            return None if x is None else np.broadcast_to(np.asarray(x, float), shape)[mask]
+
+        def cut_fields(obj, names):
+            return dataclasses.replace(obj, **{k: cut(getattr(obj, k)) for k in names})
+
+        p_i, p_j = (cut_fields(p, ("d", "rho", "h0", "ha")) for p in self.particles)
+        common = self._common()
+        common["liquid"] = cut_fields(common["liquid"], ("mu", "gamma", "rho", "theta_deg"))
+        common["gas"] = cut_fields(common["gas"], ("mu", "rho"))
+        common["bed"] = cut_fields(common["bed"], ("eps", "U"))
+        common["beta_deg"], common["e"] = cut(common["beta_deg"]), cut(common["e"])
+        return lambda u0: collide(p_i, p_j, u0=u0, details=False, **common)
+
     @cached_property
     def u_star(self):
         """Critical impact speed ``u0*`` [m/s] (shape of the inputs it depends on); ``inf``
@@ -649,7 +670,8 @@ def collision_outputs(r: Resolved, u_star, nodes: int) -> dict:
     # the collision's shape alone can miss their (size-1) axes and those of u0*.
     shape = np.broadcast_shapes(res.e_w.shape, np.shape(u_star), np.shape(r.U),
                                 np.shape(u_typ))
-    prop = sticking_probability(r.speeds, u_star, r.collide, nodes=nodes, shape=shape)
+    prop = sticking_probability(r.speeds, u_star, r.collide, nodes=nodes, shape=shape,
+                                collide_on=r.collide_on)
     with np.errstate(divide="ignore"):
         margin = np.where(np.isinf(u_star), 0.0, u_typ / u_star)
     b = np.broadcast_to

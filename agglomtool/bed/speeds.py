@@ -103,7 +103,7 @@ class SpeedModel:
 
 
 def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16,
-                         shape=None) -> np.ndarray:
+                         shape=None, collide_on=None) -> np.ndarray:
     """Probability that a collision sticks when ``u0`` follows ``speeds`` [-].
 
     Parameters
@@ -118,6 +118,10 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
         ``N``, the number of equal-probability nodes above ``u0*`` (1 for ``"fixed"``).
     shape : tuple, optional
         Shape of the result (default: the broadcast of ``u_star`` and the parameters).
+    collide_on : callable, optional
+        ``collide_on(mask)`` -> ``f(u0)``, the collisions of the elements where ``mask`` is
+        true (``u0`` 1-D, there only). Given, the nodes are evaluated only where probability
+        lies above ``u0*`` (elsewhere ``P = 1`` without a collision); the same numbers.
 
     Returns
     -------
@@ -137,7 +141,19 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
     open_ = rest > 1e-12
     n = 1 if speeds.family == "fixed" else int(nodes)
     stuck = np.zeros(shape)
-    if open_.any():
+    if open_.any() and collide_on is not None:
+        run = collide_on(open_)  # the open elements' inputs, cut once for every node
+        f_o, r_o = f_star[open_], rest[open_]
+        stuck_o = np.zeros(f_o.shape)
+        for k in range(n):  # a loop over quadrature nodes, each vectorised over the grid
+            q = f_o + r_o * ((k + 0.5) / n)
+            q_full = np.full(shape, 0.5)
+            q_full[open_] = q
+            u = np.broadcast_to(speeds.quantile(q_full), shape)[open_]
+            positive = u > 0.0  # a node speed of 0 (degenerate law) cannot collide: sticks
+            stuck_o += run(np.where(positive, u, 1.0)).agglomerated | ~positive
+        stuck[open_] = stuck_o
+    elif open_.any():
         for k in range(n):  # a loop over quadrature nodes, each a full vectorised grid
             q = f_star + rest * ((k + 0.5) / n)
             u = np.broadcast_to(speeds.quantile(np.where(open_, q, 0.5)), shape)
