@@ -63,12 +63,13 @@ def main() -> None:
     if others:
         print("\nother tiers (water):")
     for mode in others:
-        t_small = best_of(lambda mode=mode: monte_carlo(**kw, n=100_000, seed=1, mode=mode),
+        kw_mode = {**kw, "mode": mode}
+        t_small = best_of(lambda kw_mode=kw_mode: monte_carlo(**kw_mode, n=100_000, seed=1),
                           repeats=1)
         report(f"mode={mode!r}, n=1e5", 100_000, t_small)
         if t_small < 1.0:
             report(f"mode={mode!r}, n=1e6", N,
-                   best_of(lambda mode=mode: monte_carlo(**kw, n=N, seed=1, mode=mode)))
+                   best_of(lambda kw_mode=kw_mode: monte_carlo(**kw_mode, n=N, seed=1)))
 
 
 if __name__ == "__main__":
