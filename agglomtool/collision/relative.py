@@ -28,8 +28,8 @@ equals mode "paper" to rounding.
 
 A plate (``m_j = inf``) is the ``m_j -> inf`` limit of the same formulas (``m_r -> m_i``):
 the losses are taken in the same order as for two moving particles (viscous loss from the
-impact speed), not by the paper's plate path (MODEL.md step 4: capillary gain first, then
-the viscous loss from the gained speed), so the tier is continuous in ``m_j``. For the body
+impact speed), so the tier is continuous in ``m_j``, as mode "paper" is too (there the
+plate's running energy per unit speed decides whether it stops first). For the body
 forces a plate is a *held* wall: nothing accelerates it, its term ``fn_j / m_j`` is 0. (A
 free partner of huge mass would keep its own gravitational acceleration; a plate does not.)
 """
