@@ -641,14 +641,11 @@ def export_netcdf(store, output) -> Path:
 
     Variables are compressed (zlib level 4, lossless).
     """
-    out = Path(output)
+    from .export import write_map
+
     ds = open_store(store)
-    tmp = out.with_name(out.name + ".tmp")
-    enc = {k: {"zlib": True, "complevel": 4} for k in ds.data_vars}
     try:
         with dask.config.set(scheduler="synchronous"):
-            ds.to_netcdf(tmp, encoding=enc)
+            return write_map(ds, output)
     finally:
         ds.close()
-    os.replace(tmp, out)
-    return out
