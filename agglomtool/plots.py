@@ -344,10 +344,11 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
     else:
         fig = plt.gcf()
         panels = [(plt.gca(), {})]
-    ceiling = sub["u_star"].attrs.get("ceiling") if "u_star" in sub else None
+    from ._fields import U_CEILING
+
     scene = json.loads(ds.attrs.get("scene", "{}"))
-    ceil_val = ceiling or scene.get("u_ceiling", 10.0)
-    ceiling_label = f"sticks at every speed up to the u0* ceiling ({ceil_val:g} m/s)"
+    ceiling_label = ("sticks at every speed up to the u0* ceiling "
+                     f"({scene.get('u_ceiling', U_CEILING):g} m/s)")
     hatches = {}
     for ax, nd in panels:
         nd = nd or {}
