@@ -9,7 +9,7 @@ checked against these names by the tests.
 from __future__ import annotations
 
 __all__ = ["FIELD_META", "DEFAULTS", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CHOICES",
-           "U_CEILING", "DEFAULT_MODE"]
+           "U_CEILING", "DEFAULT_MODE", "short_unit"]
 
 #: The model tier used unless one is asked for: the frame-consistent closed forms. Of the
 #: tiers that cost about as much as the paper's own ("paper", "relative"), it is the most
@@ -55,6 +55,13 @@ FIELD_META = {
     "fluctuation_ratio": ("dimensionless", "r.m.s. particle velocity over U - U_mf"),
     "u_ceiling": ("m/s", "u0* ceiling: above it the pair sticks at every bed speed"),
 }
+
+def short_unit(name: str) -> str:
+    """The unit of numeric field ``name`` as messages and help texts print it: ``"deg"``,
+    ``"m2/s2"``, and ``""`` for a dimensionless field."""
+    unit = FIELD_META[name][0]
+    return {"dimensionless": "", "degree": "deg", "m**2/s**2": "m2/s2"}.get(unit, unit)
+
 
 #: Default of every Scene field; ``None`` means "derived" (see the Scene's docstring).
 DEFAULTS = {

@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ._fields import CATEGORICAL_FIELDS, CHOICES, DEFAULTS, DERIVED, FIELD_META
+from ._fields import CATEGORICAL_FIELDS, CHOICES, DEFAULTS, DERIVED, FIELD_META, short_unit
 from ._version import __version__
 
 #: Exit status for bad input, and for an interrupted command (128 + SIGINT).
@@ -235,8 +235,8 @@ def _add_scene_options(p: argparse.ArgumentParser) -> None:
                            help=f"one of {_database_names(kinds[name])} "
                                 f"(default: {_default_text(name)})")
         else:
-            unit, long_name = FIELD_META[name]
-            unit = {"dimensionless": "-", "degree": "deg", "m**2/s**2": "m2/s2"}.get(unit, unit)
+            long_name = FIELD_META[name][1]
+            unit = short_unit(name) or "-"
             p.add_argument(flag, dest=f"scene_{name}", metavar=unit.upper(),
                            help=f"{long_name} [{unit}, or a quantity such as "
                                 f"\"{_EXAMPLES.get(unit, '1 ' + unit)}\"] "

@@ -29,6 +29,7 @@ from ._fields import (
     FIELD_META,
     NUMERIC_FIELDS,
     U_CEILING,
+    short_unit,
 )
 from ._validate import check_range
 from .api import MODES, collide, critical_impact_speed
@@ -213,20 +214,18 @@ class Scene:
         return r.collide(r.u_typical if u0 is None else u0, details=details)
 
 
-#: Valid range of every numeric field: (lo, hi, lo_open, hi_open, unit); None = unbounded.
+#: Valid range of every numeric field: (lo, hi, lo_open, hi_open); None = unbounded.
 FIELD_RANGES = {
-    "T": (0.0, None, True, False, "K"), "P": (0.0, None, True, False, "Pa"),
-    "U": (0.0, None, False, False, "m/s"), "U_Umf": (0.0, None, True, False, ""),
-    "eps": (0.0, 1.0, True, True, ""), "U_e_Umf": (0.0, None, False, False, ""),
-    "d_i": (0.0, None, True, False, "m"), "d_j": (0.0, None, True, False, "m"),
-    "h0": (0.0, None, False, False, "m"), "h0_j": (0.0, None, False, False, "m"),
-    "ha_i": (0.0, None, False, False, "m"), "ha_j": (0.0, None, False, False, "m"),
-    "e": (0.0, 1.0, False, False, ""), "theta_deg": (0.0, 90.0, False, True, "deg"),
-    "beta_deg": (-90.0, 90.0, False, False, "deg"), "u0": (0.0, None, True, False, "m/s"),
-    "sigma_ln": (0.0, None, True, False, ""),
-    "granular_temperature": (0.0, None, True, False, "m2/s2"),
-    "fluctuation_ratio": (0.0, None, True, False, ""),
-    "u_ceiling": (0.0, None, True, False, "m/s"),
+    "T": (0.0, None, True, False), "P": (0.0, None, True, False),
+    "U": (0.0, None, False, False), "U_Umf": (0.0, None, True, False),
+    "eps": (0.0, 1.0, True, True), "U_e_Umf": (0.0, None, False, False),
+    "d_i": (0.0, None, True, False), "d_j": (0.0, None, True, False),
+    "h0": (0.0, None, False, False), "h0_j": (0.0, None, False, False),
+    "ha_i": (0.0, None, False, False), "ha_j": (0.0, None, False, False),
+    "e": (0.0, 1.0, False, False), "theta_deg": (0.0, 90.0, False, True),
+    "beta_deg": (-90.0, 90.0, False, False), "u0": (0.0, None, True, False),
+    "sigma_ln": (0.0, None, True, False), "granular_temperature": (0.0, None, True, False),
+    "fluctuation_ratio": (0.0, None, True, False), "u_ceiling": (0.0, None, True, False),
 }
 
 
@@ -261,11 +260,11 @@ def validate(values: dict) -> None:
     _check_name("umf_method", values.get("umf_method"), umf_methods())
     if not isinstance(values.get("body_forces"), bool | np.bool_):
         raise ValueError(f"body_forces = {values.get('body_forces')!r} must be true or false")
-    for name, (lo, hi, lo_open, hi_open, unit) in FIELD_RANGES.items():
+    for name, (lo, hi, lo_open, hi_open) in FIELD_RANGES.items():
         v = values.get(name)
         if v is None:
             continue
-        check_range(name, v, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
+        check_range(name, v, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=short_unit(name))
     speed = values["speed"]
     if speed in ("fixed", "lognormal") and values.get("u0") is None:
         raise ValueError(f"speed = {speed!r} needs u0 [m/s] (the value, or the median)")

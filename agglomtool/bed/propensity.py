@@ -50,6 +50,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from .._fields import short_unit
 from .._validate import check_range
 from .._version import __version__
 from ..inputs import Particle
@@ -126,8 +127,9 @@ def _grid_arrays(grid: dict) -> dict:
             unit, long_name = FIELD_META[name]
             arr = np.atleast_1d(np.asarray(to_si_array(name, values, unit, long_name),
                                            dtype=float))
-            lo, hi, lo_open, hi_open, u = FIELD_RANGES[name]
-            check_range(name, arr, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=u)
+            lo, hi, lo_open, hi_open = FIELD_RANGES[name]
+            check_range(name, arr, lo, hi, lo_open=lo_open, hi_open=hi_open,
+                        unit=short_unit(name))
         if arr.ndim != 1 or arr.size == 0:
             raise ValueError(f"grid {name} = {values!r} must be a non-empty 1-D list")
         out[name] = arr

@@ -54,7 +54,7 @@ def field_law(name: str, dist: Distribution):
     ``name`` and the range its draws are truncated to (the Scene's valid range)."""
     unit = FIELD_META[name][0]
     d_si = to_si(name, dist, {"m**2/s**2": "m^2/s^2"}.get(unit, unit))
-    lo, hi, lo_open, hi_open, _ = FIELD_RANGES[name]
+    lo, hi, lo_open, hi_open = FIELD_RANGES[name]
     lo, hi = -np.inf if lo is None else lo, np.inf if hi is None else hi
     text = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'} {unit}"
     return d_si, lo, hi, lo_open, hi_open, text
