@@ -141,25 +141,26 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
     open_ = rest > 1e-12
     n = 1 if speeds.family == "fixed" else int(nodes)
     stuck = np.zeros(shape)
-    if open_.any() and collide_on is not None:
-        run = collide_on(open_)  # the open elements' inputs, cut once for every node
+    if open_.any():
+        if collide_on is not None:
+            run = collide_on(open_)  # the open elements' inputs, cut once for every node
+
+            def sticks(u_open):
+                return run(u_open).agglomerated
+        else:
+
+            def sticks(u_open):  # every element collides; the open ones are kept
+                u = np.ones(shape)
+                u[open_] = u_open
+                return np.broadcast_to(collide(u).agglomerated, shape)[open_]
+
         f_o, r_o = f_star[open_], rest[open_]
         stuck_o = np.zeros(f_o.shape)
         for k in range(n):  # a loop over quadrature nodes, each vectorised over the grid
-            q = f_o + r_o * ((k + 0.5) / n)
             q_full = np.full(shape, 0.5)
-            q_full[open_] = q
+            q_full[open_] = f_o + r_o * ((k + 0.5) / n)
             u = np.broadcast_to(speeds.quantile(q_full), shape)[open_]
             positive = u > 0.0  # a node speed of 0 (degenerate law) cannot collide: sticks
-            stuck_o += run(np.where(positive, u, 1.0)).agglomerated | ~positive
+            stuck_o += sticks(np.where(positive, u, 1.0)) | ~positive
         stuck[open_] = stuck_o
-    elif open_.any():
-        for k in range(n):  # a loop over quadrature nodes, each a full vectorised grid
-            q = f_star + rest * ((k + 0.5) / n)
-            u = np.broadcast_to(speeds.quantile(np.where(open_, q, 0.5)), shape)
-            # A node speed of 0 (a degenerate distribution) cannot collide: it sticks.
-            positive = u > 0.0
-            u_safe = np.where(positive, u, 1.0)
-            sticks = collide(u_safe).agglomerated | ~positive
-            stuck += np.broadcast_to(sticks, shape)
     return np.where(open_, f_star + rest * stuck / n, 1.0)
