@@ -381,7 +381,7 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
         )
     dist_1 = abs(d_stop - d_start)
     dist_2 = abs(d_end - d_stop)
-    # Eqs. 39-42, 140-142 (Eq. 142 with particle j's own share: its print has i's).
+    # Eqs. 39-42, 140-142 (Eq. 142 read as Eq. 140: particle j's own share and force).
     stop_kind, stop_val = ln_f_parts(d_stop, a2)
     k_mid = (
         k_y
