@@ -8,7 +8,7 @@ ls-files``; the working tree when this is not a git checkout):
   specification, an architecture note and a property-facts note, by their file names) and
   the folder that held them;
 - "issue N": an issue tracker the reader cannot see; write what the issue asked instead;
-- repository paths (``tests/...py``, ``benchmarks/...py``, ``docs/...md``, ...) that do not
+- repository paths (``tests/<name>.py``, ``benchmarks/<name>.py``, ``docs/<name>.md``) that do not
   exist, such as a test module that was renamed (paths with an ``output`` folder are what
   a script writes, and are not checked).
 
