@@ -299,7 +299,7 @@ def collide(
     e : float or array
         Dry restitution coefficient [-], in [0, 1].
     mode : str
-        Model tier; ``"paper"``: the published model (MODEL.md sections 2-5).
+        Model tier; ``"paper"``: the published model (docs/model.md, "The tiers").
     body_forces : bool
         False switches weight, buoyancy and drag off (the paper's earlier identical-particle
         model, its ref. 31, for identical particles).

@@ -30,7 +30,7 @@ __all__ = [
     "broadcast_shape",
 ]
 
-#: How the slip velocity in the drag law is taken (MODEL.md section 3):
+#: How the slip velocity in the drag law is taken (docs/model.md, "Forces"):
 #: "emulsion": the paper's local gas velocity from Eq. 22, slip = U_e / eps, vertical;
 #: "particle": slip = U_e / eps - u0 (the particle's own impact velocity subtracted).
 DRAG_SLIP_MODES = ("emulsion", "particle")
@@ -80,8 +80,8 @@ def emulsion_velocity(p_i, p_j, liquid, gas, bed) -> np.ndarray:
     """Emulsion superficial gas velocity [m/s]: ``bed.U``, or 1.1 x the larger Wen-Yu
     ``U_mf`` of the pair (the paper's Section 3.1 choice), a plate not counting.
 
-    ``U_mf`` uses the wet diameter and the wet particle's mean density (MODEL.md section 3;
-    immaterial at the paper's coatings).
+    ``U_mf`` uses the wet diameter and the wet particle's mean density (not stated
+    in the paper; immaterial at its coatings).
     """
     if bed.U is not None:
         return np.asarray(bed.U, dtype=float)

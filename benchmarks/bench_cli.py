@@ -1,4 +1,4 @@
-"""Command-line start-up and map file size (issue 9's figures).
+"""Command-line start-up and map file size (the figures quoted in the README).
 
 Prints, best and median of 5 fresh processes each:
 - ``agglomtool --version``, ``--help`` and ``collide --help``;

@@ -1,4 +1,4 @@
-"""Throughput of the collision core against the goals of issue 12, each next to its floor.
+"""Throughput of the collision core against its speed goals, each next to its floor.
 
 Run: ``python benchmarks/bench_collision.py [--quick]``. Prints figures; asserts nothing.
 

@@ -1,9 +1,9 @@
 """Shared cases and independent checks for the robustness tests.
 
-Two checks are written here from MODEL.md alone, not from the package's code:
+Two checks are written here from the paper's equations alone, not from the package's code:
 
 ``reference_e_w``
-    The closed form of MODEL.md sections 2-5 for a pair WITHOUT body forces (or whose body
+    The closed form of Eqs. 3, 25-30, 72-105, 94 for a pair WITHOUT body forces (or whose body
     forces have no component along the collision axis). Without body forces the running
     energy of each particle is ``[(P - c Delta)^2 / 2 - m_r L_cap] / m_k`` (P = m_r w, the
     common CM momentum; the share of particle k is m_r / m_k), so both particles stop at the
@@ -58,7 +58,7 @@ from agglomtool.pair import prepare_pair
 
 
 # --------------------------------------------------------------------------------------
-# The paper's Table 2 cases (MODEL.md section 6)
+# The paper's Table 2 cases (I: water, II: hypothetical slag)
 # --------------------------------------------------------------------------------------
 def case_water():
     p = at.Particle(d=1000e-6, rho=2650.0, h0=5.00e-6, ha=0.10e-6)
@@ -75,7 +75,7 @@ def case_slag():
 
 
 # --------------------------------------------------------------------------------------
-# Independent formulas (MODEL.md section 2), written so that nothing cancels
+# Independent formulas (Eqs. 3, 28-30, 76, 100-105), written so that nothing cancels
 # --------------------------------------------------------------------------------------
 def _ln_f(D, a2):
     """ln f(D) accurate in both regimes: for D >> a through log1p, else directly."""
@@ -138,7 +138,7 @@ def reference_e_w(p_i, p_j, liquid, w, e):
     return out.reshape(shape), scale.reshape(shape)
 
 
-# Absolute rounding of a ln f value as MODEL.md section 2 prescribes it (ln D + ln s
+# Absolute rounding of a ln f value evaluated as docs/model.md prescribes it (ln D + ln s
 # - 2 ln(D + s)): four logs of magnitude up to ~40, an ulp each, so <= ~2e-14; 1e-13 is an
 # a-priori bound. A Delta of two such values carries twice that, and a viscous loss c Delta v
 # carries c v times it: when a << D the true Delta is far smaller (a^4 / (16 D^4)) and is
@@ -149,7 +149,7 @@ ENERGY_RTOL = 1e-9
 
 
 def _after_stage(k_start, v_start, m_r, c, delta, loss_cap):
-    """Energy left after one liquid stage (0 = sticks), MODEL.md section 5."""
+    """Energy left after one liquid stage (0 = sticks), Fig. 3 without body forces."""
     if not c * delta < m_r * v_start:  # steps 1 / 7
         return 0.0
     k_end = k_start - loss_cap - c * delta * (v_start - c * delta / (2.0 * m_r))

@@ -1,4 +1,4 @@
-"""The u0* ceiling (issue 9, failure 4): no bed speed like 1e4 m/s is ever reported."""
+"""The u0* ceiling: no bed speed like 1e4 m/s is ever reported (it once was, for melts)."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""The command line as a bed designer uses it (issue 9, failures 1, 6 and 7)."""
+"""The command line as a bed designer uses it (comparisons, fixed dimensions, help texts)."""
 
 import subprocess
 import sys

@@ -1,4 +1,4 @@
-"""Fuzzing map configurations (issue 10): whatever a TOML file holds, parse_config returns a
+"""Fuzzing map configurations: whatever a TOML file holds, parse_config returns a
 config or raises ConfigError (a ValueError) that names the file and the table; nothing else
 escapes from inside the package."""
 

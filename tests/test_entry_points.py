@@ -1,5 +1,5 @@
 """Every public entry point answers an unknown name or a bad value with a ValueError that
-names the field (issue 10), never a KeyError, TypeError or IndexError from inside."""
+names the field, never a KeyError, TypeError or IndexError from inside."""
 
 import pytest
 

@@ -1,4 +1,4 @@
-"""The disk cache of the gas tables (issue 9: a cold command-line call without CoolProp)."""
+"""The disk cache of the gas tables: a cold command-line call without importing CoolProp."""
 
 import subprocess
 import sys

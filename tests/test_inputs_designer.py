@@ -1,4 +1,4 @@
-"""Inputs a designer cannot get silently wrong (issue 10): units at the edge, plausibility
+"""Inputs a designer cannot get silently wrong: units at the edge, plausibility
 warnings naming the field, provenance of every resolved input."""
 
 import tomllib

@@ -1,6 +1,6 @@
-"""Property-based invariants of mode "paper" (issue item 2), with hypothesis.
+"""Property-based invariants of mode "paper" over extreme inputs, with hypothesis.
 
-Inputs are drawn over the issue's hard ranges: diameters 10 um - 10 mm (size ratios up to
+Inputs are drawn over hard ranges: diameters 10 um - 10 mm (size ratios up to
 1000 and beyond) or a plate in either slot, coatings from none to 0.5 mm, asperities
 1 nm - 10 um, viscosity 1e-4 - 1e7 Pa s, surface tension 1 mN/m - 1 N/m, contact angle
 0 - 85 deg, voidage 0.3 - 0.99 (both drag branches), u0 1e-5 - 100 m/s, beta anywhere on
@@ -125,7 +125,7 @@ def thin_film_particles(draw):
 @given(p=thin_film_particles(), liquid=liquids, gas=gases, bed=beds, u0=speeds,
        factor=st.floats(1.0, 1e3), e=restitutions)
 def test_e_w_does_not_decrease_with_u0_identical_beta0(p, liquid, gas, bed, u0, factor, e):
-    """Identical particles, beta = 0: e_w(u0) is non-decreasing (the issue's invariant),
+    """Identical particles, beta = 0: e_w(u0) is non-decreasing (a required invariant),
     on the model's domain: thin films (H0 <= 0.05 r) and a bridge that lasts through the
     separation at least as far as it began (h_rupt > H0 at both speeds), so that the
     capillary work gained on the approach is taken back. The 1e-12 relative allowance is
@@ -181,7 +181,7 @@ def test_no_body_forces_equals_paper_at_beta0(p, liquid, gas, bed, u0, e):
 @given(pair=pairs(), liquid=liquids, gas=gases, u0=speeds, beta=angles, e=restitutions)
 def test_no_body_forces_matches_closed_form(pair, liquid, gas, u0, beta, e, checks):
     """Without body forces the flow chart is the reduced-mass closed form of conftest.py
-    (MODEL.md sections 2-5), for any pair and a plate (by MODEL.md's plate path)."""
+    (the paper's equations), for any pair and a plate (as the heavy-partner limit)."""
     p_i, p_j = pair
     r = at.collide(p_i, p_j, liquid=liquid, gas=gas, u0=u0, beta_deg=beta, e=e,
                    body_forces=False)

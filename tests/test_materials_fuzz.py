@@ -1,4 +1,4 @@
-"""Fuzzing user materials files (issue 10): whatever an entry holds, loading it gives the
+"""Fuzzing user materials files: whatever an entry holds, loading it gives the
 entry or a MaterialsError (a ValueError) naming the file, the entry and the field; nothing
 else escapes from inside the package."""
 

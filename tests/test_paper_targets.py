@@ -3,7 +3,7 @@
 Source: Shabanian, Duchesne, Syamlal, Runstedtler (2024), Generalized analytical energy
 balance model for binary collisions of wet particles, Heliyon 10:e29397,
 doi:10.1016/j.heliyon.2024.e29397 (cited below as "the paper"); the cases are its Table 2
-as restated in MODEL.md section 6.
+with the published targets of its Sections 3.1 and 3.4.
 
 Tolerances: the paper prints u0* with two or three significant figures (0.034, 0.638), so
 the tolerance is half a unit of the last printed digit. The Monte Carlo mean points of its

@@ -1,4 +1,4 @@
-"""Pictures that never hide a dimension (issue 9, failure 3)."""
+"""Pictures that never hide a dimension (a facet or an axis for each, or an error)."""
 
 import matplotlib
 import numpy as np

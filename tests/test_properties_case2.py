@@ -13,7 +13,7 @@ def test_case2_from_conditions_matches_fixed_values():
     # Shabanian et al. (2024), Heliyon 10:e29397, Table 2 case II: 1000 um sand, h0 0.15 um,
     # ha 0.1 um, hypothetical slag, air at 800 C (mu 45.48e-6 Pa s, rho 0.324 kg/m3).
     # Built from "air at 800 C, 1 bar, silica sand, hypothetical slag", u0* must agree with
-    # the fixed-value call within 0.5 % (issue 3): CoolProp's air differs from the paper's
+    # the fixed-value call within 0.5 %: CoolProp's air differs from the paper's
     # by 0.36 % in mu and 0.16 % in rho. Note: for two identical particles head-on the gas
     # acts equally on both and drops out of u0* (the two calls agree to all digits; a gas
     # 100x more viscous gives the same u0*), so this test checks the database and property

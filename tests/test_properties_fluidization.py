@@ -18,7 +18,7 @@ from agglomtool.properties.fluidization import GRAVITY
 
 @pytest.mark.parametrize(("T", "target"), [(298.15, 0.559), (1073.15, 0.335)])
 def test_umf_wen_yu_sand_in_air(T, target):
-    # PROPERTIES.md / the paper's Table 2 setting: 1000 um, 2650 kg/m3 sand in air at 1 bar,
+    # The paper's Table 2 setting, by hand: 1000 um, 2650 kg/m3 sand in air at 1 bar,
     # Wen & Yu (1966): 0.559 m/s (25 C), 0.335 m/s (800 C). Tolerance 0.5 %: the targets
     # are rounded to 3 digits and the air properties differ from the paper's by <= 0.4 %.
     gas = gas_properties(T, 1e5, "air")
@@ -38,7 +38,7 @@ def test_umf_other_pairs_bracket_wen_yu():
 
 @pytest.mark.parametrize(("eps_mf", "target"), [(0.40, 0.583), (0.45, 0.766)])
 def test_umf_ergun_sand_in_air(eps_mf, target):
-    # PROPERTIES.md: Ergun with eps_mf 0.40 / 0.45 gives 0.583 / 0.766 m/s at 25 C for the
+    # Ergun (1952) solved by hand, eps_mf 0.40 / 0.45: 0.583 / 0.766 m/s at 25 C for the
     # sand above; 0.5 % for the 3-digit rounding.
     gas = Gas(mu=18.448e-6, rho=1.1688)
     u = umf(1000e-6, 2650.0, gas, method="ergun", eps_mf=eps_mf)

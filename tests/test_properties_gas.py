@@ -26,13 +26,13 @@ def test_air_matches_paper_table2(T, mu_paper, rho_paper):
 
 
 def test_flue_gas_viscosity_matches_cantera_and_coolprop():
-    # PROPERTIES.md: 75 N2/15 CO2/6 H2O/4 O2 mol at 1073.15 K, 1 bar: Cantera 43.60e-6 Pa s,
-    # CoolProp HEOS mixture 43.57e-6. Tolerance 1 % (issue 3): Wilke and Cantera's mixing
+    # Computed separately: 75 N2/15 CO2/6 H2O/4 O2 mol, 1073.15 K, 1 bar: Cantera 43.60e-6 Pa s,
+    # CoolProp HEOS mixture 43.57e-6. Tolerance 1 % (the goal set): Wilke and Cantera's mixing
     # rule differ by about 0.4 % for this gas.
     gas = gas_properties(1073.15, 1e5, FLUE)
     assert gas.mu == pytest.approx(43.60e-6, rel=1e-2)
     assert gas.mu == pytest.approx(43.57e-6, rel=1e-2)
-    # PROPERTIES.md: Wilke on CoolProp pure-component viscosities gives 43.79e-6; the same
+    # A scratch script's Wilke on CoolProp pure-component viscosities: 43.79e-6; the same
     # method here, so 0.05 % (rounding of the quoted value).
     assert gas.mu == pytest.approx(43.79e-6, rel=5e-4)
 
@@ -47,14 +47,14 @@ def test_mixture_density_matches_heos_mixture(T, P):
 
 
 def test_flue_gas_ideal_density():
-    # PROPERTIES.md: ideal-gas density 0.3358 kg/m3 at 1073.15 K, 1 bar; Z - 1 ~ 3e-4 here.
+    # Ideal gas, by hand: P M / (R T) = 0.3358 kg/m3 at 1073.15 K, 1 bar; Z - 1 ~ 3e-4 here.
     assert gas_properties(1073.15, 1e5, "biomass-flue-gas").rho == pytest.approx(0.3358,
                                                                                rel=5e-4)
 
 
 def test_table_agrees_with_heos_on_random_states():
     # The table's cells are checked against HEOS at their centres to CELL_TOL; everywhere
-    # in a cell the bilinear error must stay below the issue's 1e-3.
+    # in a cell the bilinear error must stay below the goal of 1e-3.
     rng = np.random.default_rng(1)
     T = np.exp(rng.uniform(np.log(250.0), np.log(1990.0), 400))
     P = np.exp(rng.uniform(np.log(2e3), np.log(5e6), 400))

@@ -86,7 +86,7 @@ def test_grd_matches_authors_spreadsheet(h2o, log_eta):
 
 
 def test_grd_k_ca_silicate_and_glass_limit():
-    # PROPERTIES.md cross-check (independent scratch implementation of GRD) for melt A:
+    # Cross-check by an independent scratch implementation of GRD, for melt A:
     # log10 eta 7.59 / 6.34 / 5.32 at 800 / 900 / 1000 C; 0.01 decade for its rounding.
     eta = viscosity_giordano_russell_dingwell(MELT_A, np.array([1073.15, 1173.15, 1273.15]))
     assert np.log10(eta) == pytest.approx([7.59, 6.34, 5.32], abs=0.01)
@@ -97,8 +97,8 @@ def test_grd_k_ca_silicate_and_glass_limit():
 
 def test_bf_slag_urbain_mills_and_riboud():
     # Blast-furnace slag 40 CaO/36 SiO2/14 Al2O3/10 MgO wt % at 1500 C: measured viscosities
-    # of such slags are 0.2-0.5 Pa s (Mills, Slag Atlas 1995, as summarised in
-    # PROPERTIES.md). Both metallurgical models must fall in that band; PROPERTIES.md's
+    # of such slags are 0.2-0.5 Pa s (Mills, Slag Atlas 1995, ch. 9, as summarised for
+    # this package). Both metallurgical models must fall in that band; an independent
     # scratch implementation gives log10 eta = -0.45 (Urbain-Mills) and -0.51 (Riboud),
     # which ours reproduces to 0.01 decade (rounding of the quoted values).
     T = 1773.15
@@ -112,7 +112,7 @@ def test_bf_slag_urbain_mills_and_riboud():
 
 
 def test_grd_warns_outside_calibration_for_bf_slag():
-    # PROPERTIES.md: GRD is about 100x too low for the BF slag (-2.10 decades) and warns.
+    # The scratch GRD: about 100x too low for the BF slag (-2.10 decades); ours warns.
     with pytest.warns(UserWarning, match="outside GRD"):
         eta = viscosity_giordano_russell_dingwell(BF_SLAG, 1773.15)
     assert np.log10(eta) == pytest.approx(-2.10, abs=0.01)
@@ -142,8 +142,8 @@ def test_surface_tension_models_agree_for_soda_lime_glass():
 
 
 def test_k_silicate_surface_tension_and_density_in_literature_band():
-    # PROPERTIES.md: K-silicate ash melts 0.20-0.30 N/m; K-Ca silicate melts
-    # 2300-2450 kg/m3 at 800-1000 C.
+    # Literature bands (no single primary source): K-silicate ash melts 0.20-0.30 N/m; K-Ca
+    # silicate melts 2300-2450 kg/m3 at 800-1000 C.
     T = np.array([1073.15, 1273.15])
     assert np.all((surface_tension_mills(MELT_A, T) > 0.20)
                   & (surface_tension_mills(MELT_A, T) < 0.30))

@@ -11,7 +11,7 @@ from agglomtool.scene import Scene
 
 def test_case_two_u_star_matches_reference_case():
     # Case II through the scene (CoolProp air at 800 C instead of Table 2's typed gas
-    # properties, which MODEL.md s.6 says agree within 0.5 %): u0* within 1 %.
+    # properties, which CoolProp's air matches within 0.5 %): u0* within 1 %.
     s = Scene(T=1073.15, liquid="hypothetical-slag", h0=0.15e-6, d_i=1000e-6, u0=0.5)
     case = reference_cases()[1]
     ref = float(case.critical_impact_speed())

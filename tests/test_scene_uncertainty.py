@@ -1,4 +1,4 @@
-"""Monte Carlo of a Scene, in the Scene's own names (issue 10: one vocabulary)."""
+"""Monte Carlo of a Scene, in the Scene's own names (one vocabulary for every entry point)."""
 
 import numpy as np
 import pytest

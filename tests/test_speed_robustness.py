@@ -1,4 +1,4 @@
-"""Importable anywhere, callable from many threads, and clear about bad input (issue 11).
+"""Importable anywhere, callable from many threads, and clear about bad input.
 
 - a read-only install whose user has no writable home: Numba's ``cache=True`` used to fail
   at import (``cannot cache function 'ln_f': no locator available``);

@@ -1,9 +1,9 @@
-"""Numerical stability of mode "paper" on hard cases (issue item 2, grids).
+"""Numerical stability of mode "paper" on hard cases (grids over the extreme inputs).
 
 Every case asserts something the model guarantees, never just that it runs:
 
 - without body forces (or with body forces normal to the collision axis) the kernel must
-  equal the reduced-mass closed form of MODEL.md sections 2-5 (``checks.reference_e_w``,
+  equal the reduced-mass closed form of the paper's equations (``checks.reference_e_w``,
   written independently in conftest.py, with an accurate ``ln f``);
 - with body forces, every rebound must obey the energy bound derived in conftest.py; the
   bound is NOT ``e_w <= e``: capillary work gained on the approach is not paid back when
@@ -27,8 +27,8 @@ import agglomtool as at
 WATER = at.Liquid(mu=8.9e-4, gamma=0.073, rho=997.0, theta_deg=10.0)
 AIR = at.Gas(mu=18.48e-6, rho=1.168)
 
-MU = np.geomspace(1e-4, 1e7, 10)  # liquid viscosity [Pa s], the issue's range
-U0 = np.geomspace(1e-5, 100.0, 14)  # impact speed [m/s], the issue's range
+MU = np.geomspace(1e-4, 1e7, 10)  # liquid viscosity [Pa s], water to glassy melts
+U0 = np.geomspace(1e-5, 100.0, 14)  # impact speed [m/s], creeping to far beyond a bed
 E_DRY = np.array([0.0, 0.5, 1.0])
 THETA = np.array([0.0, 85.0])
 
@@ -45,7 +45,7 @@ def _axes(*vals):
 
 
 def _pair(kind):
-    """Pairs of the issue's hard cases: (p_i, p_j)."""
+    """Pairs of the hard cases (size ratios, plates, dry on wet): (p_i, p_j)."""
     wet = at.Particle(d=1000e-6, rho=2650.0, h0=5e-6, ha=0.1e-6)
     if kind == "identical":
         return wet, wet
@@ -87,7 +87,7 @@ def _basic(r):
 
 def _viscous_bound_speed(p_i, p_j, liquid, checks):
     """Relative speed at or below which viscosity alone stops the approach (Eqs. 73, 80),
-    from MODEL.md's formulas: m_r w <= c (ln f(H0) - ln f(Ha))."""
+    from the paper's formulas: m_r w <= c (ln f(H0) - ln f(Ha))."""
     m_i = checks.wet_mass(p_i.d, p_i.rho, p_i.h0, liquid.rho)
     m_j = checks.wet_mass(p_j.d, p_j.rho, p_j.h0, liquid.rho)
     m_r = checks.reduced_mass(m_i, m_j)
@@ -128,7 +128,7 @@ def test_closed_form_without_body_forces(kind, checks):
     # e = 0 sticks; the grid is not degenerate: both outcomes occur where e > 0.
     assert np.all(r.e_w[:, :, 0, :] == 0.0)
     assert np.any(r.e_w[:, :, 1:, :] > 0.0) and np.any(r.e_w[:, :, 1:, :] == 0.0)
-    # Without body forces nobody stops first: no special path (section 4 of MODEL.md).
+    # Without body forces nobody stops first: no special path (docs/model.md).
     special = int(at.Path.APPROACH_I_STOPS | at.Path.APPROACH_J_STOPS
                   | at.Path.SEPARATION_I_STOPS | at.Path.SEPARATION_J_STOPS)
     if not (np.any(p_i.is_plate) or np.any(p_j.is_plate)):
@@ -316,11 +316,11 @@ def test_thick_film_plate_limits(checks):
 
 
 # ------------------------------------------------------------------------------------------
-# 5. The plate as the limit of an infinitely heavy partner (MODEL.md section 1)
+# 5. The plate as the limit of an infinitely heavy partner (docs/model.md, plate limit)
 # ------------------------------------------------------------------------------------------
 def test_plate_is_the_heavy_partner_limit(checks):
-    """MODEL.md section 1: "A plate is the limit d_s,j -> inf, m_j -> inf; it must work
-    exactly". A 1 mm particle hitting a resting partner 1e6 and 1e9 times larger (no body
+    """The rule of docs/model.md: a plate is the limit d_s,j -> inf, m_j -> inf, exactly.
+    A 1 mm particle hitting a resting partner 1e6 and 1e9 times larger (no body
     forces, so only the masses and radius change, by ~1e-6 relative and less) must give the
     plate's outcome. Compared in energy with a tolerance of 1e-4 of the energies involved:
     100 times the parameter change. The heavy partners must first agree with each other

@@ -1,5 +1,5 @@
 """Sweeps over names in any order and combination, and water maps over valid temperatures
-(issue 9, failures 1 and 2: each of these crashed before)."""
+(each of these crashed in an earlier version)."""
 
 import itertools
 

@@ -1,4 +1,4 @@
-"""Model tiers "ode", "relative", "stokes" and "auto" (MODEL.md section 7).
+"""Model tiers "ode", "relative", "stokes" and "auto" (docs/model.md, "The tiers").
 
 Reference data: Shabanian et al. (2024), Heliyon 10:e29397, Table 2 (cases I and II) and
 Table 3 (variations). The integrated truth is checked against an independent integration
@@ -129,7 +129,7 @@ def test_ode_matches_radau_glass_on_plate():
 
 @pytest.mark.parametrize("name,beta", PAPER_SCENES)
 def test_ode_converges(name, beta, ode_u0):
-    """Halving rtol and atol changes e_w by < 1e-6 (issue 4), here at the defaults."""
+    """Halving rtol and atol changes e_w by < 1e-6 (the integrator's accuracy goal)."""
     args = kernel_inputs(case(name, beta), 2 * ode_u0[name] * np.geomspace(0.5, 10, 200))
     e1 = ode_batch(*args)[0]
     e2 = ode_batch(*args, rtol=0.5e-10, atol=0.5e-12)[0]
@@ -184,7 +184,7 @@ def test_relative_u0_independent_of_direction_for_identical_particles(name):
     u = at.critical_impact_speed(**case(name, np.array([0.0, 30.0, 45.0, 60.0, 90.0])),
                                  mode="relative")
     np.testing.assert_allclose(u, u[0], rtol=1e-12)
-    # ... while the paper's model moves with the direction (MODEL.md section 7)
+    # ... while the paper's model moves with the direction (its CM-frame bookkeeping)
     p = at.critical_impact_speed(**case(name, np.array([0.0, 90.0])), mode="paper")
     assert p[1] < p[0] * (1 - 1e-3)
 

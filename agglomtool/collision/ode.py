@@ -1,4 +1,4 @@
-"""The integrated truth under the paper's force laws (mode "ode", MODEL.md section 7).
+"""The integrated truth under the paper's force laws (mode "ode"; docs/model.md).
 
 The relative equation of motion of the pair along the collision axis, integrated numerically
 in the gap, with the same force laws as the paper (Shabanian et al. 2024, Heliyon
@@ -36,7 +36,7 @@ stops early with a rigorous bound (see :func:`_cannot_rebound`), so an explicit 
 Runge-Kutta pair (Dormand-Prince 5(4), FSAL, with step control on ``|k5 - k4| <=
 atol + rtol |k|``) is enough. It is compiled with Numba and run over collisions with
 ``prange``. Convergence and the agreement with scipy's implicit Radau at ``rtol = 1e-12``
-are checked in ``tests/test_tiers_ode.py``.
+are checked in ``tests/test_tiers_models.py``.
 """
 
 from __future__ import annotations

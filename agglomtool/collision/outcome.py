@@ -13,7 +13,7 @@ __all__ = ["Stage", "Path", "DETAIL_NAMES", "STAGE_DESCRIPTIONS", "stage_names",
 
 
 class Stage(enum.IntEnum):
-    """Where the outcome was decided (the reconstructed flow chart, MODEL.md section 5);
+    """Where the outcome was decided (the flow chart of the paper's Fig. 3, docs/model.md);
     :data:`STAGE_DESCRIPTIONS` says what each means."""
 
     REBOUND = 0

@@ -3,7 +3,7 @@
 Shabanian, Duchesne, Syamlal, Runstedtler (2024), Generalized analytical energy balance
 model for binary collisions of wet particles, Heliyon 10:e29397,
 doi:10.1016/j.heliyon.2024.e29397, Sections 2.2-2.3.5, Fig. 3 and Table 1, as specified and
-corrected in MODEL.md (sections 2-5).
+corrected as listed in docs/model.md ("Corrections to the printed equations").
 
 The kernel is scalar code compiled with Numba and run over flat arrays in parallel. Inputs
 per collision, all SI:
@@ -26,7 +26,7 @@ never ``inf * 0``.
 
 Per-particle viscous loss over a stretch with ``Delta = |ln f(D_a) - ln f(D_b)|``, for a
 particle of mass ``m`` entering it at speed ``v`` (exact solution of the viscous-only
-equation of motion, Eqs. 72-75, 88-90, 95-97; MODEL.md section 4)::
+equation of motion, Eqs. 72-75, 88-90, 95-97, the printed forms rearranged)::
 
     L = c Delta (v - c Delta / (2 m)),   c = (3/2) pi mu_l r^2
 
@@ -381,7 +381,7 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
         )
     dist_1 = abs(d_stop - d_start)
     dist_2 = abs(d_end - d_stop)
-    # Eqs. 39-42, 140-142 (Eq. 142 with particle j's own share, MODEL.md section 4).
+    # Eqs. 39-42, 140-142 (Eq. 142 read as Eq. 140: particle j's own share and force).
     stop_kind, stop_val = ln_f_parts(d_stop, a2)
     k_mid = (
         k_y

@@ -1,4 +1,4 @@
-"""The frame-consistent variant of the paper's model (mode "relative", MODEL.md section 7).
+"""The frame-consistent variant of the paper's model (mode "relative"; docs/model.md).
 
 The paper's closed-form losses (Shabanian et al. 2024, Heliyon 10:e29397,
 doi:10.1016/j.heliyon.2024.e29397, Eqs. 72-105, 126-129) applied to the *relative* motion
