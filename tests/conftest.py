@@ -275,6 +275,31 @@ def swap_path(path):
     return out
 
 
+#: The closed-form tiers whose invariants ``test_invariants.py`` and ``test_stability.py``
+#: assert: the published model and the default, frame-consistent tier. Those modules run
+#: every test once per tier (``pytestmark = pytest.mark.usefixtures("closed_form_tier")``)
+#: and collide through :func:`tier_collide`.
+CLOSED_FORM_TIERS = ("paper", "relative")
+_TIER_UNDER_TEST = {"mode": None}
+
+
+@pytest.fixture(scope="module", params=CLOSED_FORM_TIERS)
+def closed_form_tier(request):
+    """The tier a module's tests run in (module-scoped, so hypothesis sees no
+    function-scoped fixture)."""
+    _TIER_UNDER_TEST["mode"] = request.param
+    yield request.param
+    _TIER_UNDER_TEST["mode"] = None
+
+
+def tier_collide(*args, **kwargs):
+    """``agglomtool.collide`` in the tier under test; an explicit ``mode=`` wins."""
+    if _TIER_UNDER_TEST["mode"] is None:
+        raise RuntimeError("tier_collide needs the closed_form_tier fixture")
+    kwargs.setdefault("mode", _TIER_UNDER_TEST["mode"])
+    return at.collide(*args, **kwargs)
+
+
 @pytest.fixture(scope="session")
 def checks():
     """The helpers of this module, for the test files (no import of conftest needed)."""

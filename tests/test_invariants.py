@@ -1,4 +1,7 @@
-"""Property-based invariants of mode "paper" over extreme inputs, with hypothesis.
+"""Property-based invariants of the closed-form tiers over extreme inputs, with hypothesis.
+
+Every test runs once in mode "paper" (the published model) and once in mode "relative"
+(the default): ``closed_form_tier`` in conftest.py.
 
 Inputs are drawn over hard ranges: diameters 10 um - 10 mm (size ratios up to
 1000 and beyond) or a plate in either slot, coatings from none to 0.5 mm, asperities
@@ -18,10 +21,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
+from conftest import tier_collide as collide
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import agglomtool as at
+
+pytestmark = pytest.mark.usefixtures("closed_form_tier")
 
 SETTINGS = dict(
     deadline=None,  # the first call compiles or loads the Numba kernels
@@ -85,7 +92,7 @@ def test_finite_nonnegative_consistent_and_energy_bounded(pair, liquid, gas, bed
     """e_w finite and >= 0; agglomerated exactly where e_w == 0 (and the stage says so);
     every rebound obeys the energy bound of conftest.py."""
     p_i, p_j = pair
-    r = at.collide(p_i, p_j, liquid=liquid, gas=gas, bed=bed, u0=u0, beta_deg=beta, e=e)
+    r = collide(p_i, p_j, liquid=liquid, gas=gas, bed=bed, u0=u0, beta_deg=beta, e=e)
     _basic(r)
     checks.assert_energy_bound(p_i, p_j, liquid, gas, bed, beta, e, r)
 
@@ -99,8 +106,8 @@ def test_swapping_i_and_j_with_beta_plus_180(pair, liquid, gas, bed, u0, beta, e
     of the energies involved: the angles and the reduced mass differ in rounding)."""
     p_i, p_j = pair
     kw = dict(liquid=liquid, gas=gas, bed=bed, u0=u0, e=e)
-    r = at.collide(p_i, p_j, beta_deg=beta, **kw)
-    s = at.collide(p_j, p_i, beta_deg=beta + 180.0, **kw)
+    r = collide(p_i, p_j, beta_deg=beta, **kw)
+    s = collide(p_j, p_i, beta_deg=beta + 180.0, **kw)
     _basic(s)
     np.testing.assert_array_equal(s.agglomerated, r.agglomerated)
     np.testing.assert_array_equal(s.stage, r.stage)
@@ -132,7 +139,7 @@ def test_e_w_does_not_decrease_with_u0_identical_beta0(p, liquid, gas, bed, u0, 
     for rounding only. Outside that domain the invariant fails, for the reason shown by
     :func:`test_e_w_can_fall_with_u0_when_the_bridge_breaks_early`."""
     u1, u2 = u0, u0 * factor
-    r = at.collide(p, p, liquid=liquid, gas=gas, bed=bed, u0=np.array([u1, u2]),
+    r = collide(p, p, liquid=liquid, gas=gas, bed=bed, u0=np.array([u1, u2]),
                    beta_deg=0.0, e=e)
     _basic(r)
     h_rupt = r.details["h_rupt"]
@@ -154,7 +161,7 @@ def test_e_w_can_fall_with_u0_when_the_bridge_breaks_early():
     minus viscous terms, which falls as the speed grows, and e_w exceeds e."""
     p = at.Particle(d=1e-05, rho=500.0, h0=10.0**-3.5, ha=1e-05)
     liquid = at.Liquid(mu=1.0, gamma=1.0, rho=500.0, theta_deg=0.0)
-    r = at.collide(p, p, liquid=liquid, gas=at.Gas(mu=18.48e-6, rho=1.168),
+    r = collide(p, p, liquid=liquid, gas=at.Gas(mu=18.48e-6, rho=1.168),
                    bed=at.Bed(eps=0.5), u0=np.array([1.0, 2.0]), beta_deg=0.0, e=1.0)
     assert np.all(r.details["h_rupt"] < 2.0 * float(p.h0))  # the premise is broken
     assert r.e_w[0] > r.e_w[1] > 1.0  # so e_w falls with speed, and exceeds e
@@ -168,8 +175,8 @@ def test_no_body_forces_equals_paper_at_beta0(p, liquid, gas, bed, u0, e):
     predecessor (no body forces) agree at beta = 0: for identical particles,
     ``body_forces=False`` at every beta gives the paper mode's e_w at beta = 0 (1e-12)."""
     betas = np.array([0.0, 30.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0, -60.0, 400.0])
-    paper0 = at.collide(p, p, liquid=liquid, gas=gas, bed=bed, u0=u0, beta_deg=0.0, e=e)
-    off = at.collide(p, p, liquid=liquid, gas=gas, bed=bed, u0=u0, beta_deg=betas, e=e,
+    paper0 = collide(p, p, liquid=liquid, gas=gas, bed=bed, u0=u0, beta_deg=0.0, e=e)
+    off = collide(p, p, liquid=liquid, gas=gas, bed=bed, u0=u0, beta_deg=betas, e=e,
                      body_forces=False)
     _basic(off)
     ref = np.broadcast_to(paper0.e_w, off.e_w.shape)
@@ -183,7 +190,7 @@ def test_no_body_forces_matches_closed_form(pair, liquid, gas, u0, beta, e, chec
     """Without body forces the flow chart is the reduced-mass closed form of conftest.py
     (the paper's equations), for any pair and a plate (as the heavy-partner limit)."""
     p_i, p_j = pair
-    r = at.collide(p_i, p_j, liquid=liquid, gas=gas, u0=u0, beta_deg=beta, e=e,
+    r = collide(p_i, p_j, liquid=liquid, gas=gas, u0=u0, beta_deg=beta, e=e,
                    body_forces=False)
     _basic(r)
     ref, tol = checks.reference_e_w(p_i, p_j, liquid, r.w, e)
@@ -202,10 +209,10 @@ def test_beta_mirror_and_period(pair, liquid, gas, bed, u0, beta, e, checks):
     the vertical plane) and beta + 360 are the same collision."""
     p_i, p_j = pair
     kw = dict(liquid=liquid, gas=gas, bed=bed, u0=u0, e=e)
-    r = at.collide(p_i, p_j, beta_deg=beta, **kw)
+    r = collide(p_i, p_j, beta_deg=beta, **kw)
     _, _, scale, m_r = checks.energy_terms(p_i, p_j, liquid, gas, bed, beta, e, r)
     for other_beta in (180.0 - beta, beta + 360.0):
-        o = at.collide(p_i, p_j, beta_deg=other_beta, **kw)
+        o = collide(p_i, p_j, beta_deg=other_beta, **kw)
         np.testing.assert_array_equal(o.agglomerated, r.agglomerated)
         checks.assert_energy_close(o.e_w, r.e_w, m_r, r.w, checks.ENERGY_RTOL * scale,
                                    label=f"beta {beta} vs {other_beta}")

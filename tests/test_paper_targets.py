@@ -48,7 +48,8 @@ CASES = {"water": case_water, "slag": case_slag}
 )
 def test_critical_impact_speed_table2(case, published, half_digit):
     p, liquid, gas = CASES[case]()
-    u_star = at.critical_impact_speed(p, p, liquid=liquid, gas=gas, bed=BED, beta_deg=0.0, e=0.9)
+    u_star = at.critical_impact_speed(p, p, liquid=liquid, gas=gas, bed=BED, mode="paper",
+                                      beta_deg=0.0, e=0.9)
     assert abs(float(u_star) - published) <= half_digit
 
 
@@ -65,7 +66,7 @@ def test_critical_impact_speed_table2(case, published, half_digit):
 )
 def test_capillary_number_at_critical_speed(case, published):
     p, liquid, gas = CASES[case]()
-    u_star = float(at.critical_impact_speed(p, p, liquid=liquid, gas=gas, bed=BED))
+    u_star = float(at.critical_impact_speed(p, p, liquid=liquid, gas=gas, bed=BED, mode="paper"))
     ca = float(liquid.mu) * 2.0 * u_star / float(liquid.gamma)
     assert ca == pytest.approx(published, rel=0.02)
     regime_capillary = ca < 1.0
@@ -84,7 +85,7 @@ def test_capillary_number_at_critical_speed(case, published):
 )
 def test_monte_carlo_mean_points_table4(case, u0, published):
     p, liquid, gas = CASES[case]()
-    r = at.collide(p, p, liquid=liquid, gas=gas, bed=BED, u0=u0, beta_deg=0.0, e=0.9)
+    r = at.collide(p, p, liquid=liquid, gas=gas, bed=BED, mode="paper", u0=u0, beta_deg=0.0, e=0.9)
     assert not bool(r.agglomerated)
     assert float(r.e_w) == pytest.approx(published, abs=0.01)
 
@@ -93,9 +94,9 @@ def test_monte_carlo_mean_points_table4(case, u0, published):
 def test_outcome_switches_at_critical_speed(case):
     """Fig. 6: e_w = 0 at u0 <= u0*, rising above it towards e = 0.9 at high speed."""
     p, liquid, gas = CASES[case]()
-    u_star = float(at.critical_impact_speed(p, p, liquid=liquid, gas=gas, bed=BED))
+    u_star = float(at.critical_impact_speed(p, p, liquid=liquid, gas=gas, bed=BED, mode="paper"))
     u0 = u_star * np.array([0.5, 0.999, 1.001, 2.0, 10.0, 100.0])
-    r = at.collide(p, p, liquid=liquid, gas=gas, bed=BED, u0=u0)
+    r = at.collide(p, p, liquid=liquid, gas=gas, bed=BED, mode="paper", u0=u0)
     assert list(r.agglomerated) == [True, True, False, False, False, False]
     assert np.all(np.diff(r.e_w) >= 0.0)
     assert 0.85 < r.e_w[-1] <= 0.9  # plateau near e (Section 3.1)
@@ -107,11 +108,12 @@ def test_no_body_forces_equals_paper_mode_at_beta_zero(case, beta):
     """Section 3.1: for identical particles at beta = 0 the generalized model equals the
     earlier identical-particle model (ref. 31), which has no body forces."""
     p, liquid, gas = CASES[case]()
-    u_star = float(at.critical_impact_speed(p, p, liquid=liquid, gas=gas, bed=BED))
+    u_star = float(at.critical_impact_speed(p, p, liquid=liquid, gas=gas, bed=BED, mode="paper"))
     u0 = u_star * np.geomspace(0.5, 20.0, 41)
-    ref = at.collide(p, p, liquid=liquid, gas=gas, bed=BED, u0=u0, beta_deg=0.0)
+    ref = at.collide(p, p, liquid=liquid, gas=gas, bed=BED, mode="paper", u0=u0, beta_deg=0.0)
     nobody = at.collide(
-        p, p, liquid=liquid, gas=gas, bed=BED, u0=u0, beta_deg=beta, body_forces=False
+        p, p, liquid=liquid, gas=gas, bed=BED, mode="paper", u0=u0, beta_deg=beta,
+        body_forces=False,
     )
     np.testing.assert_allclose(nobody.e_w, ref.e_w, rtol=1e-12, atol=0.0)
     np.testing.assert_array_equal(nobody.stage, ref.stage)
@@ -134,7 +136,8 @@ def test_table3_denser_partner_lowers_critical_speed():
     angle; a smaller partner (600 um, Figs. 8a, 9a) raises it."""
     for make in (case_water, case_slag):
         p, liquid, gas = make()
-        kw = dict(liquid=liquid, gas=gas, bed=BED, beta_deg=np.array([0.0, 90.0, 270.0]))
+        kw = dict(liquid=liquid, gas=gas, bed=BED, mode="paper",
+                  beta_deg=np.array([0.0, 90.0, 270.0]))
         base = at.critical_impact_speed(p, p, **kw)
         dense = at.Particle(d=1000e-6, rho=4330.0, h0=p.h0, ha=p.ha)
         small = at.Particle(d=600e-6, rho=2650.0, h0=p.h0, ha=p.ha)
@@ -146,7 +149,7 @@ def test_details_account_for_the_energy():
     """The reported intermediate energies close the balance of the ordinary path:
     K_app = K_ini - share x L_cap - viscous share - L_bdw for each particle."""
     p, liquid, gas = case_water()
-    r = at.collide(p, p, liquid=liquid, gas=gas, bed=BED, u0=0.1, beta_deg=0.0)
+    r = at.collide(p, p, liquid=liquid, gas=gas, bed=BED, mode="paper", u0=0.1, beta_deg=0.0)
     d = r.details
     k_app = d["K_ini_i"] + d["K_ini_j"] - d["L_cap_app"] - d["L_vis_app"]
     k_app = k_app - d["L_bdw_app_i"] - d["L_bdw_app_j"]

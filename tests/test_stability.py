@@ -1,4 +1,6 @@
-"""Numerical stability of mode "paper" on hard cases (grids over the extreme inputs).
+"""Numerical stability of the closed-form tiers on hard cases (grids over the extreme
+inputs). Every test runs once in mode "paper" (the published model) and once in mode
+"relative" (the default): ``closed_form_tier`` in conftest.py.
 
 Every case asserts something the model guarantees, never just that it runs:
 
@@ -21,8 +23,11 @@ import math
 
 import numpy as np
 import pytest
+from conftest import tier_collide as collide
 
 import agglomtool as at
+
+pytestmark = pytest.mark.usefixtures("closed_form_tier")
 
 WATER = at.Liquid(mu=8.9e-4, gamma=0.073, rho=997.0, theta_deg=10.0)
 AIR = at.Gas(mu=18.48e-6, rho=1.168)
@@ -116,7 +121,7 @@ def test_closed_form_without_body_forces(kind, checks):
     p_i, p_j = _pair(kind)
     mu, u0, e, th = _axes(MU, U0, E_DRY, THETA)
     liq = at.Liquid(mu=mu, gamma=0.073, rho=997.0, theta_deg=th)
-    r = at.collide(p_i, p_j, liquid=liq, gas=AIR, u0=u0, beta_deg=37.0, e=e,
+    r = collide(p_i, p_j, liquid=liq, gas=AIR, u0=u0, beta_deg=37.0, e=e,
                    body_forces=False)
     _basic(r)
     ref, tol = checks.reference_e_w(p_i, p_j, liq, r.w, e)
@@ -144,7 +149,7 @@ def test_closed_form_body_forces_normal_to_axis(kind, eps, checks):
     p_i, p_j = _pair(kind)
     mu, u0, e, th = _axes(MU, U0, E_DRY, THETA)
     liq = at.Liquid(mu=mu, gamma=0.073, rho=997.0, theta_deg=th)
-    r = at.collide(p_i, p_j, liquid=liq, gas=AIR, bed=at.Bed(eps=eps), u0=u0, beta_deg=0.0,
+    r = collide(p_i, p_j, liquid=liq, gas=AIR, bed=at.Bed(eps=eps), u0=u0, beta_deg=0.0,
                    e=e)
     _basic(r)
     ref, tol = checks.reference_e_w(p_i, p_j, liq, r.w, e)
@@ -170,7 +175,7 @@ def test_body_forces_all_round_invariants(kind, checks):
                                      THETA)
     liq = at.Liquid(mu=mu, gamma=0.073, rho=997.0, theta_deg=th)
     bed = at.Bed(eps=eps)
-    r = at.collide(p_i, p_j, liquid=liq, gas=AIR, bed=bed, u0=u0, beta_deg=beta, e=e)
+    r = collide(p_i, p_j, liquid=liq, gas=AIR, bed=bed, u0=u0, beta_deg=beta, e=e)
     _basic(r)
     checks.assert_energy_bound(p_i, p_j, liq, AIR, bed, beta, e, r)
     assert np.all(r.e_w[..., 0, :] == 0.0), "e = 0 must stick"
@@ -192,11 +197,11 @@ def test_body_forces_geometric_symmetries(kind, checks):
     liq = at.Liquid(mu=mu, gamma=0.073, rho=997.0, theta_deg=10.0)
     bed = at.Bed(eps=eps)
     kw = dict(liquid=liq, gas=AIR, bed=bed, u0=u0, e=e)
-    r = at.collide(p_i, p_j, beta_deg=beta, **kw)
+    r = collide(p_i, p_j, beta_deg=beta, **kw)
     _, _, scale, m_r = checks.energy_terms(p_i, p_j, liq, AIR, bed, beta, e, r)
-    swapped = at.collide(p_j, p_i, beta_deg=beta + 180.0, **kw)
-    mirror = at.collide(p_i, p_j, beta_deg=180.0 - beta, **kw)
-    turned = at.collide(p_i, p_j, beta_deg=beta + 360.0, **kw)
+    swapped = collide(p_j, p_i, beta_deg=beta + 180.0, **kw)
+    mirror = collide(p_i, p_j, beta_deg=180.0 - beta, **kw)
+    turned = collide(p_i, p_j, beta_deg=beta + 360.0, **kw)
     for name, other in (("swap", swapped), ("mirror", mirror), ("360", turned)):
         _basic(other)
         np.testing.assert_array_equal(other.agglomerated, r.agglomerated, err_msg=name)
@@ -217,13 +222,13 @@ def test_coating_barely_thicker_than_asperities(excess, checks):
     p = at.Particle(d=1000e-6, rho=2650.0, h0=ha * (1.0 + excess), ha=ha)
     mu, u0, e, th = _axes(MU, U0, E_DRY, THETA)
     liq = at.Liquid(mu=mu, gamma=0.073, rho=997.0, theta_deg=th)
-    r = at.collide(p, p, liquid=liq, gas=AIR, u0=u0, beta_deg=0.0, e=e)
+    r = collide(p, p, liquid=liq, gas=AIR, u0=u0, beta_deg=0.0, e=e)
     _basic(r)
     ref, tol = checks.reference_e_w(p, p, liq, r.w, e)
     m = checks.wet_mass(p.d, p.rho, p.h0, liq.rho)
     checks.assert_energy_close(r.e_w, ref, 0.5 * m, r.w, tol, label=f"excess={excess}")
     beta = BETAS.reshape(-1, 1, 1, 1, 1)
-    r_all = at.collide(p, p, liquid=liq, gas=AIR, u0=u0, beta_deg=beta, e=e)
+    r_all = collide(p, p, liquid=liq, gas=AIR, u0=u0, beta_deg=beta, e=e)
     _basic(r_all)
     checks.assert_energy_bound(p, p, liq, AIR, at.Bed(), beta, e, r_all)
 
@@ -234,7 +239,7 @@ def test_zero_asperities_always_stick():
     p = at.Particle(d=1000e-6, rho=2650.0, h0=5e-6, ha=0.0)
     mu, u0, beta = _axes(MU, U0, BETAS)
     liq = at.Liquid(mu=mu, gamma=0.073, rho=997.0, theta_deg=10.0)
-    r = at.collide(p, p, liquid=liq, gas=AIR, u0=u0, beta_deg=beta, e=1.0)
+    r = collide(p, p, liquid=liq, gas=AIR, u0=u0, beta_deg=beta, e=1.0)
     _basic(r)
     assert np.all(r.e_w == 0.0)
     assert np.all(r.stage == int(at.Stage.APPROACH_VISCOUS))
@@ -245,7 +250,7 @@ def test_no_bridge_is_a_dry_collision():
     every speed and angle, flagged NO_BRIDGE; e = 0 sticks at contact."""
     p = at.Particle(d=1000e-6, rho=2650.0, h0=0.05e-6, ha=0.1e-6)
     u0, beta, e = _axes(U0, BETAS, [0.0, 0.4, 1.0])
-    r = at.collide(p, p, liquid=WATER, gas=AIR, u0=u0, beta_deg=beta, e=e)
+    r = collide(p, p, liquid=WATER, gas=AIR, u0=u0, beta_deg=beta, e=e)
     _basic(r)
     np.testing.assert_array_equal(r.e_w, np.broadcast_to(e, r.e_w.shape))
     assert np.all(r.path & int(at.Path.NO_BRIDGE))
@@ -271,8 +276,8 @@ def test_thick_film_plate_mirror_and_bounds(checks):
     e_w; the energy bound; e_w <= e where the model guarantees it (see below)."""
     glass, plate, water, h0, u0, e = _thick_film_case()
     kw = dict(liquid=water, gas=AIR, u0=u0, e=e)
-    below = at.collide(plate, glass, beta_deg=90.0, **kw)
-    above = at.collide(glass, plate, beta_deg=270.0, **kw)
+    below = collide(plate, glass, beta_deg=90.0, **kw)
+    above = collide(glass, plate, beta_deg=270.0, **kw)
     for r in (below, above):
         _basic(r)
     np.testing.assert_allclose(above.e_w, below.e_w, rtol=1e-12, atol=0.0)
@@ -300,7 +305,7 @@ def test_thick_film_plate_limits(checks):
     dwarfs the Ennis threshold (1 + 1/e) ln(H0/Ha), so the particle must rebound for e > 0;
     e = 0 sticks."""
     glass, plate, water, h0, u0, e = _thick_film_case()
-    r = at.collide(plate, glass, liquid=water, gas=AIR, u0=u0, beta_deg=90.0, e=e)
+    r = collide(plate, glass, liquid=water, gas=AIR, u0=u0, beta_deg=90.0, e=e)
     _basic(r)
     w_visc = _viscous_bound_speed(plate, glass, water, checks)
     slow = np.broadcast_to(r.w <= w_visc, r.e_w.shape)
@@ -333,9 +338,9 @@ def test_plate_is_the_heavy_partner_limit(checks):
     liq = at.Liquid(mu=mu, gamma=0.073, rho=997.0, theta_deg=th)
     kw = dict(liquid=liq, gas=AIR, u0=u0, beta_deg=0.0, e=e, body_forces=False,
               mode="relative")
-    plate = at.collide(wet, at.Particle.plate(h0=5e-6, ha=0.1e-6), **kw)
+    plate = collide(wet, at.Particle.plate(h0=5e-6, ha=0.1e-6), **kw)
     partners = [at.Particle(d=d, rho=2650.0, h0=5e-6, ha=0.1e-6) for d in (1e3, 1e6)]
-    heavy = [at.collide(wet, p, u0_j=0.0, **kw) for p in partners]
+    heavy = [collide(wet, p, u0_j=0.0, **kw) for p in partners]
     for r in (plate, *heavy):
         _basic(r)
         np.testing.assert_array_equal(r.w, plate.w)
@@ -365,8 +370,8 @@ def test_plate_is_the_heavy_partner_limit_in_every_tier():
     for mode in at.MODES:
         kw = dict(liquid=liq, gas=AIR, u0=0.0, u0_j=u0, beta_deg=90.0, e=0.97,
                   body_forces=False, mode=mode)
-        a = at.collide(plate, ball, **kw)
-        b = at.collide(heavy, ball, **kw)
+        a = collide(plate, ball, **kw)
+        b = collide(heavy, ball, **kw)
         assert 0 < a.agglomerated.sum() < u0.size, mode  # both outcomes in the range
         np.testing.assert_allclose(a.e_w, b.e_w, rtol=0.0, atol=1e-9, err_msg=mode)
         np.testing.assert_array_equal(a.stage, b.stage, err_msg=mode)
@@ -389,8 +394,8 @@ def test_paper_and_relative_coincide_against_a_plate():
     for beta in (90.0, -90.0, 30.0):
         kw = dict(liquid=liq, gas=AIR, bed=at.Bed(eps=0.99, U=0.0), u0=0.0, u0_j=u0,
                   beta_deg=beta, e=0.97)
-        p = at.collide(plate, ball, mode="paper", **kw)
-        r = at.collide(plate, ball, mode="relative", **kw)
+        p = collide(plate, ball, mode="paper", **kw)
+        r = collide(plate, ball, mode="relative", **kw)
         assert 0 < p.agglomerated.sum() < u0.size
         ordinary = (p.path & stops) == 0
         assert ordinary.sum() >= 30
