@@ -73,12 +73,20 @@ G_MAX = 0.05
 STICK_MARGIN = 1.10
 #: Default tolerance in ``e_w`` [-].
 DEFAULT_TOL = 0.01
-#: Integration tolerance of the "ode" tier inside "auto" per unit ``tol`` (measured error of
-#: "ode" at most 55 ``rtol`` for rtol 1e-5 and 1e-6: at ``tol = 0.01``, ``rtol = 1e-5`` and
-#: an error below 6e-4).
-ODE_RTOL_PER_TOL = 1e-3
-#: Error bound of "ode" in ``e_w`` per unit ``rtol`` (measured 54, see above).
-ODE_ERROR_PER_RTOL = 60.0
+#: Step settings of the "ode" tier inside "auto" (first trial step, largest step in ``ln D``
+#: and the limit of the first step by the initial rate, see :func:`~.ode.ode_batch`): fewer
+#: steps than mode "ode"'s start at 0.01 (about 15 against 18 per collision on the
+#: benchmark batch at rtol 1e-5); without the cap the embedded error estimate lets
+#: steps grow to several units of ``ln D`` and underestimates the error by up to two orders
+#: of magnitude near the critical speed (measured: ``|k - k(ode)|`` up to 190 ``rtol``, an
+#: error of 0.015 in ``e_w`` at ``rtol = 1e-5`` on the mixed benchmark batch).
+ODE_STEPS = dict(first_step=0.2, max_step=1.0, first_change=0.03)
+#: Bound of the error of "ode" (with :data:`ODE_STEPS`) in ``k = e_w^2`` per unit ``rtol``:
+#: measured at most 4.0 for rtol 1e-7 to 1e-5 (module docstring), with a safety factor 2.5.
+ODE_K_ERROR_PER_RTOL = 10.0
+#: Largest integration tolerance used (the bound above was measured up to 1e-5; at 1e-4 the
+#: measured ratio was 22).
+ODE_RTOL_MAX = 1e-5
 #: Codes of the tier used per collision.
 TIER_RELATIVE, TIER_ODE = 1, 2
 
@@ -232,12 +240,28 @@ def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL):
                     stage, path, w, tier, bound)
     idx = np.flatnonzero(tier == TIER_ODE)
     if idx.size:
-        rtol = min(1e-5, ODE_RTOL_PER_TOL * tol)
+        rtol = ode_rtol(tol)
         k = prepare_at(ins, steps, idx, body, particle_slip)
         e_o, st_o, pa_o, _, _ = ode_batch(*k[:13], details=False, rtol=rtol,
-                                          atol=1e-2 * rtol)
+                                          atol=1e-2 * rtol, **ODE_STEPS)
         e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
     return e_w, stage, path, w
+
+
+def ode_rtol(tol):
+    """Integration tolerance of the "ode" tier inside "auto" for a tolerance ``tol`` in
+    ``e_w``: its error bound in ``k`` (:data:`ODE_K_ERROR_PER_RTOL` ``rtol``) must stay
+    below ``tol^2``, since near the critical speed an error ``dk`` in ``k = e_w^2`` moves
+    ``e_w`` by up to ``sqrt(dk)``."""
+    return min(ODE_RTOL_MAX, tol * tol / ODE_K_ERROR_PER_RTOL)
+
+
+def ode_bound(e_w, rtol):
+    """Error bound in ``e_w`` [-] of "ode" results ``e_w`` at ``rtol``: with ``dk`` the
+    bound in ``k``, ``|e_w - e_w(ode)| = |k - k(ode)| / (e_w + e_w(ode))``, at most
+    ``min(sqrt(dk), dk / e_w)``."""
+    dk = ODE_K_ERROR_PER_RTOL * rtol
+    return np.minimum(math.sqrt(dk), dk / np.maximum(e_w, 1e-300))
 
 
 def _check_tol(tol):
@@ -294,12 +318,12 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     parallel_launch(_choose, *args, tol, e_w, stage, path, tier, bound, det)
     idx = np.flatnonzero(tier == TIER_ODE)
     if idx.size:
-        rtol = min(1e-5, ODE_RTOL_PER_TOL * tol)
+        rtol = ode_rtol(tol)
         sub = [np.ascontiguousarray(a[idx]) for a in args]
         e_o, st_o, pa_o, det_o, _ = ode_batch(*sub, details=details, rtol=rtol,
-                                              atol=1e-2 * rtol)
+                                              atol=1e-2 * rtol, **ODE_STEPS)
         e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
-        bound[idx] = ODE_ERROR_PER_RTOL * rtol
+        bound[idx] = ode_bound(e_o, rtol)
         if details:
             det[idx] = det_o
     if not details:
