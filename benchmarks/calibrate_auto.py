@@ -74,3 +74,45 @@ def _take(v, mask):
                   x.ndim else x) for k, x in v.__dict__.items()}
         return type(v)(**kw)
     return v
+
+
+RTOLS = (1e-7, 1e-6, 1e-5, 1e-4)
+
+
+def main():
+    from agglomtool.collision.auto import ODE_STEPS, closed_form_indicator_lean
+    from agglomtool.collision.ode import ode_batch
+    from agglomtool.collision.relative import run_relative
+
+    arrs, factor, scene = measure()
+    n = arrs[0].size
+    print(f"{scene.max() + 1} scenes with a finite critical speed, {n} collisions")
+    truth = ode_batch(*arrs)[0]
+    e_rel = run_relative(*arrs)[0]
+    g = np.array([closed_form_indicator_lean(*[float(a[q]) for a in arrs])[3]
+                  for q in range(n)])
+    reb = (e_rel > 0) & np.isfinite(g) & (g > 0)
+    ratio = np.abs(e_rel - truth)[reb] / g[reb]
+    gr = g[reb]
+    print("closed forms: largest |e_w(relative) - e_w(ode)| / g")
+    for lo, hi in ((1e-6, 1e-3), (1e-3, 1e-2), (1e-2, 0.05), (0.05, 0.1), (0.1, 1.0)):
+        m = (gr >= lo) & (gr < hi)
+        if m.any():
+            print(f"  g in [{lo:g}, {hi:g}): {ratio[m].max():.3f} ({m.sum()} rebounds)")
+    print(f"ode inside auto (steps {ODE_STEPS}): largest |k - k(ode)| / rtol "
+          "with k = e_w^2, and largest |e_w - e_w(ode)|")
+    k_t = truth * truth
+    for rtol in RTOLS:
+        e_l, _, _, _, steps = ode_batch(*arrs, rtol=rtol, atol=1e-2 * rtol, **ODE_STEPS)
+        dk = np.abs(e_l * e_l - k_t)
+        flips = int(np.sum((e_l > 0) != (truth > 0)))
+        print(f"  rtol {rtol:g}: {dk.max() / rtol:.3g}; e_w {np.abs(e_l - truth).max():.3g}; "
+              f"outcome flips {flips}; mean steps {steps.mean():.1f}")
+        e_d, _, _, _, steps_d = ode_batch(*arrs, rtol=rtol, atol=1e-2 * rtol)
+        dk_d = np.abs(e_d * e_d - k_t)
+        print(f"    (default steps, first 0.01 and no cap: {dk_d.max() / rtol:.3g}; e_w "
+              f"{np.abs(e_d - truth).max():.3g}; mean steps {steps_d.mean():.1f})")
+
+
+if __name__ == "__main__":
+    main()

@@ -29,13 +29,23 @@ How the constants were measured
 plates, densities 1000-5000 kg/m3, asperities 0.01-1 um, H0/Ha 1.2-500, viscosities
 1e-3-1e6 Pa s, surface tensions 0.02-0.5 N/m, contact angles 0-60 deg, e 0.3-1, beta 0-90
 deg, voidage 0.4-0.9, air at 25 or 800 C), 310 with a finite critical speed, each at 60
-speeds from 0.3 to 30 times its "ode" critical speed (9300 collisions). Measured: the largest
+speeds from 0.3 to 30 times its "ode" critical speed. Measured: the largest
 ``|e_w(relative) - e_w(ode)| / g`` over the rebounds with ``g < 0.1`` was 0.119 (bins of
 ``g`` from 1e-6 to 0.1 all gave 0.118-0.119; above ``g = 0.1`` up to 0.73); the largest
-ratio of the critical speeds ``u*(relative) / u*(ode)`` was 1.036; the integrator at
-``rtol = 1e-5`` and ``1e-6`` differed from ``rtol = 1e-10`` by at most 5.4e-4 and 5.2e-5
-in ``e_w``. The constants
-below add a safety factor to each.
+ratio of the critical speeds ``u*(relative) / u*(ode)`` was 1.036. Re-run on the current
+property layer (314 scenes, 18840 collisions) the closed-form ratio reads 0.138 for
+``g < 1e-3`` (errors below 1.4e-4) and 0.115-0.122 from there to ``g = 0.1``: the bound
+below keeps a safety factor of at least 1.45.
+
+The integrated tier inside "auto" runs with :data:`ODE_STEPS` (steps capped at 1 in
+``ln D``). Its error is measured in ``k = e_w^2``, the quantity the integration controls:
+the largest ``|k - k(ode)| / rtol`` against ``rtol = 1e-10`` was 2.3, 2.9 and 0.77 at
+``rtol`` 1e-7, 1e-6 and 1e-5 (0.78 at 1e-4, not used), with no outcome flipped; on the
+fidelity suite 1.6, 1.3, 0.87; on 2e5 collisions of the mixed benchmark batch 2.4 and 1.0
+at 1e-6 and 1e-5. With mode "ode"'s own first step and no cap the same ratio was 90-190:
+the error estimate of the embedded pair is only asymptotic and was fooled by steps of
+several units of ``ln D``, which put ``e_w`` off by up to 0.015 at ``rtol = 1e-5`` just
+above the critical speed. The constants below add a safety factor to each.
 """
 
 from __future__ import annotations
@@ -73,12 +83,20 @@ G_MAX = 0.05
 STICK_MARGIN = 1.10
 #: Default tolerance in ``e_w`` [-].
 DEFAULT_TOL = 0.01
-#: Integration tolerance of the "ode" tier inside "auto" per unit ``tol`` (measured error of
-#: "ode" at most 55 ``rtol`` for rtol 1e-5 and 1e-6: at ``tol = 0.01``, ``rtol = 1e-5`` and
-#: an error below 6e-4).
-ODE_RTOL_PER_TOL = 1e-3
-#: Error bound of "ode" in ``e_w`` per unit ``rtol`` (measured 54, see above).
-ODE_ERROR_PER_RTOL = 60.0
+#: Step settings of the "ode" tier inside "auto" (first trial step, largest step in ``ln D``
+#: and the limit of the first step by the initial rate, see :func:`~.ode.ode_batch`): fewer
+#: steps than mode "ode"'s start at 0.01 (about 15 against 18 per collision on the
+#: benchmark batch at rtol 1e-5); without the cap the embedded error estimate lets
+#: steps grow to several units of ``ln D`` and underestimates the error by up to two orders
+#: of magnitude near the critical speed (measured: ``|k - k(ode)|`` up to 190 ``rtol``, an
+#: error of 0.015 in ``e_w`` at ``rtol = 1e-5`` on the mixed benchmark batch).
+ODE_STEPS = dict(first_step=0.2, max_step=1.0, first_change=0.03)
+#: Bound of the error of "ode" (with :data:`ODE_STEPS`) in ``k = e_w^2`` per unit ``rtol``:
+#: measured at most 2.9 for rtol 1e-7 to 1e-5 (module docstring), with a safety factor 3.4.
+ODE_K_ERROR_PER_RTOL = 10.0
+#: Largest integration tolerance used (the bound above is relied on from 1e-5 down; 1e-4
+#: was measured once, with the first step 0.1 and no rate limit, at 22 rtol).
+ODE_RTOL_MAX = 1e-5
 #: Codes of the tier used per collision.
 TIER_RELATIVE, TIER_ODE = 1, 2
 
@@ -194,8 +212,10 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
         else:
             tier = TIER_ODE
     elif H0 > Ha:
-        ew2, _, _, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
-                                       w * STICK_MARGIN, fn_i, fn_j, e, np.empty(0))
+        # The same closed forms as relative_kernel (bitwise, tested), without a details
+        # array to allocate per collision.
+        ew2, _, _, _ = closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
+                                                  theta, w * STICK_MARGIN, fn_i, fn_j, e)
         if ew2 > 0.0:
             tier = TIER_ODE
     return ew, st, pa, tier, bound
@@ -232,12 +252,28 @@ def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL):
                     stage, path, w, tier, bound)
     idx = np.flatnonzero(tier == TIER_ODE)
     if idx.size:
-        rtol = min(1e-5, ODE_RTOL_PER_TOL * tol)
+        rtol = ode_rtol(tol)
         k = prepare_at(ins, steps, idx, body, particle_slip)
         e_o, st_o, pa_o, _, _ = ode_batch(*k[:13], details=False, rtol=rtol,
-                                          atol=1e-2 * rtol)
+                                          atol=1e-2 * rtol, **ODE_STEPS)
         e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
     return e_w, stage, path, w
+
+
+def ode_rtol(tol):
+    """Integration tolerance of the "ode" tier inside "auto" for a tolerance ``tol`` in
+    ``e_w``: its error bound in ``k`` (:data:`ODE_K_ERROR_PER_RTOL` ``rtol``) must stay
+    below ``tol^2``, since near the critical speed an error ``dk`` in ``k = e_w^2`` moves
+    ``e_w`` by up to ``sqrt(dk)``."""
+    return min(ODE_RTOL_MAX, tol * tol / ODE_K_ERROR_PER_RTOL)
+
+
+def ode_bound(e_w, rtol):
+    """Error bound in ``e_w`` [-] of "ode" results ``e_w`` at ``rtol``: with ``dk`` the
+    bound in ``k``, ``|e_w - e_w(ode)| = |k - k(ode)| / (e_w + e_w(ode))``, at most
+    ``min(sqrt(dk), dk / e_w)``."""
+    dk = ODE_K_ERROR_PER_RTOL * rtol
+    return np.minimum(math.sqrt(dk), dk / np.maximum(e_w, 1e-300))
 
 
 def _check_tol(tol):
@@ -294,12 +330,12 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     parallel_launch(_choose, *args, tol, e_w, stage, path, tier, bound, det)
     idx = np.flatnonzero(tier == TIER_ODE)
     if idx.size:
-        rtol = min(1e-5, ODE_RTOL_PER_TOL * tol)
+        rtol = ode_rtol(tol)
         sub = [np.ascontiguousarray(a[idx]) for a in args]
         e_o, st_o, pa_o, det_o, _ = ode_batch(*sub, details=details, rtol=rtol,
-                                              atol=1e-2 * rtol)
+                                              atol=1e-2 * rtol, **ODE_STEPS)
         e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
-        bound[idx] = ODE_ERROR_PER_RTOL * rtol
+        bound[idx] = ode_bound(e_o, rtol)
         if details:
             det[idx] = det_o
     if not details:

@@ -101,6 +101,8 @@ DEFAULT_ATOL = 1e-12
 MAX_STEPS = 200_000
 #: How the rupture gap is taken: Ca from the opening speed at contact, or self-consistent.
 RUPTURE_MODES = ("contact", "self-consistent")
+#: First trial step of the step control in ``ln D`` (each stage).
+DEFAULT_FIRST_STEP = 1e-2
 
 
 
@@ -182,17 +184,22 @@ def _rupture_gap_log(theta, ca_per_sqrtk, vol, k):
 
 @njit(cache=CACHE)
 def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
-               e2, need, event, theta, ca_per_sqrtk, vol):
+               e2, need, event, theta, ca_per_sqrtk, vol, h_first=1e-2, h_max=math.inf,
+               first_change=math.inf):
     """Integrate ``dk/dy`` from ``y0`` towards ``y1``.
 
     ``need >= 0`` enables the early stop of :func:`_cannot_rebound` (approach only; -1
     disables it). ``event`` stops at the first ``y >= ln h_rupt(k)`` (self-consistent
-    rupture). Returns ``(k, y, status, steps)``.
+    rupture). ``h_first`` is the first trial step and ``h_max`` the largest step, both in
+    ``ln D``; the first trial step is also at most the one over which ``k`` changes by
+    ``first_change`` times ``max(k, 1e-3)`` at its initial rate. Returns
+    ``(k, y, status, steps)``.
     """
     direction = 1.0 if y1 > y0 else -1.0
     y, k = y0, k0
     f1 = _rhs(y, k, sigma, a2, kc, fb, vis, volcorr)
-    h = direction * min(abs(y1 - y0), 1e-2)
+    h = direction * min(abs(y1 - y0), h_first,
+                        first_change * max(abs(k), 1e-3) / max(abs(f1), 1e-300))
     steps = 0
     while steps < MAX_STEPS:
         if direction * (y + h - y1) > 0.0:
@@ -233,18 +240,22 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
             return k, y, _CANNOT, steps
         factor = 5.0 if ratio == 0.0 else min(5.0, max(0.2, 0.9 * ratio ** -0.2))
         h *= factor
+        if abs(h) > h_max:
+            h = direction * h_max
     return k, y, _TOO_MANY, steps
 
 
 @njit(cache=CACHE)
 def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det,
-               rtol, atol, self_consistent, volcorr):
+               rtol, atol, self_consistent, volcorr, h_first=1e-2, h_max=math.inf,
+               first_change=math.inf):
     """One collision integrated. Returns ``(e_w, stage, path, steps, status)``.
 
     ``status`` is 4 when :data:`MAX_STEPS` was exceeded (the wrapper raises), else 0.
     ``det`` as in :func:`agglomtool.collision.paper.paper_kernel`; the per-particle columns
     hold the CM-frame split of the relative energies; the viscous losses are the energy
-    balance of the integrated stage (``K_start - K_end - L_cap - L_bdw``).
+    balance of the integrated stage (``K_start - K_end - L_cap - L_bdw``). ``h_first`` and
+    ``h_max``, ``first_change``: the step settings of :func:`ode_batch`.
     """
     nan = math.nan
     want = det.shape[0] > 0
@@ -295,7 +306,7 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     # ---- approach
     k_c, _, status, steps = _integrate(
         math.log(H0), math.log(Ha), 1.0, 1.0, a2, kc, fb, vis, volcorr, rtol, atol,
-        e2, need, False, theta, 0.0, vol,
+        e2, need, False, theta, 0.0, vol, h_first, h_max, first_change,
     )
     if status == _TOO_MANY:
         return nan, APP_EN, 0, steps, _TOO_MANY
@@ -330,7 +341,8 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
             y_end = math.log(Ha) + 60.0
         k_end, y_stop, status, steps_sep = _integrate(
             math.log(Ha), y_end, k_s, -1.0, a2, kc, fb, vis, volcorr, rtol, atol,
-            e2, -1.0, self_consistent, theta, mu_l * w / gamma, vol,
+            e2, -1.0, self_consistent, theta, mu_l * w / gamma, vol, h_first, h_max,
+            first_change,
         )
         steps += steps_sep
         if status == _TOO_MANY:
@@ -363,11 +375,13 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
 
 @njit(parallel=True, cache=CACHE)
 def _run_ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-                   rtol, atol, self_consistent, volcorr, e_w, stage, path, steps, status, det):
+                   rtol, atol, self_consistent, volcorr, h_first, h_max, first_change,
+                   e_w, stage, path, steps, status, det):
     for q in prange(e_w.shape[0]):
         ew, st, pa, ns, stat = ode_kernel(
             m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q], cos_t[q], theta[q],
             w[q], fn_i[q], fn_j[q], e[q], det[q], rtol, atol, self_consistent, volcorr,
+            h_first, h_max, first_change,
         )
         e_w[q] = ew
         stage[q] = st
@@ -378,7 +392,8 @@ def _run_ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j
 
 def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
               details=False, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, rupture="contact",
-              volume_corrected=True):
+              volume_corrected=True, first_step=DEFAULT_FIRST_STEP, max_step=math.inf,
+              first_change=math.inf):
     """:func:`run_ode` that also returns the accepted steps per collision (fifth array).
 
     Parameters
@@ -390,11 +405,24 @@ def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         rule), or from the speed at the rupture gap itself.
     volume_corrected : bool
         False sets ``X_v = 1`` in both bridge forces (the uncorrected force laws).
+    first_step, max_step, first_change : float
+        First trial step and largest step of the step control, in ``ln D`` [-]; the first
+        trial step of each stage is also at most the one over which ``k`` would change by
+        ``first_change`` times ``max(k, 1e-3)`` at its initial rate. The error
+        estimate of an embedded pair is only asymptotic: at loose tolerances the step
+        control alone lets steps grow to several units of ``ln D``, where the estimate can
+        be two orders of magnitude below the true error (measured near the critical speed,
+        where ``k`` ends close to 0); mode "auto" caps the step (:mod:`.auto`). The
+        defaults (0.01, no cap, no limit) are those of mode "ode".
     """
     if rupture not in RUPTURE_MODES:
         raise ValueError(f"rupture = {rupture!r} is not one of {RUPTURE_MODES}")
     if not (0.0 < rtol < 1e-2 and 0.0 < atol < 1e-2):
         raise ValueError(f"rtol = {rtol!r}, atol = {atol!r}: both must be in (0, 0.01)")
+    if not (0.0 < first_step <= max_step and first_change > 0.0):
+        raise ValueError(f"first_step = {first_step!r}, max_step = {max_step!r}, "
+                         f"first_change = {first_change!r}: need 0 < first_step <= max_step "
+                         "and first_change > 0")
     n = w.shape[0]
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
@@ -406,7 +434,8 @@ def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         _run_ode_batch,
         m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         float(rtol), float(atol), rupture == "self-consistent", bool(volume_corrected),
-        e_w, stage, path, steps, status, det,
+        float(first_step), float(max_step), float(first_change), e_w, stage, path, steps,
+        status, det,
     )
     if np.any(status == _TOO_MANY):
         bad = int(np.flatnonzero(status == _TOO_MANY)[0])
