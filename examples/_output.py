@@ -35,7 +35,7 @@ def save(fig, name: str, dpi: int = 120) -> Path:
     """Write ``fig`` as ``<output>/<name>.png`` and say where."""
     path = output_dir() / f"{name}.png"
     fig.savefig(path, dpi=dpi, bbox_inches="tight")
-    print(f"picture: {path}")
+    print(f"picture: {os.path.relpath(path)}")
     return path
 
 

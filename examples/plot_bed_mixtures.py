@@ -117,7 +117,7 @@ for row, (title, cond) in enumerate(CASES.items()):
                     color="0.4", rotation=90, ha="right")
     ax.set(xlabel="geometric standard deviation of the sand sizes [-]",
            ylabel="bed agglomeration propensity [-]", title=f"(b) {title}")
-    ax.legend(fontsize=8, loc="upper left")
+    ax.legend(fontsize=8, loc="upper left" if row == 0 else "lower right")
 fig.suptitle("Beds, not pairs: 1000 um sand with ilmenite (a) and with a size spread (b)")
 save(fig, "bed_mixtures")
 

@@ -1,6 +1,6 @@
 """
 Monte Carlo: the paper's uncertainty analyses (Table 4, Figs. 10-11)
-===================================================================
+====================================================================
 
 Shabanian et al. (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397, Section 3.4,
 Table 4, Figs. 10-11 and S.4-S.6. For water (capillary-limited) and slag (viscous-limited),
