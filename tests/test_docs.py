@@ -83,3 +83,22 @@ def test_api_reference_lists_every_public_name():
     assert not missing, f"public names missing from docs/api: {missing}"
     for name in documented:  # and nothing listed there is stale
         _get(name)
+
+
+def test_link_checker_finds_broken_files_and_anchors(tmp_path):
+    import sys
+
+    sys.path.insert(0, str(DOCS / "_ext"))
+    try:
+        from check_links import broken_links
+    finally:
+        sys.path.remove(str(DOCS / "_ext"))
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "index.html").write_text(
+        '<a href="sub/page.html#here">ok</a> <a href="sub/page.html#gone">bad anchor</a>'
+        '<a href="missing.html">bad file</a> <a href="https://example.org/x">other site</a>'
+        '<img src="sub/pic.png"> <a href="#top" id="top">self</a>')
+    (tmp_path / "sub" / "page.html").write_text('<h1 id="here">x</h1><a href="../index.html">')
+    (tmp_path / "sub" / "pic.png").write_bytes(b"png")
+    assert broken_links(tmp_path) == ["index.html: sub/page.html#gone (no such anchor)",
+                                      "index.html: missing.html (no such file)"]
