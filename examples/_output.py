@@ -1,8 +1,14 @@
-"""Where the examples write their pictures, and how big their grids are.
+"""Where the examples write their pictures, and how big their grids and samples are.
 
-``AGGLOMTOOL_EXAMPLE_OUT`` overrides the output directory (default ``examples/output``);
-``AGGLOMTOOL_EXAMPLE_N`` overrides the number of points per grid axis (the smoke tests use
-a few points).
+Environment variables (all optional; without them every example runs at full size):
+
+``AGGLOMTOOL_EXAMPLE_OUT``
+    Output directory (default ``examples/output``).
+``AGGLOMTOOL_EXAMPLE_N``
+    Points per grid axis (the smoke tests use a few points).
+``AGGLOMTOOL_EXAMPLE_SAMPLES``
+    Monte Carlo samples per run (the documentation's gallery uses fewer than the paper's
+    1e6; the smoke tests a few thousand).
 """
 
 import os
@@ -16,7 +22,21 @@ def output_dir() -> Path:
 
 
 def points(default: int) -> int:
+    """Points per grid axis: ``default``, or ``AGGLOMTOOL_EXAMPLE_N`` when set."""
     return int(os.environ.get("AGGLOMTOOL_EXAMPLE_N", default))
+
+
+def samples(default: int) -> int:
+    """Monte Carlo samples: ``default``, or ``AGGLOMTOOL_EXAMPLE_SAMPLES`` when set."""
+    return int(os.environ.get("AGGLOMTOOL_EXAMPLE_SAMPLES", default))
+
+
+def save(fig, name: str, dpi: int = 120) -> Path:
+    """Write ``fig`` as ``<output>/<name>.png`` and say where."""
+    path = output_dir() / f"{name}.png"
+    fig.savefig(path, dpi=dpi, bbox_inches="tight")
+    print(f"picture: {os.path.relpath(path)}")
+    return path
 
 
 def map_from_config(name: str):
@@ -41,4 +61,6 @@ def map_from_config(name: str):
             grid[key] = (np.geomspace if geometric else np.linspace)(axis[0], axis[-1], n)
     ds = sweep(cfg.scene, nodes=cfg.options["nodes"], **grid)
     write_map(ds, output_dir() / f"{name}.nc")
+    print("grid: " + ", ".join(f"{k} {np.size(v)}" for k, v in grid.items())
+          + f" ({int(np.prod([np.size(v) for v in grid.values()]))} points)")
     return ds

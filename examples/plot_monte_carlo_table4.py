@@ -1,34 +1,37 @@
-"""The paper's Monte Carlo uncertainty analyses (Section 3.4, Table 4, Figs. 10-11, S.4-S.6).
+"""
+Monte Carlo: the paper's uncertainty analyses (Table 4, Figs. 10-11)
+====================================================================
 
-Shabanian et al. (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397.
-
-For water (capillary-limited) and slag (viscous-limited), at the mean impact speeds giving
-e_w about 0.52 and about 0.20, this script
+Shabanian et al. (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397, Section 3.4,
+Table 4, Figs. 10-11 and S.4-S.6. For water (capillary-limited) and slag (viscous-limited),
+at the mean impact speeds giving ``e_w`` about 0.52 and about 0.20, this example
 
 1. runs the reference analysis (nine normal inputs at Table 4's reference standard
-   deviations, 1e6 samples) and one analysis per alternative standard deviation (one
-   input group changed, the others at reference: the paper's design), draws the densities
-   of e_w like Figs. 10-11, and measures how far each alternative moves the distribution
+   deviations) and one analysis per alternative standard deviation (one input group
+   changed, the others at reference: the paper's design), draws the densities of ``e_w``
+   like Figs. 10-11, and measures how far each alternative moves the distribution
    (Wasserstein-1 distance to the reference run; every run shares its random numbers, so
    only the changed group differs);
 2. ranks the input groups by one-at-a-time spread and by Sobol total index (SALib);
-3. checks convergence: 5e5, 1e6 and 5e6 samples (Fig. S.4).
+3. checks convergence with N/2, N and 5 N samples (Fig. S.4).
 
-Run ``python examples/monte_carlo_table4.py`` (about a minute); PNGs go to
-``examples/output/``.
+The gallery runs it with N = 1e5 samples per run (set by the environment variable
+``AGGLOMTOOL_EXAMPLE_SAMPLES``); the paper's size, N = 1e6 (about a minute)::
+
+    python examples/plot_monte_carlo_table4.py     # PNGs in examples/output/
 """
 
-from __future__ import annotations
+# %%
+# Set-up
+# ------
+# :func:`agglomtool.uncertainty.table4_case` gives each of the paper's analyses as ready
+# inputs of :func:`agglomtool.monte_carlo` (particles, liquid, gas, bed, speed and the
+# uncertain inputs with their normal laws, truncated at physical bounds).
+import matplotlib.pyplot as plt
+import numpy as np
+from _output import samples, save
 
-from pathlib import Path
-
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from agglomtool.uncertainty import (  # noqa: E402
+from agglomtool.uncertainty import (
     TABLE4,
     TABLE4_GROUPS,
     TABLE4_U0,
@@ -38,8 +41,9 @@ from agglomtool.uncertainty import (  # noqa: E402
     table4_case,
 )
 
-OUT = Path(__file__).resolve().parent / "output"
-N = 1_000_000
+N = samples(1_000_000)  # samples per run; the paper used 1e6
+# Sobol base sample, a power of 2: 2**15 at N = 1e6 (4.6e5 model runs per analysis).
+N_BASE = 2 ** max(6, round(np.log2(N / 32)))
 SEED = 2024
 EDGES = np.linspace(0.0, 0.9, 181)  # e_w bins of 0.005 on [0, e]
 PANELS = {"d": "a) solid diameters", "ha": "b) asperity heights",
@@ -106,8 +110,7 @@ def paper_design(case: str, target: float) -> dict:
                  f"(Table 4, {N:,} samples; P_agg is the point mass at e_w = 0)")
     fig.tight_layout()
     name = f"fig{10 if case == 'water' else 11}_{case}_ew{int(round(100 * target)):03d}.png"
-    fig.savefig(OUT / name, dpi=110)
-    plt.close(fig)
+    save(fig, name[:-4], dpi=110)
     print("largest W1 per group (paper's design): "
           + ", ".join(f"{g} {v:.4f}" for g, v in sorted(moved.items(), key=lambda t: -t[1])))
     return moved
@@ -125,8 +128,8 @@ def tier_violations(values: dict, tiers) -> list[str]:
 
 def rankings(case: str, target: float, moved: dict) -> None:
     kw = table4_case(case, target)
-    oat = spread_by_input(**kw, groups=TABLE4_GROUPS, n=200_000, seed=SEED)
-    sob = sobol_indices(**kw, groups=TABLE4_GROUPS, n_base=2**15, seed=SEED)
+    oat = spread_by_input(**kw, groups=TABLE4_GROUPS, n=N // 5, seed=SEED)
+    sob = sobol_indices(**kw, groups=TABLE4_GROUPS, n_base=N_BASE, seed=SEED)
     std = dict(zip(oat["factor"].values.tolist(), oat["e_w_std"].values, strict=True))
     print(f"{'group':6s} {'OAT sd(e_w)':>11s} {'S1':>7s} {'+-':>6s} {'ST':>7s} {'+-':>6s}")
     for i, g in enumerate(sob["factor"].values.tolist()):
@@ -146,13 +149,13 @@ def rankings(case: str, target: float, moved: dict) -> None:
 
 
 def convergence(case: str) -> None:
-    """Fig. S.4: 5e5, 1e6 and 5e6 samples (independent seeds), reference sds."""
+    """Fig. S.4: N/2, N and 5 N samples (independent seeds), reference sds."""
     print(f"\n=== convergence, {case}, e_w about 0.52")
     runs = {}
-    for n, seed in ((500_000, 1), (1_000_000, 2), (5_000_000, 3)):
+    for n, seed in ((N // 2, 1), (N, 2), (5 * N, 3)):
         runs[n] = monte_carlo(**table4_case(case, 0.52), n=n, seed=seed, bins=EDGES,
                               keep_samples=False)
-    big = runs[5_000_000]
+    big = runs[5 * N]
     width = np.diff(EDGES)
     peak = float(big["e_w_density"].max())
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -164,29 +167,46 @@ def convergence(case: str) -> None:
         print(f"n = {n:>9,}: P_agg = {float(ds['p_agglomeration']):.4f} "
               f"+- {float(ds['p_agglomeration_se']):.4f}, mean = {float(ds['e_w_mean']):.4f}, "
               f"sd = {float(ds['e_w_std']):.4f}, 5/50/95 % = {np.round(q, 4)}, "
-              f"max|density - density(5e6)|/peak = "
+              f"max|density - density(5 N)|/peak = "
               f"{np.max(np.abs(dens - big['e_w_density'].values)) / peak:.4f}, "
-              f"total variation to 5e6 = {tv:.4f}")
+              f"total variation to 5 N = {tv:.4f}")
         ax.plot(ds["e_w_bin"].values, dens, lw=1.0, label=f"n = {n:,}")
     ax.set_xlabel("e_w [-]")
     ax.set_ylabel("probability density of rebounding e_w [-]")
     ax.set_title(f"{case}: sample-size convergence (cf. Fig. S.4)")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(OUT / f"figS4_convergence_{case}.png", dpi=110)
-    plt.close(fig)
+    save(fig, f"figS4_convergence_{case}", dpi=110)
 
 
-def main() -> None:
-    OUT.mkdir(exist_ok=True)
-    for case in ("water", "slag"):
-        for target in (0.52, 0.20):
-            moved = paper_design(case, target)
-            rankings(case, target, moved)
-    for case in ("water", "slag"):
-        convergence(case)
-    print(f"\nfigures in {OUT}")
+# %%
+# Water (case I), e_w about 0.52
+# ------------------------------
+# Impact speed dominates under capillary-limited conditions.
+moved = paper_design("water", 0.52)
+rankings("water", 0.52, moved)
 
+# %%
+# Water (case I), e_w about 0.20
+# ------------------------------
+moved = paper_design("water", 0.20)
+rankings("water", 0.20, moved)
 
-if __name__ == "__main__":
-    main()
+# %%
+# Slag (case II), e_w about 0.52
+# ------------------------------
+# Coating thickness and asperity height dominate under viscous-limited conditions.
+moved = paper_design("slag", 0.52)
+rankings("slag", 0.52, moved)
+
+# %%
+# Slag (case II), e_w about 0.20
+# ------------------------------
+moved = paper_design("slag", 0.20)
+rankings("slag", 0.20, moved)
+
+# %%
+# Convergence with the sample size (Fig. S.4)
+# -------------------------------------------
+for case in ("water", "slag"):
+    convergence(case)
