@@ -13,9 +13,9 @@ from numba import njit, prange
 
 from ._jit import CACHE, parallel_launch
 from .bridge import ln_f_diff, ln_f_diff_array
+from .critical_relative import MAX_ITER, OK, relative_threshold
 from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one
 from .paper import paper_kernel
-from .critical_relative import MAX_ITER, OK, relative_threshold
 from .relative import reduced_mass, relative_kernel
 
 __all__ = ["first_rebound_speed", "viscous_lower_bound", "critical_speeds"]
