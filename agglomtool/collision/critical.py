@@ -1,7 +1,14 @@
 """The critical impact speed: the smallest relative speed at which a pair rebounds.
 
-Vectorised over collisions: every step evaluates a kernel on all still-unresolved elements
-at once; no Python loop runs over collisions.
+Two solvers:
+
+- :func:`first_rebound_speed`, the bracketed search for any tier (doubling from the viscous
+  bound, a geometric scan of the last doubling, bisection), vectorised over collisions:
+  every step evaluates a kernel on all still-unresolved elements at once;
+- :func:`critical_speeds`, compiled, per collision, for the fused tiers: mode "relative"
+  from its near-closed form (:mod:`.critical_relative`) checked with the kernel, mode
+  "paper" from a bracket around that value; each falls back to the same search compiled
+  where the check fails.
 """
 
 from __future__ import annotations

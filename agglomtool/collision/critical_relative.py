@@ -64,18 +64,20 @@ one upward crossing after a non-positive start. The first crossing is found by
    0))`` (the smallest speed that reaches contact with ``w_s > 0``);
 2. with ``F_b < 0``, ``h_E`` from Newton on the concave ``E_s`` started on its right
    (monotone), and ``F(t_E)`` deciding which convex piece holds the first crossing;
-3. in that piece, a fixed-point step ``t <- sqrt(kappa G(t))`` (``G = F - t^2/kappa``
-   negated: the speed the separation needs at the current rupture distance) from its left
-   end, then Newton on ``F``; on a convex piece the first Newton step from the left lands
-   right of the root and every later step decreases monotonically onto it. Where the step
-   cannot be taken that way (``F' <= 0`` at the start), the root is bracketed by doubling
-   ``t`` and Newton starts from the bracket's right end.
+3. in that piece, one fixed-point step ``t <- sqrt(kappa G(t))`` from its left end
+   (``G = t^2/kappa - F``: the post-contact speed the separation needs at the current
+   rupture distance, the quadratic's root above), then Newton on ``F`` safeguarded by a
+   bracket ``F(lo) <= 0 < F(hi)``: a step that leaves the bracket is replaced by its
+   midpoint, or by a doubling while no upper end is known. On a convex piece the first
+   Newton step from the left lands right of the root and the later ones decrease onto it
+   quadratically; four or five evaluations of ``F`` are typical.
 
 Convergence: the iteration stops when a Newton step changes ``t`` by at most
-:data:`NEWTON_RTOL` of ``t`` (quadratic convergence: the error left is far below that); it
-gives up after ``max_iter`` steps (default :data:`MAX_ITER`), or when an iterate leaves its
-bracket or ``F'`` is not positive, and reports failure: the caller then runs the bracketed
-search.
+:data:`NEWTON_RTOL` of ``t`` while ``|F|`` is below ``1e-9`` of the speed scale
+``t^2/kappa`` (next to the kink at ``t_E``, where ``F'`` is unbounded, a small step alone
+proves nothing), or when the bracket is that narrow; in the quadratic regime the error left
+after such a step is far below it. It gives up after ``max_iter`` evaluations (default
+:data:`MAX_ITER`) and reports failure: the caller then runs the bracketed search.
 
 Accuracy: the stages are the kernel's formulas, so the threshold is exact up to the
 rounding of ``F`` and of the kernel (which forms ``K`` as ``K_start - losses``, cancelling
