@@ -390,10 +390,11 @@ def critical_impact_speed(
     -----
     In mode ``"relative"`` u0* comes from the tier's near-closed form (the stages' energy
     balances are quadratics in the speed; only the rupture distance's dependence on ``Ca``
-    is iterated, :mod:`agglomtool.collision.critical_relative`), in mode ``"paper"`` from a
-    bracket around that value; each answer ``u`` is checked with the tier's kernel (it
-    rebounds at ``u`` and sticks at ``u (1 - rtol)``), and where the check fails the search
-    below runs instead. Everywhere the answer is within ``rtol`` above a switch from
+    is iterated, :mod:`agglomtool.collision.critical_relative`), in mode ``"paper"``
+    without body forces from the same value (the tiers then agree); each answer ``u`` is
+    checked with the tier's kernel (it rebounds at ``u`` and sticks at ``u (1 - rtol)``),
+    and where the check fails (and in mode ``"paper"`` with body forces) the search below
+    runs instead. Everywhere the answer is within ``rtol`` above a switch from
     sticking to rebounding.
 
     The search (the other modes, and the fallback): near the threshold ``e_w(u0)`` need not
