@@ -388,17 +388,26 @@ def critical_impact_speed(
 
     Notes
     -----
-    Near the threshold ``e_w(u0)`` need not be monotonic (the paper's Fig. 6b: one particle
-    stops first, body forces matter). The search therefore starts below the smallest speed
-    that can possibly rebound (the viscous bound of the approach, ``m_r w = c Delta_app``),
-    doubles the speed until a rebound, scans the last doubling on 16 geometric points, and
-    bisects between the last sticking and the first rebounding point to ``rtol`` (in modes
-    ``"paper"`` and ``"relative"`` compiled and run per collision, each to its own
-    convergence; the other modes bisect the whole batch until every element has converged,
-    so there an element may be narrowed further than ``rtol``). The result
-    is the first rebound found this way: a rebound window narrower than a factor
-    ``2^(1/16)`` (4.4 %) below it can be missed. Above ``u0*`` the pair may stick again in a
-    narrow window; :func:`collide` on a grid shows it.
+    In mode ``"relative"`` u0* comes from the tier's near-closed form (the stages' energy
+    balances are quadratics in the speed; only the rupture distance's dependence on ``Ca``
+    is iterated, :mod:`agglomtool.collision.critical_relative`), in mode ``"paper"``
+    without body forces from the same value (the tiers then agree); each answer ``u`` is
+    checked with the tier's kernel (it rebounds at ``u`` and sticks at ``u (1 - rtol)``),
+    and where the check fails (and in mode ``"paper"`` with body forces) the search below
+    runs instead. Everywhere the answer is within ``rtol`` above a switch from
+    sticking to rebounding.
+
+    The search (the other modes, and the fallback): near the threshold ``e_w(u0)`` need not
+    be monotonic (the paper's Fig. 6b: one particle stops first, body forces matter). The
+    search therefore starts below the smallest speed that can possibly rebound (the viscous
+    bound of the approach, ``m_r w = c Delta_app``), doubles the speed until a rebound,
+    scans the last doubling on 16 geometric points, and bisects between the last sticking
+    and the first rebounding point to ``rtol`` (in modes ``"paper"`` and ``"relative"``
+    compiled and run per collision, each to its own convergence; the other modes bisect the
+    whole batch until every element has converged, so there an element may be narrowed
+    further than ``rtol``). The result is the first rebound found this way: a rebound window
+    narrower than a factor ``2^(1/16)`` (4.4 %) below it can be missed. Above ``u0*`` the
+    pair may stick again in a narrow window; :func:`collide` on a grid shows it.
     """
     _check_mode(mode)
     if not (0.0 < rtol < 0.1):

@@ -1,7 +1,14 @@
 """The critical impact speed: the smallest relative speed at which a pair rebounds.
 
-Vectorised over collisions: every step evaluates a kernel on all still-unresolved elements
-at once; no Python loop runs over collisions.
+Two solvers:
+
+- :func:`first_rebound_speed`, the bracketed search for any tier (doubling from the viscous
+  bound, a geometric scan of the last doubling, bisection), vectorised over collisions:
+  every step evaluates a kernel on all still-unresolved elements at once;
+- :func:`critical_speeds`, compiled, per collision, for the fused tiers: mode "relative"
+  from its near-closed form (:mod:`.critical_relative`) checked with the kernel, mode
+  "paper" from the same value where it has no body forces; each falls back to the same
+  search compiled where the check fails.
 """
 
 from __future__ import annotations
@@ -13,9 +20,10 @@ from numba import njit, prange
 
 from ._jit import CACHE, parallel_launch
 from .bridge import ln_f_diff, ln_f_diff_array
+from .critical_relative import MAX_ITER, OK, relative_threshold
 from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one
 from .paper import paper_kernel
-from .relative import relative_kernel
+from .relative import reduced_mass, relative_kernel
 
 __all__ = ["first_rebound_speed", "viscous_lower_bound", "critical_speeds"]
 
@@ -25,6 +33,14 @@ FINE_POINTS = 16
 MIN_SPEED = float(np.finfo(float).tiny)
 #: Doublings tried before a pair is declared never to rebound: 2^2100 spans every double.
 MAX_DOUBLINGS = 2100
+#: The closed-form candidate ``w*`` is checked at ``w* (1 + NUDGE rtol)``: close enough to
+#: the switch that the answer sits within a thousandth of ``rtol`` above it.
+NUDGE = 1e-3
+#: First half-width factor of the bracket ``paper`` searches around the relative ``w*``.
+BRACKET = 1.02
+#: Rounds and tolerance of the candidate's drag update with ``drag_slip="particle"``.
+SLIP_ITER = 12
+SLIP_RTOL = 1e-12
 
 
 def viscous_lower_bound(m_i, m_j, r, H0, Ha, mu_l):
@@ -114,17 +130,17 @@ def first_rebound_speed(state, sticks, rtol):
 
 
 @njit(cache=CACHE)
-def _sticks(vals, ins, st, q, w_rel, tier, body, particle_slip, empty):
+def _sticks(vals, raw, w_rel, tier, body, particle_slip, empty):
     """True where collision ``q`` sticks at relative speed ``w_rel`` [m/s]; ``vals`` holds
     its prepared numbers (``fused.prepare_one`` at zero speed)."""
     m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, w_per_u0 = vals
     if body and particle_slip:  # the drag depends on the particles' own speed
         u = w_rel / w_per_u0
-        pre = _one_at_speed(ins, st, q, u, body, particle_slip)
+        pre = _prep(raw, u, body, particle_slip)
         fn_i, fn_j = pre[7], pre[8]
-    mu_l = ins[8][q * st[8]]
-    gamma = ins[9][q * st[9]]
-    e = ins[17][q * st[17]]
+    mu_l = raw[8]
+    gamma = raw[9]
+    e = raw[17]
     if tier == TIER_PAPER:
         ew, _, _ = paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w_rel, fn_i,
                                 fn_j, e, empty)
@@ -134,32 +150,198 @@ def _sticks(vals, ins, st, q, w_rel, tier, body, particle_slip, empty):
     return ew == 0.0
 
 
-@njit(cache=CACHE)
-def _one_at_speed(ins, st, q, u, body, particle_slip):
-    return prepare_one(
+@njit(cache=CACHE, inline="always")
+def _raw(ins, st, q):
+    """The raw inputs of collision ``q`` as a tuple of floats: the solver's helpers take it
+    instead of the arrays themselves (passing the tuple of 20 arrays to a function that is
+    not inlined costs a reference-count update per array and call)."""
+    return (
         ins[0][q * st[0]], ins[1][q * st[1]], ins[2][q * st[2]], ins[3][q * st[3]],
         ins[4][q * st[4]], ins[5][q * st[5]], ins[6][q * st[6]], ins[7][q * st[7]],
         ins[8][q * st[8]], ins[9][q * st[9]], ins[10][q * st[10]], ins[11][q * st[11]],
         ins[12][q * st[12]], ins[13][q * st[13]], ins[14][q * st[14]], ins[15][q * st[15]],
-        ins[16][q * st[16]], ins[17][q * st[17]], u, math.nan, body, particle_slip,
+        ins[16][q * st[16]], ins[17][q * st[17]],
     )
 
 
 @njit(cache=CACHE)
-def _solve_one(ins, st, q, tier, body, particle_slip, rtol, u_max):
-    """u0* [m/s] of collision ``q`` by the search of :func:`first_rebound_speed`, run to
-    this collision's own convergence; ``inf`` where it exceeds ``u_max`` [m/s] (the search
-    stops as soon as every speed up to ``u_max`` is known to stick)."""
-    empty = np.empty(0)
-    vals = _one_at_speed(ins, st, q, 0.0, body, particle_slip)
+def _prep(raw, u, body, particle_slip):
+    """:func:`.fused.prepare_one` of a head-on collision at lab speed ``u`` [m/s]."""
+    return prepare_one(
+        raw[0], raw[1], raw[2], raw[3], raw[4], raw[5], raw[6], raw[7], raw[8], raw[9],
+        raw[10], raw[11], raw[12], raw[13], raw[14], raw[15], raw[16], raw[17], u, math.nan,
+        body, particle_slip,
+    )
+
+
+#: How each u0* was found (:func:`critical_speeds` ``how``): no search needed (no bridge,
+#: ``e = 0``, ``Ha = 0``); the closed-form candidate verified by the kernel; a bracket
+#: around it (mode "paper"); the full search (the candidate failed or was not asked for).
+HOW_TRIVIAL, HOW_CLOSED, HOW_BRACKET, HOW_SEARCH = 0, 1, 2, 3
+
+
+@njit(cache=CACHE)
+def _solve_one(raw, tier, body, particle_slip, rtol, u_max, closed, max_iter, empty):
+    """``(u0*, how)`` of one collision [m/s] (``raw``: its inputs, :func:`_raw`); ``inf``
+    where it exceeds ``u_max`` [m/s].
+
+    ``closed``: start from the near-closed form of mode "relative"
+    (:func:`.critical_relative.relative_threshold`) and verify it with the kernel
+    (:func:`_from_candidate`); else, or where that fails, the search of
+    :func:`first_rebound_speed` (:func:`_search_one`). ``empty``: a length-0 array (the
+    kernels' "no details").
+    """
+    vals = _prep(raw, 0.0, body, particle_slip)
+    H0, Ha = vals[3], vals[4]
+    w_per_u0 = vals[10]
+    e = raw[17]
+    if not H0 > Ha:
+        return (0.0 if e > 0.0 else math.inf), HOW_TRIVIAL
+    if e == 0.0 or Ha == 0.0:
+        return math.inf, HOW_TRIVIAL
+    w_max = u_max * w_per_u0
+    if closed:
+        w_star, status = _from_candidate(vals, raw, tier, body, particle_slip, rtol,
+                                         w_max, max_iter, empty)
+        how = HOW_BRACKET if status == _BRACKETED else HOW_CLOSED
+        if status == _FOUND or status == _BRACKETED:
+            u_star = w_star / w_per_u0
+            return (u_star if u_star <= u_max else math.inf), how
+        if status == _ABOVE:
+            return math.inf, HOW_BRACKET
+    return (_search_one(vals, raw, tier, body, particle_slip, rtol, u_max, empty),
+            HOW_SEARCH)
+
+
+#: Outcomes of :func:`_from_candidate`.
+_FOUND, _ABOVE, _SEARCH, _BRACKETED = 0, 1, 2, 3
+
+
+@njit(cache=CACHE, inline="always")
+def _relative_candidate(vals, raw, body, particle_slip, max_iter):
+    """``(w*, ok)``: the near-closed-form threshold of mode "relative" [m/s]. Where the drag
+    depends on the particles' own speed (``drag_slip="particle"``) the body forces are
+    re-evaluated at the candidate until it moves by less than :data:`SLIP_RTOL`
+    (at most :data:`SLIP_ITER` rounds)."""
+    m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, w_per_u0 = vals
+    mu_l = raw[8]
+    gamma = raw[9]
+    e = raw[17]
+    w, status = relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i,
+                                   fn_j, e, max_iter)
+    if not (body and particle_slip) or status != OK:
+        return w, status == OK
+    for _ in range(SLIP_ITER):
+        pre = _prep(raw, w / w_per_u0, body, particle_slip)
+        w_new, status = relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
+                                           pre[7], pre[8], e, max_iter)
+        if status != OK:
+            return math.nan, False
+        if abs(w_new - w) <= SLIP_RTOL * w_new:
+            return w_new, True
+        w = w_new
+    return math.nan, False
+
+
+@njit(cache=CACHE)
+def _from_candidate(vals, raw, tier, body, particle_slip, rtol, w_max, max_iter,
+                    empty):
+    """``(w*, status)`` from the relative tier's near-closed form, checked with the
+    ``tier``'s own kernel; status ``_FOUND``, ``_ABOVE`` (every speed up to ``w_max``
+    sticks) or ``_SEARCH`` (no verified answer: run the search).
+
+    The answer ``hi`` always satisfies the search's own contract: the kernel rebounds at
+    ``hi`` and sticks at ``hi (1 - rtol)``.
+
+    - ``relative``: ``hi = w* (1 + delta)``, ``delta`` = :data:`NUDGE` ``rtol`` (then
+      ``rtol / 4``, should rounding in the kernel put its switch a little above ``w*``);
+      anything else goes to the search.
+    - ``paper``: with body forces, ``_SEARCH`` at once (see the code); without, the same
+      check first (the tiers then agree to rounding); else a bracket around ``w*`` widened
+      geometrically (factor :data:`BRACKET`, squared at
+      each widening) until the kernel sticks at its bottom and rebounds at its top, never
+      below the viscous bound (where every tier sticks), then bisection in ``ln w`` to
+      ``rtol``.
+    """
+    if tier == TIER_PAPER and (vals[7] != 0.0 or vals[8] != 0.0):
+        # With body forces the tiers' thresholds differ (by 1 % typically, up to a factor
+        # 20 on the benchmark's mixed set); a bracket around the relative one was measured
+        # 10-15 % slower than the plain search there, so the search runs directly.
+        return math.nan, _SEARCH
+    w, ok = _relative_candidate(vals, raw, body, particle_slip, max_iter)
+    if not ok or not w > 0.0 or math.isinf(w):
+        return math.nan, _SEARCH
+    delta = NUDGE * rtol
+    for _ in range(2):
+        hi = w * (1.0 + delta)
+        if not _sticks(vals, raw, hi, tier, body, particle_slip, empty):
+            lo = hi * (1.0 - rtol)
+            if _sticks(vals, raw, lo, tier, body, particle_slip, empty):
+                return hi, _FOUND
+            break
+        if tier == TIER_PAPER:
+            break  # the tiers differ: no second try, the bracket follows
+        delta = 0.25 * rtol
+    if tier != TIER_PAPER:
+        return math.nan, _SEARCH
+    return _paper_bracket(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty)
+
+
+@njit(cache=CACHE)
+def _paper_bracket(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty):
+    """Mode "paper" from the relative threshold ``w`` [m/s]: a bracket around it widened
+    geometrically until it holds, then bisection in ``ln w`` (:func:`_from_candidate`)."""
+    m_i, m_j, r, H0, Ha = vals[0], vals[1], vals[2], vals[3], vals[4]
+    mu_l = raw[8]
+    a2 = (H0 - Ha) * (H0 + Ha)
+    m_r, _, _ = reduced_mass(m_i, m_j)
+    w_vis = 1.5 * math.pi * mu_l * r * r * -ln_f_diff(H0, Ha, a2) / m_r
+    g = BRACKET
+    if _sticks(vals, raw, w, tier, body, particle_slip, empty):
+        lo, hi = w, w * g
+        for _ in range(MAX_DOUBLINGS):
+            if lo >= w_max:
+                return math.inf, _ABOVE
+            if not _sticks(vals, raw, hi, tier, body, particle_slip, empty):
+                break
+            lo = hi
+            g = min(g * g, 2.0)
+            hi = lo * g
+        else:
+            return math.inf, _ABOVE
+    else:
+        hi, lo = w, w / g
+        for _ in range(MAX_DOUBLINGS):
+            if lo <= w_vis:
+                lo = w_vis  # sticks in every tier
+                break
+            if _sticks(vals, raw, lo, tier, body, particle_slip, empty):
+                break
+            hi = lo
+            g = min(g * g, 2.0)
+            lo = hi / g
+        else:
+            return math.nan, _SEARCH
+    for _ in range(200):
+        if hi - lo <= rtol * hi:
+            break
+        mid = math.sqrt(lo) * math.sqrt(hi)
+        if _sticks(vals, raw, mid, tier, body, particle_slip, empty):
+            lo = mid
+        else:
+            hi = mid
+    return hi, _BRACKETED
+
+
+@njit(cache=CACHE)
+def _search_one(vals, raw, tier, body, particle_slip, rtol, u_max, empty):
+    """u0* [m/s] of collision ``q`` (a bridge, ``e > 0``, ``Ha > 0``) by the search of
+    :func:`first_rebound_speed`, run to this collision's own convergence; ``inf`` where it
+    exceeds ``u_max`` [m/s] (the search stops as soon as every speed up to ``u_max`` is
+    known to stick)."""
     m_i, m_j, r, H0, Ha = vals[0], vals[1], vals[2], vals[3], vals[4]
     w_per_u0 = vals[10]
-    e = ins[17][q * st[17]]
-    if not H0 > Ha:
-        return 0.0 if e > 0.0 else math.inf
-    if e == 0.0 or Ha == 0.0:
-        return math.inf
-    mu_l = ins[8][q * st[8]]
+    mu_l = raw[8]
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
     delta = -ln_f_diff(H0, Ha, a2)
@@ -177,7 +359,7 @@ def _solve_one(ins, st, q, tier, body, particle_slip, rtol, u_max):
         hi *= 2.0
         if 0.5 * hi >= w_max:  # every speed up to w_max sticks: u0* > u_max
             return math.inf
-        if not _sticks(vals, ins, st, q, hi, tier, body, particle_slip, empty):
+        if not _sticks(vals, raw, hi, tier, body, particle_slip, empty):
             found = True
             break
     if not found:
@@ -188,7 +370,7 @@ def _solve_one(ins, st, q, tier, body, particle_slip, rtol, u_max):
     top = hi
     for k in range(1, FINE_POINTS):
         g = base * 2.0 ** (k / FINE_POINTS)
-        if not _sticks(vals, ins, st, q, g, tier, body, particle_slip, empty):
+        if not _sticks(vals, raw, g, tier, body, particle_slip, empty):
             top = g
             break
         lo = g
@@ -198,7 +380,7 @@ def _solve_one(ins, st, q, tier, body, particle_slip, rtol, u_max):
         if hi - lo <= rtol * hi:
             break
         mid = math.sqrt(lo) * math.sqrt(hi)
-        if _sticks(vals, ins, st, q, mid, tier, body, particle_slip, empty):
+        if _sticks(vals, raw, mid, tier, body, particle_slip, empty):
             lo = mid
         else:
             hi = mid
@@ -207,32 +389,51 @@ def _solve_one(ins, st, q, tier, body, particle_slip, rtol, u_max):
 
 
 @njit(parallel=True, cache=CACHE)
-def _solve_parallel(ins, st, tier, body, particle_slip, rtol, u_max, out):
+def _solve_parallel(ins, st, tier, body, particle_slip, rtol, u_max, closed, max_iter, out,
+                    how):
+    empty = np.empty(0)
     for q in prange(out.shape[0]):
-        out[q] = _solve_one(ins, st, q, tier, body, particle_slip, rtol, u_max)
+        out[q], how[q] = _solve_one(_raw(ins, st, q), tier, body, particle_slip, rtol,
+                                    u_max, closed, max_iter, empty)
 
 
 @njit(cache=CACHE)
-def _solve_serial(ins, st, tier, body, particle_slip, rtol, u_max, out):
+def _solve_serial(ins, st, tier, body, particle_slip, rtol, u_max, closed, max_iter, out,
+                  how):
+    empty = np.empty(0)
     for q in range(out.shape[0]):
-        out[q] = _solve_one(ins, st, q, tier, body, particle_slip, rtol, u_max)
+        out[q], how[q] = _solve_one(_raw(ins, st, q), tier, body, particle_slip, rtol,
+                                    u_max, closed, max_iter, empty)
 
 
-def critical_speeds(ins, steps, n, tier, body, particle_slip, rtol, u_max=math.inf):
+def critical_speeds(ins, steps, n, tier, body, particle_slip, rtol, u_max=math.inf,
+                    closed_form=True, max_iter=MAX_ITER, return_how=False):
     """Head-on u0* [m/s] of ``n`` collisions given as the fused kernels' inputs
     (:mod:`.fused`), for ``tier`` ``fused.TIER_PAPER`` or ``fused.TIER_RELATIVE``.
 
-    The search of :func:`first_rebound_speed` (doubling from the viscous bound, a 16-point
-    geometric scan of the last doubling, bisection in ``ln w`` to ``rtol``), compiled and
-    run per collision: each stops at its own convergence, so a collision's u0* does not
-    depend on the rest of the batch. ``inf`` where u0* exceeds ``u_max`` [m/s]: the search
-    stops once every speed up to ``u_max`` is known to stick.
+    Per collision, compiled, each to its own convergence (a collision's u0* does not depend
+    on the rest of the batch):
+
+    - ``closed_form`` (default): the near-closed-form threshold of mode "relative"
+      (:mod:`.critical_relative`, Newton limited to ``max_iter`` steps), checked with the
+      tier's kernel: it must rebound at the answer ``hi`` and stick at ``hi (1 - rtol)``.
+      Mode "paper" takes it only without body forces (the tiers then agree), with a bracket
+      around it should the check fail (:func:`_from_candidate`);
+    - otherwise, and wherever the candidate fails, the search of
+      :func:`first_rebound_speed` (doubling from the viscous bound, a 16-point geometric
+      scan of the last doubling, bisection in ``ln w`` to ``rtol``).
+
+    Either way the answer ``hi`` rebounds and ``hi (1 - rtol)`` sticks. ``inf`` where u0*
+    exceeds ``u_max`` [m/s]. ``return_how``: also return an int8 array of
+    :data:`HOW_TRIVIAL`, :data:`HOW_CLOSED`, :data:`HOW_BRACKET` or :data:`HOW_SEARCH` per
+    collision.
     """
     out = np.empty(n)
+    how = np.empty(n, dtype=np.int8)
     args = (ins, steps, int(tier), bool(body), bool(particle_slip), float(rtol), float(u_max),
-            out)
-    if n < SERIAL_BELOW // 100:
+            bool(closed_form), int(max_iter), out, how)
+    if n < SERIAL_BELOW // 4:
         _solve_serial(*args)
     else:
         parallel_launch(_solve_parallel, *args)
-    return out
+    return (out, how) if return_how else out

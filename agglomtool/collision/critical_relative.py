@@ -1,0 +1,262 @@
+"""The critical relative speed of mode "relative" in near-closed form.
+
+Mode "relative" (:mod:`.relative`) decides a collision in two stages, each a quadratic
+energy balance in the speed entering it. This module inverts those balances for the
+smallest relative impact speed ``w*`` at which the pair rebounds; the only part without a
+closed form is the rupture distance's dependence on the capillary number, which is solved by
+a short Newton iteration. :mod:`.critical` checks every candidate with the kernel itself and
+falls back to its bracketed search where the check fails.
+
+Notation (as in :mod:`.relative`): reduced mass ``m_r``, ``c = (3/2) pi mu_l r^2``,
+``kcap = 2 pi gamma r cos(theta)``, relative body force ``F_b`` (positive: pushes the pair
+together), ``a^2 = H0^2 - Ha^2``, ``Delta(D1, D2) = ln f(D2) - ln f(D1)`` with the distance
+function ``f`` of Eq. 76, and ``g(D) = D - sqrt(D^2 + a^2)`` the capillary potential
+(Eqs. 100-105).
+
+Approach (``H0 -> Ha``)
+-----------------------
+The exact viscous-only loss ``c Delta_a (w - c Delta_a / (2 m_r))`` (Eqs. 72-75) completes
+the square of the kinetic energy, so the energy at contact is::
+
+    K_app(w) = (m_r / 2) (w - w_v)^2 - E_a,   w_v = c |Delta(H0, Ha)| / m_r,
+    E_a = kcap (g(Ha) - g(H0)) - F_b (H0 - Ha)
+
+(capillary and body work, constant in ``w``). The pair passes the approach iff ``w > w_v``
+(Eq. 73: viscosity alone stops it at or below ``w_v``) and ``K_app > 0``; it then reaches
+contact at ``w_c = sqrt((w - w_v)^2 - 2 E_a / m_r)``, a strictly increasing function of ``w``,
+and leaves it at ``w_s = e w_c`` (Eqs. 52-53). Over ``w > w_v``, ``w_s`` takes every value
+above ``s_min = e sqrt(max(-2 E_a / m_r, 0))`` exactly once; the inverse is::
+
+    w = w_v + sqrt((w_c - w_cmin) (w_c + w_cmin))      (E_a < 0, w_cmin = sqrt(-2 E_a / m_r))
+    w = w_v + sqrt(w_c^2 + 2 E_a / m_r)                (E_a >= 0)
+
+both sums of non-negative terms, with the difference of squares factored so that nothing
+cancels.
+
+Separation (``Ha -> h_rupt``)
+-----------------------------
+With ``t = sqrt(Ca)``, ``Ca = mu_l w_s / gamma`` (Eq. 57), the rupture distance (Eq. 94)
+is linear in ``t``: ``h(t) = h_b (1 + t)``, ``h_b = (1 + theta/2) V_b^(1/3)``. Where
+``h(t) <= Ha`` the bridge is already broken at contact and the pair rebounds. Otherwise the
+same completed square gives the energy left at rupture::
+
+    K_end = (m_r / 2) (w_s - V(t))^2 - E_s(t),   V = c Delta(Ha, h) / m_r,
+    E_s = kcap (g(h) - g(Ha)) + F_b (h - Ha)
+
+and the pair rebounds iff ``w_s > V`` and ``K_end > 0`` (Eqs. 75, 58-59), i.e. iff::
+
+    F(t) = t^2 / kappa - V(t) - sqrt(2 max(E_s(t), 0) / m_r) > 0,   kappa = mu_l / gamma
+
+(the quadratic's larger root, a sum of non-negative terms: no cancellation). At fixed ``h``
+this is the closed form of the threshold; ``h`` itself depends on the answer through ``Ca``,
+and ``F(t) = 0`` is solved for ``t`` by Newton's method.
+
+Shape of ``F``: ``ln f`` and ``g`` are concave in the gap (their derivatives ``(1 - D/s)^2/D``
+and ``1 - D/s``, ``s = sqrt(D^2 + a^2)``, decrease), ``h`` is linear in ``t``, so ``V`` and,
+where ``E_s > 0``, ``sqrt(E_s)`` are concave in ``t`` and ``F`` is convex. ``E_s`` itself is
+concave in ``h``; with ``F_b >= 0`` it never turns negative, and with ``F_b < 0`` it is
+positive up to one gap ``h_E`` and negative beyond, where ``F = t^2/kappa - V`` is convex
+again. So ``F`` is convex on ``[t_min, t_E]`` and on ``[t_E, inf)``: each piece holds at most
+one upward crossing after a non-positive start. The first crossing is found by
+
+1. ``t_min = sqrt(kappa s_min)``: if the pair rebounds there (broken bridge, or
+   ``F(t_min) > 0``), the threshold is the approach's own, ``w* = w_v + sqrt(max(2 E_a / m_r,
+   0))`` (the smallest speed that reaches contact with ``w_s > 0``);
+2. with ``F_b < 0``, ``h_E`` from Newton on the concave ``E_s`` started on its right
+   (monotone), and ``F(t_E)`` deciding which convex piece holds the first crossing;
+3. in that piece, one fixed-point step ``t <- sqrt(kappa G(t))`` from its left end
+   (``G = t^2/kappa - F``: the post-contact speed the separation needs at the current
+   rupture distance, the quadratic's root above), then Newton on ``F`` safeguarded by a
+   bracket ``F(lo) <= 0 < F(hi)``: a step that leaves the bracket is replaced by its
+   midpoint, or by a doubling while no upper end is known. On a convex piece the first
+   Newton step from the left lands right of the root and the later ones decrease onto it
+   quadratically; four or five evaluations of ``F`` are typical.
+
+Convergence: the iteration stops when a Newton step changes ``t`` by at most
+:data:`NEWTON_RTOL` of ``t`` while ``|F|`` is below ``1e-9`` of the speed scale
+``t^2/kappa`` (next to the kink at ``t_E``, where ``F'`` is unbounded, a small step alone
+proves nothing), or when the bracket is that narrow; in the quadratic regime the error left
+after such a step is far below it. It gives up after ``max_iter`` evaluations (default
+:data:`MAX_ITER`) and reports failure: the caller then runs the bracketed search.
+
+Accuracy: the stages are the kernel's formulas, so the threshold is exact up to the
+rounding of ``F`` and of the kernel (which forms ``K`` as ``K_start - losses``, cancelling
+where viscosity dominates); the caller verifies the candidate against the kernel at
+``w* (1 + delta)`` (rebound) and ``w* (1 + delta)(1 - rtol)`` (stick).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ._jit import CACHE
+from .bridge import _LN4, bridge_volume, g_diff, ln_f_diff, ln_f_parts
+from .relative import reduced_mass, relative_body_force
+
+__all__ = ["relative_threshold", "NEWTON_RTOL", "MAX_ITER", "OK", "FAILED", "NEVER"]
+
+#: Newton stops when a step changes ``t = sqrt(Ca)`` by at most this fraction of ``t``.
+NEWTON_RTOL = 1e-10
+#: Newton (and bracketing) steps allowed before the closed form gives up.
+MAX_ITER = 60
+
+#: Status codes of :func:`relative_threshold`.
+OK, FAILED, NEVER = 0, 1, 2
+
+
+@njit(cache=CACHE)
+def _sep(t, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha):
+    """``(F, dF/dt)`` of the separation at ``t = sqrt(Ca)`` (module docstring); ``h(t) > Ha``
+    assumed. ``(k_ha, v_ha) = ln_f_parts(Ha)``, ``s_ha = sqrt(Ha^2 + a^2)``.
+
+    The same forms as :mod:`.bridge` with the square root shared: ``ln f`` as
+    :func:`.bridge.ln_f` (``log1p`` where the gap is large), the capillary difference as
+    :func:`.bridge.g_diff`."""
+    h = hb * (1.0 + t)
+    s = math.sqrt(h * h + a2)
+    hs = h + s
+    qq = a2 / (hs * hs)
+    if qq < 0.5:
+        d_lnf = (math.log1p(-qq * qq) - v_ha) + (k_ha - 1) * _LN4
+    else:
+        d_lnf = (math.log(h) + math.log(s) - 2.0 * math.log(hs) - v_ha) + k_ha * _LN4
+    v = c_m * d_lnf
+    x = a2 / hs  # s - h without cancellation
+    dv = c_m * (x / s) * (x / s) / h
+    g = a2 * (h - Ha) * (1.0 + (Ha + h) / (s_ha + s)) / ((Ha + s_ha) * hs)
+    e_s = kcap * g + f_b * (h - Ha)
+    f = t * t / kappa - v
+    df = 2.0 * t / kappa - hb * dv
+    if e_s > 0.0:
+        cap = math.sqrt(2.0 * e_s / m_r)
+        f -= cap
+        de = kcap * x / s + f_b  # dE_s/dh = kcap (1 - h/s) + F_b
+        df -= hb * de / (m_r * cap)
+    return f, df
+
+
+@njit(cache=CACHE)
+def _root_in_piece(a, g_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha,
+                   s_ha, max_iter):
+    """The crossing of ``F`` in the convex piece ``[a, b]`` (``b`` may be ``inf``), given
+    ``F(a) <= 0`` and ``F(b) > 0`` where ``b`` is finite; ``g_a = G(a)``. Returns
+    ``(t*, ok)``.
+
+    Safeguarded Newton: ``[lo, hi]`` always brackets the crossing (``F(lo) <= 0 < F(hi)``);
+    a step that leaves it is replaced by the bracket's midpoint (or a doubling while ``hi``
+    is infinite). Converged when a Newton step changes ``t`` by at most ``NEWTON_RTOL t``
+    while ``|F|`` is at rounding level (a small step next to the kink at ``t_E``, where
+    ``F'`` is unbounded, is no convergence), or when the bracket itself is that narrow.
+    """
+    lo, hi = a, b
+    # Start from one fixed-point step t <- sqrt(kappa G(a)) (a lower bound where G rises).
+    x = math.sqrt(kappa * g_a)
+    if not (x > lo and x < hi):
+        x = 0.5 * (lo + hi) if hi < math.inf else max(2.0 * lo, 1e-300)
+    for _ in range(max_iter):
+        f, df = _sep(x, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        if df > 0.0:
+            step = f / df
+            if abs(step) <= NEWTON_RTOL * x and abs(f) <= 1e-9 * (x * x / kappa):
+                return x - step, True
+        if f > 0.0:
+            hi = x
+        else:
+            lo = x
+        if hi < math.inf and hi - lo <= NEWTON_RTOL * hi:
+            return hi, True
+        xn = x - f / df if df > 0.0 else math.nan
+        if not (xn > lo and xn < hi):
+            xn = 0.5 * (lo + hi) if hi < math.inf else 2.0 * x
+        x = xn
+    return x, False
+
+
+@njit(cache=CACHE)
+def _e_zero(Ha, a2, kcap, f_b, max_iter):
+    """The gap ``h_E > Ha`` beyond which ``E_s < 0`` (``F_b < 0``, ``E_s`` rising at ``Ha``):
+    Newton on the concave ``E_s`` from its right, monotone. Returns ``(h_E, ok)``."""
+    h = Ha + kcap * (math.sqrt(Ha * Ha + a2) - Ha) / -f_b  # E_s <= 0 here (g_diff <= H0-Ha)
+    for _ in range(max_iter):
+        s = math.sqrt(h * h + a2)
+        e_s = kcap * g_diff(Ha, h, a2) + f_b * (h - Ha)
+        de = kcap * (a2 / (s + h)) / s + f_b
+        if not de < 0.0:
+            return h, False
+        step = e_s / de
+        h_new = h - step
+        if not h_new > Ha:
+            return h, False
+        if abs(step) <= NEWTON_RTOL * h_new:
+            return h_new, True
+        h = h_new
+    return h, False
+
+
+@njit(cache=CACHE)
+def relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e,
+                       max_iter):
+    """Smallest relative impact speed ``w*`` [m/s] above which mode "relative" rebounds
+    (module docstring), for one collision with a bridge (``H0 > Ha > 0``) and ``e > 0``.
+
+    Returns ``(w*, status)``: status :data:`OK`; :data:`FAILED` where the iteration did not
+    converge (``w*`` meaningless: search instead); :data:`NEVER` where no speed rebounds.
+    The kernel sticks at ``w*`` itself and rebounds just above it (to rounding).
+    """
+    m_r, _, _ = reduced_mass(m_i, m_j)
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    kcap = 2.0 * math.pi * gamma * r * cos_t
+    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    c_m = c / m_r
+    # Approach: contact speed w_c = sqrt((w - w_v)^2 - 2 E_a / m_r) for w > w_v.
+    w_v = c_m * -ln_f_diff(H0, Ha, a2)
+    e_a = kcap * g_diff(H0, Ha, a2) - f_b * (H0 - Ha)
+    wc_min = math.sqrt(-2.0 * e_a / m_r) if e_a < 0.0 else 0.0
+    w_app = w_v + (0.0 if e_a < 0.0 else math.sqrt(2.0 * e_a / m_r))
+    if math.isinf(w_app) or math.isnan(w_app):
+        return math.inf, NEVER if math.isinf(w_app) else FAILED
+    # Separation in t = sqrt(Ca): h(t) = hb (1 + t).
+    kappa = mu_l / gamma
+    hb = (1.0 + 0.5 * theta) * bridge_volume(r, a2) ** (1.0 / 3.0)
+    t_min = math.sqrt(kappa * e * wc_min)
+    k_ha, v_ha = ln_f_parts(Ha, a2)
+    s_ha = math.sqrt(Ha * Ha + a2)
+    if hb * (1.0 + t_min) <= Ha:
+        return w_app, OK  # the bridge is broken at contact: every contact rebounds
+    f_a, _ = _sep(t_min, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+    if f_a > 0.0:
+        return w_app, OK
+    # The piece [a, b] of F's convexity holding the first crossing.
+    a = t_min
+    b = math.inf
+    if f_b < 0.0 and kcap * (a2 / (H0 + Ha)) / H0 + f_b > 0.0:
+        h_e, ok = _e_zero(Ha, a2, kcap, f_b, max_iter)
+        if not ok:
+            return math.inf, FAILED
+        t_e = h_e / hb - 1.0
+        if t_e > a:
+            f_e, _ = _sep(t_e, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+            if f_e > 0.0:
+                b = t_e
+            else:
+                a = t_e
+                f_a = f_e
+    g_a = a * a / kappa - f_a
+    t, ok = _root_in_piece(a, g_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha,
+                           s_ha, max_iter)
+    if not ok:
+        return math.inf, FAILED
+    # Back through contact and the approach.
+    w_c = (t * t / kappa) / e
+    if e_a < 0.0:
+        if not w_c > wc_min:
+            return w_app, OK
+        w = w_v + math.sqrt((w_c - wc_min) * (w_c + wc_min))
+    else:
+        w = w_v + math.sqrt(w_c * w_c + 2.0 * e_a / m_r)
+    if math.isinf(w):
+        return math.inf, NEVER
+    return w, OK
