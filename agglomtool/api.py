@@ -372,12 +372,36 @@ def critical_impact_speed(
     Head-on means both particles move towards each other at ``u0`` in the lab frame (the
     relative speed is ``2 u0``); with a plate, the particle moves at ``u0``.
 
-    ``tol`` is passed to ``mode="auto"`` as in :func:`collide`.
-
-    ``u_max`` [m/s], optional: a ceiling on the answer. Where ``u0*`` exceeds it the result
-    is ``inf``, exactly as if the full answer had been cut there; in modes ``"paper"`` and
-    ``"relative"`` the search stops as soon as every speed up to ``u_max`` is known to
-    stick, so pairs that rebound only at high speed (or never) cost a few evaluations.
+    Parameters
+    ----------
+    p_i, p_j : Particle
+        The target particle and its neighbour, as in :func:`collide`. Either may be a plate.
+    liquid : Liquid
+        The coating liquid (the bridge).
+    gas : Gas
+        The fluidizing gas at bed conditions.
+    bed : Bed, optional
+        Local voidage [-] and emulsion gas velocity [m/s]; default ``Bed(eps=0.55, U=None)``.
+    beta_deg : float or array
+        Collision angle [deg] of the axis i -> j from the horizontal towards +Z.
+    e : float or array
+        Dry restitution coefficient [-], in [0, 1].
+    mode : str
+        Model tier, as in :func:`collide` (default ``"relative"``).
+    body_forces : bool
+        False switches weight, buoyancy and drag off.
+    drag_slip : {"emulsion", "particle"}
+        Slip velocity of the drag law, as in :func:`collide`.
+    rtol : float
+        Relative tolerance [-] of the answer: it lies within ``rtol`` above a switch from
+        sticking to rebounding.
+    tol : float, optional
+        Tolerance in ``e_w`` [-] of ``mode="auto"``, as in :func:`collide`.
+    u_max : float, optional
+        A ceiling on the answer [m/s]. Where ``u0*`` exceeds it the result is ``inf``,
+        exactly as if the full answer had been cut there; in modes ``"paper"`` and
+        ``"relative"`` the search stops as soon as every speed up to ``u_max`` is known to
+        stick, so pairs that rebound only at high speed (or never) cost a few evaluations.
 
     Returns
     -------
@@ -390,7 +414,7 @@ def critical_impact_speed(
     -----
     In mode ``"relative"`` u0* comes from the tier's near-closed form (the stages' energy
     balances are quadratics in the speed; only the rupture distance's dependence on ``Ca``
-    is iterated, :mod:`agglomtool.collision.critical_relative`), in mode ``"paper"``
+    is iterated; the model page of the documentation derives it), in mode ``"paper"``
     without body forces from the same value (the tiers then agree); each answer ``u`` is
     checked with the tier's kernel (it rebounds at ``u`` and sticks at ``u (1 - rtol)``),
     and where the check fails (and in mode ``"paper"`` with body forces) the search below
