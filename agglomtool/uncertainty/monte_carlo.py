@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import zlib
 from collections.abc import Mapping
+from concurrent.futures import ThreadPoolExecutor
 
+import numba
 import numpy as np
 import xarray as xr
 
@@ -21,7 +23,7 @@ from .._fields import DEFAULT_MODE
 from .._version import __version__
 from ..collision.outcome import Stage
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, check_names, evaluate_e_w
-from .distributions import Distribution, _outside, to_si
+from .distributions import Distribution, _replace_outside, to_si
 
 __all__ = ["monte_carlo", "e_w_density", "draw_inputs", "resolve_seed", "DEFAULT_QUANTILES"]
 
@@ -29,6 +31,11 @@ __all__ = ["monte_carlo", "e_w_density", "draw_inputs", "resolve_seed", "DEFAULT
 DEFAULT_QUANTILES = (0.01, 0.05, 0.1, 0.25, 0.5, 0.75, 0.9, 0.95, 0.99)
 
 _DIMLESS = "dimensionless"
+
+#: How the draws are made (recorded in every result; see :class:`_ChunkedDraws`).
+_SAMPLING = ("numpy PCG64, one stream per input: SeedSequence(seed, spawn_key=(crc32(name),)) "
+             "for the first draws; draws outside the input's range replaced through the "
+             "truncated inverse CDF of uniforms from the stream of name + '/truncated'")
 
 
 def resolve_seed(seed) -> tuple[int, bool]:
@@ -56,6 +63,9 @@ def _stream(entropy: int, name: str) -> np.random.Generator:
 def draw_inputs(uncertain: Mapping[str, Distribution], n: int, entropy: int):
     """Draw ``n`` SI values of every uncertain input, truncated to its physical range.
 
+    The draws of :func:`monte_carlo` with seed ``entropy`` (all at once; see
+    :class:`_ChunkedDraws` for the streams).
+
     Returns
     -------
     values : dict of str to numpy.ndarray
@@ -65,18 +75,11 @@ def draw_inputs(uncertain: Mapping[str, Distribution], n: int, entropy: int):
     dists : dict of str to Distribution
         The distributions converted to SI.
     """
-    check_names(uncertain)
-    values, resampled, dists = {}, {}, {}
-    for name, dist in uncertain.items():
-        spec = UNCERTAIN_INPUTS[name]
-        d_si = to_si(name, dist, spec.units)
-        try:
-            x, k = d_si.sample(_stream(entropy, name), n, spec.lo, spec.hi,
-                               lo_open=spec.lo_open, hi_open=spec.hi_open)
-        except ValueError as exc:
-            raise ValueError(f"uncertain[{name!r}] ({spec.range_text()}): {exc}") from None
-        values[name], resampled[name], dists[name] = x, k, d_si
-    return values, resampled, dists
+    draws = _ChunkedDraws(uncertain, n, entropy, n)
+    values = {name: np.empty(n) for name in draws.dists}
+    for _ in draws.chunks(out=values):
+        pass
+    return values, dict(draws.resampled), draws.dists
 
 
 def _core_law(name: str, dist: Distribution):
@@ -86,15 +89,32 @@ def _core_law(name: str, dist: Distribution):
             spec.range_text())
 
 
-class _ChunkedDraws:
-    """The draws of :func:`draw_inputs`, made one chunk at a time (bounded memory).
+#: Below this many values per chunk and input the draws are made in the calling thread
+#: (a thread hand-off costs more than it saves on small arrays).
+_THREADED_MIN = 1 << 15
 
-    Each input's stream is read twice: a first pass counts the draws outside the input's
-    range and leaves the generator where :meth:`Distribution.sample` takes its replacement
-    draws (after all ``n`` first draws), so that the chunks hold exactly the values that
-    :func:`draw_inputs` returns, whatever the chunk size. (Only a replacement that itself
-    lands exactly on an open bound, an event of probability zero, is drawn again from a
-    stream of its own.)
+
+class _ChunkedDraws:
+    """The draws of the uncertain inputs, made one chunk at a time (bounded memory).
+
+    Every input has three streams of its own, derived from the seed and the input's stream
+    name (:func:`_stream`): ``name`` gives the first draws (one per sample, in sample
+    order); ``name + "/truncated"`` the uniforms that replace, through the inverse CDF of
+    the law truncated to the input's range, the first draws that fell outside it (in sample
+    order); ``name + "/open-bound"`` those that replace a replacement landing exactly on an
+    open bound (an event of probability zero). Each stream is read once, front to back, so
+    the values do not depend on the chunk size, and the chunks hold exactly the values
+    :func:`draw_inputs` returns.
+
+    The inputs of a chunk are drawn concurrently, one thread per input up to
+    ``numba.get_num_threads()`` (numpy's generators release the GIL); each thread reads only
+    its own input's streams, so the values do not depend on the threads either.
+
+    Changed after agglomtool 0.1.0: there, the replacements were read from the first-draw
+    stream after its ``n`` first draws, which took a counting pass over all the draws when
+    the run had more than one chunk. Inputs with no draw outside their range (e.g. the
+    paper's Table 4 analyses) give bitwise the same values as before; the replaced draws of
+    the others differ (same law, other random numbers).
     """
 
     def __init__(self, uncertain: Mapping[str, Distribution], n: int, entropy: int,
@@ -107,46 +127,64 @@ class _ChunkedDraws:
             law = _core_law
         self.stream_name = stream_name or (lambda name: name)
         self.n, self.chunk, self.entropy = n, chunk, entropy
-        self.dists, self.resampled, self._spec = {}, {}, {}
-        self._replace = {}
+        self.dists, self._spec = {}, {}
+        #: name -> how many first draws fell outside the range (complete once every chunk
+        #: has been drawn)
+        self.resampled: dict[str, int] = {}
         for name, dist in uncertain.items():
             d_si, lo0, hi0, lo_open, hi_open, text = law(name, dist)
             try:
                 lo, hi = d_si._effective_bounds(lo0, hi0)
             except ValueError as exc:
                 raise ValueError(f"uncertain[{name!r}] ({text}): {exc}") from None
-            rng, bad = _stream(entropy, self.stream_name(name)), 0
-            for start in range(0, n, chunk):
-                x = d_si._draw(rng, min(chunk, n - start))
-                bad += int(_outside(x, lo, hi, lo_open, hi_open).sum())
-            self.dists[name], self.resampled[name] = d_si, bad
+            self.dists[name], self.resampled[name] = d_si, 0
             self._spec[name] = (lo, hi, lo_open, hi_open)
-            self._replace[name] = rng  # now where sample() draws the replacements
 
     def __iter__(self):
-        """``(slice, {name: SI values})`` of every chunk, in order."""
+        return self.chunks()
+
+    def chunks(self, out: Mapping[str, np.ndarray] | None = None):
+        """``(slice, {name: SI values})`` of every chunk, in order.
+
+        With ``out`` (name -> float64 array of ``n`` values) the values are drawn into
+        ``out[name][slice]`` and the chunk's arrays are those views; without, into buffers
+        of one chunk that the next chunk overwrites.
+        """
         key = self.stream_name
-        main = {name: _stream(self.entropy, key(name)) for name in self.dists}
-        again = {name: _stream(self.entropy, key(name) + "/open-bound") for name in self.dists}
-        for start in range(0, self.n, self.chunk):
-            sl = slice(start, min(start + self.chunk, self.n))
-            out = {}
-            for name, d in self.dists.items():
-                lo, hi, lo_open, hi_open = self._spec[name]
-                x = d._draw(main[name], sl.stop - sl.start)
-                todo = _outside(x, lo, hi, lo_open, hi_open)
-                rng = self._replace[name]
-                for _ in range(64):
-                    k = int(todo.sum())
-                    if k == 0:
-                        break
-                    x[todo] = d._ppf_trunc(rng.random(k), lo, hi)
-                    todo = _outside(x, lo, hi, lo_open, hi_open)
-                    rng = again[name]
-                else:  # pragma: no cover - needs 64 consecutive hits of an open bound
-                    raise RuntimeError(f"could not draw {d!r} inside ({lo:g}, {hi:g})")
-                out[name] = x
-            yield sl, out
+        names = list(self.dists)
+        streams = {name: tuple(_stream(self.entropy, key(name) + tail)
+                               for tail in ("", "/truncated", "/open-bound"))
+                   for name in names}
+        for name in names:
+            self.resampled[name] = 0
+        buffers = None if out is not None else {name: np.empty(self.chunk) for name in names}
+
+        def draw(name, x):
+            d = self.dists[name]
+            first, trunc, again = streams[name]
+            d._draw_into(first, x)
+            lo, hi, lo_open, hi_open = self._spec[name]
+            return _replace_outside(d, x, lo, hi, lo_open, hi_open, trunc, again)
+
+        workers = min(len(names), max(1, numba.get_num_threads()))
+        pool = (ThreadPoolExecutor(max_workers=workers)
+                if workers > 1 and self.chunk >= _THREADED_MIN else None)
+        try:
+            for start in range(0, self.n, self.chunk):
+                sl = slice(start, min(start + self.chunk, self.n))
+                m = sl.stop - sl.start
+                vals = ({name: out[name][sl] for name in names} if out is not None
+                        else {name: buffers[name][:m] for name in names})
+                if pool is None or m < _THREADED_MIN:
+                    bad = [draw(name, vals[name]) for name in names]
+                else:
+                    bad = list(pool.map(draw, names, [vals[name] for name in names]))
+                for name, k in zip(names, bad, strict=True):
+                    self.resampled[name] += k
+                yield sl, vals
+        finally:
+            if pool is not None:
+                pool.shutdown()
 
 
 def e_w_density(e_w: np.ndarray, edges: np.ndarray) -> np.ndarray:
@@ -306,13 +344,12 @@ def monte_carlo(
     stage = np.empty(n, dtype=np.int8) if keep_samples else None
     values = {k: np.empty(n) for k in dists} if keep_samples else {}
     e_max = -np.inf if "e" in dists else float(np.max(base["e"]))
-    for sl, chunk_values in draws:
+    # kept samples are drawn straight into the returned arrays
+    for sl, chunk_values in draws.chunks(out=values if keep_samples else None):
         res = evaluate_e_w(base, chunk_values, mode)
         e_w[sl] = res.e_w
         if keep_samples:
             stage[sl] = res.stage
-            for k, v in chunk_values.items():
-                values[k][sl] = v
         if "e" in chunk_values:
             e_max = max(e_max, float(np.max(chunk_values["e"])))
         del res, chunk_values
@@ -352,8 +389,7 @@ def monte_carlo(
         mode=str(mode),
         seed=entropy,
         seed_chosen_by_user=int(chosen),
-        sampling=("numpy PCG64, one stream per input: SeedSequence(seed, "
-                  "spawn_key=(crc32(name),))"),
+        sampling=_SAMPLING,
         n_samples=n,
         uncertain_inputs=" ".join(dists),
         distributions="; ".join(f"{k} = {dists[k]!r} [{UNCERTAIN_INPUTS[k].units}]"
