@@ -23,6 +23,7 @@ from .._fields import DEFAULT_MODE
 from .._version import __version__
 from ..collision.outcome import Stage
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, check_names, evaluate_e_w
+from ._select import summary_counts, summary_numpy
 from .distributions import Distribution, _replace_outside, to_si
 
 __all__ = ["monte_carlo", "e_w_density", "draw_inputs", "resolve_seed", "DEFAULT_QUANTILES"]
@@ -92,6 +93,11 @@ def _core_law(name: str, dist: Distribution):
 #: Below this many values per chunk and input the draws are made in the calling thread
 #: (a thread hand-off costs more than it saves on small arrays).
 _THREADED_MIN = 1 << 15
+
+
+def _draw_threads() -> int:
+    """Threads drawing the inputs of a chunk: as many as the compiled kernels use."""
+    return max(1, numba.get_num_threads())
 
 
 class _ChunkedDraws:
@@ -166,7 +172,7 @@ class _ChunkedDraws:
             lo, hi, lo_open, hi_open = self._spec[name]
             return _replace_outside(d, x, lo, hi, lo_open, hi_open, trunc, again)
 
-        workers = min(len(names), max(1, numba.get_num_threads()))
+        workers = min(len(names), _draw_threads())
         pool = (ThreadPoolExecutor(max_workers=workers)
                 if workers > 1 and self.chunk >= _THREADED_MIN else None)
         try:
@@ -407,21 +413,19 @@ def _summary(e_w: np.ndarray, q: np.ndarray, edges: np.ndarray, e_w_nominal: flo
              chunk: int, scratch: bool = False):
     """The summary of ``e_w``, with temporaries of at most ``chunk`` samples.
 
+    Quantiles, histogram and agglomeration count in two passes without a sort
+    (:func:`._select.summary_counts`; numpy's numbers, bitwise), else with numpy, where
     ``scratch=True`` lets the quantiles reorder ``e_w`` in place (no copy of it).
     """
     n = e_w.size
-    parts = [slice(s, min(s + chunk, n)) for s in range(0, n, chunk)]
-    n_zero = sum(int(np.count_nonzero(e_w[sl] == 0.0)) for sl in parts)
+    fast = summary_counts(e_w, q, edges)
+    n_zero, counts, quantiles = (fast if fast is not None
+                                 else summary_numpy(e_w, q, edges, chunk, scratch))
     p_agg = float(n_zero) / n
-    counts = np.zeros(edges.size - 1, dtype=np.int64)
-    for sl in parts:
-        x = e_w[sl]
-        counts += np.histogram(x[x > 0.0], bins=edges)[0]
     dens = counts / (n * np.diff(edges))
     mean = float(e_w.mean())
-    ssd = sum(float(np.sum(np.square(e_w[sl] - mean))) for sl in parts)
+    ssd = sum(float(np.sum(np.square(e_w[s:s + chunk] - mean))) for s in range(0, n, chunk))
     std = float(np.sqrt(ssd / (n - 1))) if n > 1 else 0.0
-    quantiles = np.quantile(e_w, q, overwrite_input=scratch)
     centres = 0.5 * (edges[:-1] + edges[1:])
     ds = xr.Dataset(
         coords={
