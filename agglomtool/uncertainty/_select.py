@@ -28,69 +28,66 @@ from ..collision._jit import CACHE
 __all__ = ["summary_counts", "summary_numpy", "linear_quantiles"]
 
 
-@njit(cache=CACHE, inline="always")
-def _bucket(x, edges, e0, inv_w, nb, uniform, sub, inv_bw):
-    """The bucket of ``x``: 0 for ``x == 0``; for ``x > 0``, ``1 + j sub + s`` with ``j``
-    the number of edges <= x and ``s`` in ``[0, sub)`` its sub-bucket inside bin ``j - 1``
-    (0 below the first and above the last edge); -1 for a negative or NaN ``x``.
-    Non-decreasing in ``x``."""
-    if x == 0.0:
-        return 0
-    if not x > 0.0:
-        return -1
-    if uniform:  # a guess from the bin width, then made exact against the edges
-        g = (x - e0) * inv_w
-        if g < 0.0:
-            j = 0
-        elif g > nb:
-            j = nb + 1
-        else:
-            j = int(g) + 1
-        while j > 0 and edges[j - 1] > x:
-            j -= 1
-        while j <= nb and edges[j] <= x:
-            j += 1
-    else:  # bisection: the number of edges <= x
-        j, hi = 0, nb + 1
-        while j < hi:
-            mid = (j + hi) // 2
-            if edges[mid] <= x:
-                j = mid + 1
-            else:
-                hi = mid
-    s = 0
-    if 1 <= j <= nb and sub > 1:  # x in [edges[j - 1], edges[j]): monotone arithmetic
-        t = (x - edges[j - 1]) * inv_bw[j - 1]
-        s = int(t) if t < sub - 1 else sub - 1
-    return 1 + j * sub + s
-
-
 @njit(cache=CACHE)
-def _count(x, edges, e0, inv_w, nb, uniform, sub, inv_bw):
-    counts = np.zeros(1 + (nb + 2) * sub, np.int64)
+def _scan(x, edges, e0, inv_w, nb, uniform, sub, inv_bw, gather, slot, pos, buf):
+    """One pass over ``x``. Every sample's bucket: 0 for ``x == 0``; for ``x > 0``,
+    ``1 + j sub + s`` with ``j`` the number of edges <= x and ``s`` in ``[0, sub)`` its
+    sub-bucket inside bin ``j - 1`` (0 below the first and above the last edge); the
+    bucket is non-decreasing in ``x``. Negative and NaN samples are counted apart.
+
+    ``gather=False``: returns the bucket counts, the number of positive samples equal to
+    the last edge and the number of negative or NaN ones. ``gather=True``: copies the
+    samples of the buckets with ``slot[k] >= 0`` to ``buf[pos[slot[k]]]`` (advancing
+    ``pos``). (The bucket is computed inline: a helper function taking the arrays costs
+    five times the pass.)
+    """
+    counts = np.zeros(1 if gather else 1 + (nb + 2) * sub, np.int64)
     n_last = 0
     n_bad = 0
     last = edges[nb]
     for i in range(x.size):
-        k = _bucket(x[i], edges, e0, inv_w, nb, uniform, sub, inv_bw)
-        if k < 0:
+        v = x[i]
+        if v == 0.0:
+            k = 0
+        elif not v > 0.0:
             n_bad += 1
+            continue
+        else:
+            if uniform:  # a guess from the bin width, then made exact against the edges
+                g = (v - e0) * inv_w
+                if g < 0.0:
+                    j = 0
+                elif g > nb:
+                    j = nb + 1
+                else:
+                    j = int(g) + 1
+                while j > 0 and edges[j - 1] > v:
+                    j -= 1
+                while j <= nb and edges[j] <= v:
+                    j += 1
+            else:  # bisection: the number of edges <= v
+                j, hi = 0, nb + 1
+                while j < hi:
+                    mid = (j + hi) // 2
+                    if edges[mid] <= v:
+                        j = mid + 1
+                    else:
+                        hi = mid
+            s = 0
+            if sub > 1 and j >= 1 and j <= nb:  # v in [edges[j - 1], edges[j])
+                t = (v - edges[j - 1]) * inv_bw[j - 1]
+                s = int(t) if t < sub - 1 else sub - 1
+            k = 1 + j * sub + s
+        if gather:
+            q = slot[k]
+            if q >= 0:
+                buf[pos[q]] = v
+                pos[q] += 1
         else:
             counts[k] += 1
-            if k > 0 and x[i] == last:
+            if k > 0 and v == last:
                 n_last += 1
     return counts, n_last, n_bad
-
-
-@njit(cache=CACHE)
-def _gather(x, edges, e0, inv_w, nb, uniform, sub, inv_bw, slot, pos, buf):
-    for i in range(x.size):
-        k = _bucket(x[i], edges, e0, inv_w, nb, uniform, sub, inv_bw)
-        if k > 0:
-            s = slot[k]
-            if s >= 0:
-                buf[pos[s]] = x[i]
-                pos[s] += 1
 
 
 #: Sub-buckets per histogram bin (fewer when there are many bins): the samples copied and
@@ -145,7 +142,8 @@ def summary_counts(e_w: np.ndarray, q: np.ndarray, edges: np.ndarray):
     args = _edge_args(np.ascontiguousarray(edges, dtype=np.float64))
     if not math.isfinite(args[2]):
         return None
-    counts, n_last, n_bad = _count(x, *args)
+    none = np.empty(0, dtype=np.intp)
+    counts, n_last, n_bad = _scan(x, *args, False, none, none, np.empty(0))
     if n_bad:
         return None
     nb, sub = args[3], args[5]
@@ -164,7 +162,7 @@ def summary_counts(e_w: np.ndarray, q: np.ndarray, edges: np.ndarray):
     slot[wanted] = np.arange(wanted.size)
     start = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp)
     buf = np.empty(int(sizes.sum()))
-    _gather(x, *args, slot, start.copy(), buf)
+    _scan(x, *args, True, slot, start.copy(), buf)
     for s in range(wanted.size):
         buf[start[s]:start[s] + sizes[s]].sort()
     value = {}
