@@ -117,8 +117,8 @@ class _ChunkedDraws:
     its own input's streams, so the values do not depend on the threads either.
 
     Changed after agglomtool 0.1.0: there, the replacements were read from the first-draw
-    stream after its ``n`` first draws, which took a counting pass over all the draws when
-    the run had more than one chunk. Inputs with no draw outside their range (e.g. the
+    stream after its ``n`` first draws, which took a counting pass: every input was drawn
+    twice. Inputs with no draw outside their range (e.g. the
     paper's Table 4 analyses) give bitwise the same values as before; the replaced draws of
     the others differ (same law, other random numbers).
     """
@@ -310,11 +310,12 @@ def monte_carlo(
 
     Numbers changed after agglomtool 0.1.0, for inputs with draws outside their range only:
     those draws are now replaced with uniforms from a stream of their own rather than from
-    the end of the input's stream, so that every stream is read in a single pass (before, a
-    run of several chunks drew every input twice). The laws are the same; inputs that never
-    leave their range (the paper's Table 4 analyses) give bitwise the same samples and
-    results as before. The summary's quantiles, histogram and agglomeration probability
-    are those of numpy (``numpy.quantile``, linear), computed without sorting the samples.
+    the end of the input's stream, so that every stream is read in a single pass (before,
+    every input was drawn twice: once to count its draws outside the range). The laws are
+    the same; inputs that never leave their range (the paper's Table 4 analyses) give
+    bitwise the same samples and results as before. The summary's quantiles, histogram and
+    agglomeration probability are those of numpy (``numpy.quantile``, linear), computed
+    without sorting the samples.
     """
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ValueError(f"n = {n!r} must be a positive integer")

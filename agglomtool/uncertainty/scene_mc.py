@@ -131,7 +131,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
             ds[name] = ("sample", x, _attrs(unit, long_name, distribution=repr(dists[name]),
                                             n_resampled=resampled[name]))
     prov = {f"provenance: {k}": f"{v} {u}; {o}; {c}"
-            for k, (v, u, o, c) in provenance(base).items() if k not in values}
+            for k, (v, u, o, c) in provenance(base).items() if k not in dists}
     ds.attrs.update(
         title="Monte Carlo propagation of scene uncertainty to e_w",
         agglomtool_version=__version__,
@@ -141,8 +141,8 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
         sampling=(f"{_SAMPLING}; Scene names share the core's streams "
                   f"({', '.join(f'{a} = {b}' for a, b in SCENE_TO_CORE.items())})"),
         n_samples=n,
-        uncertain_inputs=" ".join(values),
-        distributions="; ".join(f"{k} = {dists[k]!r} [{FIELD_META[k][0]}]" for k in values),
+        uncertain_inputs=" ".join(dists),
+        distributions="; ".join(f"{k} = {dists[k]!r} [{FIELD_META[k][0]}]" for k in dists),
         n_resampled_total=int(sum(resampled.values())),
         scene=repr(scene),
         references="Shabanian et al. (2024), Heliyon 10:e29397, "
