@@ -23,6 +23,16 @@ def test_scene_path_equals_the_low_level_call_with_the_same_draws():
     assert ds.h0.attrs["units"] == "m" and "provenance: T" in ds.attrs
 
 
+def test_the_record_names_the_uncertain_fields_without_the_samples():
+    kw = dict(uncertain={"h0": at.Normal(5e-6, 2e-6)}, n=2000, seed=3)
+    kept = at.monte_carlo(SCENE, **kw)
+    lean = at.monte_carlo(SCENE, **kw, keep_samples=False)
+    for key in ("uncertain_inputs", "distributions", "n_resampled_total"):
+        assert lean.attrs[key] == kept.attrs[key], key
+    assert lean.attrs["uncertain_inputs"] == "h0" and "provenance: h0" not in lean.attrs
+    assert float(lean.e_w_mean) == float(kept.e_w_mean)
+
+
 def test_scene_fields_that_need_properties_can_be_uncertain():
     ds = at.monte_carlo(SCENE, uncertain={"T": at.Normal(318.15, 10.0)}, n=400, seed=1)
     assert ds.T.attrs["units"] == "K" and np.isfinite(ds.e_w.values).all()

@@ -66,8 +66,13 @@ class Distribution:
 
     Subclasses implement ``_draw(rng, n)`` (untruncated draws), ``_ppf_trunc(u, lo, hi)``
     (the inverse CDF of the law conditioned on ``[lo, hi]``), ``_mass(lo, hi)`` (its
-    probability of ``[lo, hi]``), ``_scaled(factor)`` and ``nominal``.
+    probability of ``[lo, hi]``), ``_scaled(factor)`` and ``nominal``; optionally
+    ``_draw_into(rng, out)``, the same draws as ``_draw(rng, out.size)`` written into the
+    float64 array ``out`` without temporaries.
     """
+
+    def _draw_into(self, rng: np.random.Generator, out: np.ndarray) -> None:
+        out[...] = self._draw(rng, out.size)
 
     def bounds(self) -> tuple[float, float]:
         """The user's truncation bounds ``(lo, hi)`` in the distribution's units."""
@@ -128,21 +133,11 @@ class Distribution:
             How many first draws fell outside the range and were replaced.
         """
         lo, hi = self._effective_bounds(lo, hi)
-        x = self._draw(rng, n)
-        bad = _outside(x, lo, hi, lo_open, hi_open)
-        n_bad = int(bad.sum())
-        todo = bad
+        x = np.empty(int(n))
+        self._draw_into(rng, x)
         # The replacement has the truncated law, so one pass suffices except for draws that
         # land exactly on an open bound (probability zero; a few rounds at most).
-        for _ in range(64):
-            k = int(todo.sum())
-            if k == 0:
-                break
-            x[todo] = self._ppf_trunc(rng.random(k), lo, hi)
-            todo = _outside(x, lo, hi, lo_open, hi_open)
-        else:  # pragma: no cover - needs 64 consecutive hits of an open bound
-            raise RuntimeError(f"could not draw {self!r} inside ({lo:g}, {hi:g})")
-        return x, n_bad
+        return x, _replace_outside(self, x, lo, hi, lo_open, hi_open, rng, rng)
 
     def in_units(self, factor: float) -> Distribution:
         """The same law with every location/scale parameter multiplied by ``factor``."""
@@ -153,6 +148,36 @@ def _outside(x, lo, hi, lo_open, hi_open) -> np.ndarray:
     below = (x <= lo) if lo_open else (x < lo)
     above = (x >= hi) if hi_open else (x > hi)
     return below | above
+
+
+def _inside(v: float, lo, hi, lo_open, hi_open) -> bool:
+    """``v`` in the range (False for NaN)."""
+    return (v > lo if lo_open else v >= lo) and (v < hi if hi_open else v <= hi)
+
+
+def _replace_outside(d: Distribution, x: np.ndarray, lo: float, hi: float, lo_open: bool,
+                     hi_open: bool, rng: np.random.Generator,
+                     again: np.random.Generator) -> int:
+    """Replace, in place, the draws of ``x`` outside the range by draws of ``d`` truncated
+    to ``[lo, hi]`` (inverse CDF of uniforms from ``rng``); return how many were outside.
+
+    A replacement that lands exactly on an open bound (probability zero) is drawn again,
+    with uniforms from ``again``.
+    """
+    if x.size and _inside(float(x.min()), lo, hi, lo_open, hi_open) and _inside(
+            float(x.max()), lo, hi, lo_open, hi_open):
+        return 0  # the common case, told by two reductions instead of three masks
+    todo = _outside(x, lo, hi, lo_open, hi_open)
+    n_bad = k = int(np.count_nonzero(todo))
+    for _ in range(64):
+        if k == 0:
+            return n_bad
+        x[todo] = d._ppf_trunc(rng.random(k), lo, hi)
+        todo = _outside(x, lo, hi, lo_open, hi_open)
+        k = int(np.count_nonzero(todo))
+        rng = again
+    raise RuntimeError(  # pragma: no cover - needs 64 consecutive hits of an open bound
+        f"could not draw {d!r} inside ({lo:g}, {hi:g})")
 
 
 def _std_normal_trunc_ppf(u: np.ndarray, a: float, b: float) -> np.ndarray:
@@ -214,6 +239,12 @@ class Normal(Distribution):
 
     def _draw(self, rng, n):
         return self.mean + self.sd * rng.standard_normal(n)
+
+    def _draw_into(self, rng, out):
+        # bitwise the values of _draw: IEEE products and sums commute exactly
+        rng.standard_normal(out=out)
+        np.multiply(out, self.sd, out=out)
+        np.add(out, self.mean, out=out)
 
     def _mass(self, lo, hi):
         if self.sd == 0.0:
@@ -300,6 +331,13 @@ class LogNormal(Distribution):
         m, s = self.log_params
         return np.exp(m + s * rng.standard_normal(n))
 
+    def _draw_into(self, rng, out):
+        m, s = self.log_params
+        rng.standard_normal(out=out)
+        np.multiply(out, s, out=out)
+        np.add(out, m, out=out)
+        np.exp(out, out=out)
+
     def _mass(self, lo, hi):
         m, s = self.log_params
         return Normal(m, s)._mass(*self._log_bounds(lo, hi))
@@ -350,6 +388,12 @@ class Uniform(Distribution):
 
     def _draw(self, rng, n):
         return rng.uniform(self.low, self.high, n)
+
+    def _draw_into(self, rng, out):
+        # numpy's uniform(low, high) is low + (high - low) * random(), bitwise
+        rng.random(out=out)
+        np.multiply(out, self.high - self.low, out=out)
+        np.add(out, self.low, out=out)
 
     def _mass(self, lo, hi):
         return max(0.0, min(hi, self.high) - max(lo, self.low)) / (self.high - self.low)

@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import zlib
 from collections.abc import Mapping
+from concurrent.futures import ThreadPoolExecutor
 
+import numba
 import numpy as np
 import xarray as xr
 
@@ -21,7 +23,8 @@ from .._fields import DEFAULT_MODE
 from .._version import __version__
 from ..collision.outcome import Stage
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, check_names, evaluate_e_w
-from .distributions import Distribution, _outside, to_si
+from ._select import summary_counts, summary_numpy
+from .distributions import Distribution, _replace_outside, to_si
 
 __all__ = ["monte_carlo", "e_w_density", "draw_inputs", "resolve_seed", "DEFAULT_QUANTILES"]
 
@@ -29,6 +32,11 @@ __all__ = ["monte_carlo", "e_w_density", "draw_inputs", "resolve_seed", "DEFAULT
 DEFAULT_QUANTILES = (0.01, 0.05, 0.1, 0.25, 0.5, 0.75, 0.9, 0.95, 0.99)
 
 _DIMLESS = "dimensionless"
+
+#: How the draws are made (recorded in every result; see :class:`_ChunkedDraws`).
+_SAMPLING = ("numpy PCG64, one stream per input: SeedSequence(seed, spawn_key=(crc32(name),)) "
+             "for the first draws; draws outside the input's range replaced through the "
+             "truncated inverse CDF of uniforms from the stream of name + '/truncated'")
 
 
 def resolve_seed(seed) -> tuple[int, bool]:
@@ -56,6 +64,9 @@ def _stream(entropy: int, name: str) -> np.random.Generator:
 def draw_inputs(uncertain: Mapping[str, Distribution], n: int, entropy: int):
     """Draw ``n`` SI values of every uncertain input, truncated to its physical range.
 
+    The draws of :func:`monte_carlo` with seed ``entropy`` (all at once; see
+    :class:`_ChunkedDraws` for the streams).
+
     Returns
     -------
     values : dict of str to numpy.ndarray
@@ -65,18 +76,11 @@ def draw_inputs(uncertain: Mapping[str, Distribution], n: int, entropy: int):
     dists : dict of str to Distribution
         The distributions converted to SI.
     """
-    check_names(uncertain)
-    values, resampled, dists = {}, {}, {}
-    for name, dist in uncertain.items():
-        spec = UNCERTAIN_INPUTS[name]
-        d_si = to_si(name, dist, spec.units)
-        try:
-            x, k = d_si.sample(_stream(entropy, name), n, spec.lo, spec.hi,
-                               lo_open=spec.lo_open, hi_open=spec.hi_open)
-        except ValueError as exc:
-            raise ValueError(f"uncertain[{name!r}] ({spec.range_text()}): {exc}") from None
-        values[name], resampled[name], dists[name] = x, k, d_si
-    return values, resampled, dists
+    draws = _ChunkedDraws(uncertain, n, entropy, n)
+    values = {name: np.empty(n) for name in draws.dists}
+    for _ in draws.chunks(out=values):
+        pass
+    return values, dict(draws.resampled), draws.dists
 
 
 def _core_law(name: str, dist: Distribution):
@@ -86,15 +90,37 @@ def _core_law(name: str, dist: Distribution):
             spec.range_text())
 
 
-class _ChunkedDraws:
-    """The draws of :func:`draw_inputs`, made one chunk at a time (bounded memory).
+#: Below this many values per chunk and input the draws are made in the calling thread
+#: (a thread hand-off costs more than it saves on small arrays).
+_THREADED_MIN = 1 << 15
 
-    Each input's stream is read twice: a first pass counts the draws outside the input's
-    range and leaves the generator where :meth:`Distribution.sample` takes its replacement
-    draws (after all ``n`` first draws), so that the chunks hold exactly the values that
-    :func:`draw_inputs` returns, whatever the chunk size. (Only a replacement that itself
-    lands exactly on an open bound, an event of probability zero, is drawn again from a
-    stream of its own.)
+
+def _draw_threads() -> int:
+    """Threads drawing the inputs of a chunk: as many as the compiled kernels use."""
+    return max(1, numba.get_num_threads())
+
+
+class _ChunkedDraws:
+    """The draws of the uncertain inputs, made one chunk at a time (bounded memory).
+
+    Every input has three streams of its own, derived from the seed and the input's stream
+    name (:func:`_stream`): ``name`` gives the first draws (one per sample, in sample
+    order); ``name + "/truncated"`` the uniforms that replace, through the inverse CDF of
+    the law truncated to the input's range, the first draws that fell outside it (in sample
+    order); ``name + "/open-bound"`` those that replace a replacement landing exactly on an
+    open bound (an event of probability zero). Each stream is read once, front to back, so
+    the values do not depend on the chunk size, and the chunks hold exactly the values
+    :func:`draw_inputs` returns.
+
+    The inputs of a chunk are drawn concurrently, one thread per input up to
+    ``numba.get_num_threads()`` (numpy's generators release the GIL); each thread reads only
+    its own input's streams, so the values do not depend on the threads either.
+
+    Changed after agglomtool 0.1.0: there, the replacements were read from the first-draw
+    stream after its ``n`` first draws, which took a counting pass: every input was drawn
+    twice. Inputs with no draw outside their range (e.g. the
+    paper's Table 4 analyses) give bitwise the same values as before; the replaced draws of
+    the others differ (same law, other random numbers).
     """
 
     def __init__(self, uncertain: Mapping[str, Distribution], n: int, entropy: int,
@@ -107,46 +133,64 @@ class _ChunkedDraws:
             law = _core_law
         self.stream_name = stream_name or (lambda name: name)
         self.n, self.chunk, self.entropy = n, chunk, entropy
-        self.dists, self.resampled, self._spec = {}, {}, {}
-        self._replace = {}
+        self.dists, self._spec = {}, {}
+        #: name -> how many first draws fell outside the range (complete once every chunk
+        #: has been drawn)
+        self.resampled: dict[str, int] = {}
         for name, dist in uncertain.items():
             d_si, lo0, hi0, lo_open, hi_open, text = law(name, dist)
             try:
                 lo, hi = d_si._effective_bounds(lo0, hi0)
             except ValueError as exc:
                 raise ValueError(f"uncertain[{name!r}] ({text}): {exc}") from None
-            rng, bad = _stream(entropy, self.stream_name(name)), 0
-            for start in range(0, n, chunk):
-                x = d_si._draw(rng, min(chunk, n - start))
-                bad += int(_outside(x, lo, hi, lo_open, hi_open).sum())
-            self.dists[name], self.resampled[name] = d_si, bad
+            self.dists[name], self.resampled[name] = d_si, 0
             self._spec[name] = (lo, hi, lo_open, hi_open)
-            self._replace[name] = rng  # now where sample() draws the replacements
 
     def __iter__(self):
-        """``(slice, {name: SI values})`` of every chunk, in order."""
+        return self.chunks()
+
+    def chunks(self, out: Mapping[str, np.ndarray] | None = None):
+        """``(slice, {name: SI values})`` of every chunk, in order.
+
+        With ``out`` (name -> float64 array of ``n`` values) the values are drawn into
+        ``out[name][slice]`` and the chunk's arrays are those views; without, into buffers
+        of one chunk that the next chunk overwrites.
+        """
         key = self.stream_name
-        main = {name: _stream(self.entropy, key(name)) for name in self.dists}
-        again = {name: _stream(self.entropy, key(name) + "/open-bound") for name in self.dists}
-        for start in range(0, self.n, self.chunk):
-            sl = slice(start, min(start + self.chunk, self.n))
-            out = {}
-            for name, d in self.dists.items():
-                lo, hi, lo_open, hi_open = self._spec[name]
-                x = d._draw(main[name], sl.stop - sl.start)
-                todo = _outside(x, lo, hi, lo_open, hi_open)
-                rng = self._replace[name]
-                for _ in range(64):
-                    k = int(todo.sum())
-                    if k == 0:
-                        break
-                    x[todo] = d._ppf_trunc(rng.random(k), lo, hi)
-                    todo = _outside(x, lo, hi, lo_open, hi_open)
-                    rng = again[name]
-                else:  # pragma: no cover - needs 64 consecutive hits of an open bound
-                    raise RuntimeError(f"could not draw {d!r} inside ({lo:g}, {hi:g})")
-                out[name] = x
-            yield sl, out
+        names = list(self.dists)
+        streams = {name: tuple(_stream(self.entropy, key(name) + tail)
+                               for tail in ("", "/truncated", "/open-bound"))
+                   for name in names}
+        for name in names:
+            self.resampled[name] = 0
+        buffers = None if out is not None else {name: np.empty(self.chunk) for name in names}
+
+        def draw(name, x):
+            d = self.dists[name]
+            first, trunc, again = streams[name]
+            d._draw_into(first, x)
+            lo, hi, lo_open, hi_open = self._spec[name]
+            return _replace_outside(d, x, lo, hi, lo_open, hi_open, trunc, again)
+
+        workers = min(len(names), _draw_threads())
+        pool = (ThreadPoolExecutor(max_workers=workers)
+                if workers > 1 and self.chunk >= _THREADED_MIN else None)
+        try:
+            for start in range(0, self.n, self.chunk):
+                sl = slice(start, min(start + self.chunk, self.n))
+                m = sl.stop - sl.start
+                vals = ({name: out[name][sl] for name in names} if out is not None
+                        else {name: buffers[name][:m] for name in names})
+                if pool is None or m < _THREADED_MIN:
+                    bad = [draw(name, vals[name]) for name in names]
+                else:
+                    bad = list(pool.map(draw, names, [vals[name] for name in names]))
+                for name, k in zip(names, bad, strict=True):
+                    self.resampled[name] += k
+                yield sl, vals
+        finally:
+            if pool is not None:
+                pool.shutdown()
 
 
 def e_w_density(e_w: np.ndarray, edges: np.ndarray) -> np.ndarray:
@@ -226,9 +270,11 @@ def monte_carlo(
     n : int
         Number of samples (> 0).
     seed : int, optional
-        Seed of the draws (>= 0). Each input has its own stream derived from ``seed`` and
-        its name, so the same seed gives the same draws of an input whatever else is
-        uncertain. ``None``: fresh entropy, recorded in ``attrs["seed"]``.
+        Seed of the draws (>= 0). Each input has its own streams derived from ``seed`` and
+        its name (one for its draws, one for the replacements of draws outside its range),
+        so the same seed gives the same draws of an input whatever else is uncertain, and
+        whatever ``chunk_size`` or the number of threads. ``None``: fresh entropy, recorded
+        in ``attrs["seed"]``.
     mode : str
         Model tier, passed through to :func:`agglomtool.collide` (``agglomtool.MODES``).
     quantiles : sequence of float
@@ -261,6 +307,15 @@ def monte_carlo(
     that mass and ``e_w_density`` the density of the rest, so ``e_w_density`` integrates
     to ``1 - p_agglomeration``. With ``Bed(U=None)`` the emulsion velocity (1.1 Umf of the
     larger particle) is recomputed for every sample from its own diameters.
+
+    Numbers changed after agglomtool 0.1.0, for inputs with draws outside their range only:
+    those draws are now replaced with uniforms from a stream of their own rather than from
+    the end of the input's stream, so that every stream is read in a single pass (before,
+    every input was drawn twice: once to count its draws outside the range). The laws are
+    the same; inputs that never leave their range (the paper's Table 4 analyses) give
+    bitwise the same samples and results as before. The summary's quantiles, histogram and
+    agglomeration probability are those of numpy (``numpy.quantile``, linear), computed
+    without sorting the samples.
     """
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ValueError(f"n = {n!r} must be a positive integer")
@@ -306,13 +361,12 @@ def monte_carlo(
     stage = np.empty(n, dtype=np.int8) if keep_samples else None
     values = {k: np.empty(n) for k in dists} if keep_samples else {}
     e_max = -np.inf if "e" in dists else float(np.max(base["e"]))
-    for sl, chunk_values in draws:
+    # kept samples are drawn straight into the returned arrays
+    for sl, chunk_values in draws.chunks(out=values if keep_samples else None):
         res = evaluate_e_w(base, chunk_values, mode)
         e_w[sl] = res.e_w
         if keep_samples:
             stage[sl] = res.stage
-            for k, v in chunk_values.items():
-                values[k][sl] = v
         if "e" in chunk_values:
             e_max = max(e_max, float(np.max(chunk_values["e"])))
         del res, chunk_values
@@ -352,8 +406,7 @@ def monte_carlo(
         mode=str(mode),
         seed=entropy,
         seed_chosen_by_user=int(chosen),
-        sampling=("numpy PCG64, one stream per input: SeedSequence(seed, "
-                  "spawn_key=(crc32(name),))"),
+        sampling=_SAMPLING,
         n_samples=n,
         uncertain_inputs=" ".join(dists),
         distributions="; ".join(f"{k} = {dists[k]!r} [{UNCERTAIN_INPUTS[k].units}]"
@@ -371,21 +424,19 @@ def _summary(e_w: np.ndarray, q: np.ndarray, edges: np.ndarray, e_w_nominal: flo
              chunk: int, scratch: bool = False):
     """The summary of ``e_w``, with temporaries of at most ``chunk`` samples.
 
+    Quantiles, histogram and agglomeration count in two passes without a sort
+    (:func:`._select.summary_counts`; numpy's numbers, bitwise), else with numpy, where
     ``scratch=True`` lets the quantiles reorder ``e_w`` in place (no copy of it).
     """
     n = e_w.size
-    parts = [slice(s, min(s + chunk, n)) for s in range(0, n, chunk)]
-    n_zero = sum(int(np.count_nonzero(e_w[sl] == 0.0)) for sl in parts)
+    fast = summary_counts(e_w, q, edges)
+    n_zero, counts, quantiles = (fast if fast is not None
+                                 else summary_numpy(e_w, q, edges, chunk, scratch))
     p_agg = float(n_zero) / n
-    counts = np.zeros(edges.size - 1, dtype=np.int64)
-    for sl in parts:
-        x = e_w[sl]
-        counts += np.histogram(x[x > 0.0], bins=edges)[0]
     dens = counts / (n * np.diff(edges))
     mean = float(e_w.mean())
-    ssd = sum(float(np.sum(np.square(e_w[sl] - mean))) for sl in parts)
+    ssd = sum(float(np.sum(np.square(e_w[s:s + chunk] - mean))) for s in range(0, n, chunk))
     std = float(np.sqrt(ssd / (n - 1))) if n > 1 else 0.0
-    quantiles = np.quantile(e_w, q, overwrite_input=scratch)
     centres = 0.5 * (edges[:-1] + edges[1:])
     ds = xr.Dataset(
         coords={

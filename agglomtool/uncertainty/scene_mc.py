@@ -81,7 +81,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
     derived as for a map, and ``e_w`` is evaluated at the scene's impact speed: ``u0``
     (fixed, or drawn if uncertain) or the median of its speed distribution.
     """
-    from .monte_carlo import _ChunkedDraws, _summary, resolve_seed
+    from .monte_carlo import _SAMPLING, _ChunkedDraws, _summary, resolve_seed
 
     check_fields(uncertain)
     base = scene.values()
@@ -98,7 +98,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
     values = {k: np.empty(n) for k in dists} if keep_samples else {}
     e_max = -np.inf if "e" in dists else float(np.max(Resolved(base).e))
     findings = []
-    for sl, chunk_values in draws:
+    for sl, chunk_values in draws.chunks(out=values if keep_samples else None):
         # Draws that are valid but implausible (a lognormal given a log-space spread as
         # its standard deviation, ...) are said, as for a Scene.
         findings += [f for f in scene_findings({**base, **chunk_values})
@@ -106,8 +106,6 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
         e_w[sl], st = scene_e_w(base, chunk_values)
         if keep_samples:
             stage[sl] = st
-            for k, v in chunk_values.items():
-                values[k][sl] = v
         if "e" in chunk_values:
             e_max = max(e_max, float(np.max(chunk_values["e"])))
     warn_findings(findings, stacklevel=3)
@@ -133,19 +131,18 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
             ds[name] = ("sample", x, _attrs(unit, long_name, distribution=repr(dists[name]),
                                             n_resampled=resampled[name]))
     prov = {f"provenance: {k}": f"{v} {u}; {o}; {c}"
-            for k, (v, u, o, c) in provenance(base).items() if k not in values}
+            for k, (v, u, o, c) in provenance(base).items() if k not in dists}
     ds.attrs.update(
         title="Monte Carlo propagation of scene uncertainty to e_w",
         agglomtool_version=__version__,
         mode=str(base["mode"]),
         seed=entropy,
         seed_chosen_by_user=int(chosen),
-        sampling=("numpy PCG64, one stream per input: SeedSequence(seed, "
-                  "spawn_key=(crc32(name),)); Scene names share the core's streams "
+        sampling=(f"{_SAMPLING}; Scene names share the core's streams "
                   f"({', '.join(f'{a} = {b}' for a, b in SCENE_TO_CORE.items())})"),
         n_samples=n,
-        uncertain_inputs=" ".join(values),
-        distributions="; ".join(f"{k} = {dists[k]!r} [{FIELD_META[k][0]}]" for k in values),
+        uncertain_inputs=" ".join(dists),
+        distributions="; ".join(f"{k} = {dists[k]!r} [{FIELD_META[k][0]}]" for k in dists),
         n_resampled_total=int(sum(resampled.values())),
         scene=repr(scene),
         references="Shabanian et al. (2024), Heliyon 10:e29397, "
