@@ -52,6 +52,9 @@ def as_float_array(name: str, value, allowed: str = "finite numbers") -> np.ndar
         raise ValueError(
             f"{name} = {value!r} is not a number or an array of numbers; allowed: {allowed}"
         ) from exc
+    # One reduction, no mask: the minimum is NaN exactly when some element is.
+    if arr.size == 0 or not np.isnan(arr.min()):
+        return arr
     nan = np.isnan(arr)
     if nan.any():
         where = "" if arr.ndim == 0 else f" at index {tuple(int(i) for i in np.argwhere(nan)[0])}"
@@ -81,6 +84,14 @@ def check_range(
     if unit and unit not in ("-", "dimensionless"):
         rng += f" {unit}"
     arr = as_float_array(name, value, rng)
+    if arr.size:
+        # Two reductions decide the common case (every value allowed) without a mask; the
+        # masks below only run to name the first bad value.
+        mn, mx = arr.min(), arr.max()
+        if ((lo is None or (mn > lo if lo_open else mn >= lo))
+                and (hi is None or (mx < hi if hi_open else mx <= hi))
+                and mn != -np.inf and (allow_inf or mx != np.inf)):
+            return arr
     bad = np.zeros(arr.shape, dtype=bool)
     if lo is not None:
         bad |= (arr <= lo) if lo_open else (arr < lo)
