@@ -288,11 +288,10 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
     Returns ``(k_end, code, l_cap, l_vis, l_bdw, eta, clear)``: ``code`` 0 reached
     ``d_e``, 1 viscosity alone stopped the pair, 2 the energy ran out; the three losses [J]
     summed over the pieces run (with a viscous stop, the capillary and body losses of the
-    piece where it happened too, as the whole-stage forms report them); ``eta`` the first-order error indicator [J] summed over
-    them; ``clear`` False where the energy inside a piece may come near 0 (neither the
-    energy at the start of a piece less its losses nor the energy at its end less its
-    gains is above ``eta``).
-    With ``n = 1`` the arithmetic of :func:`~.relative.relative_kernel`'s stage, bitwise.
+    piece where it happened too, as the whole-stage forms report them); ``eta`` the
+    first-order error indicator [J] summed over them; ``clear`` False where the energy
+    inside a piece may come near 0 (neither the energy at the start of a piece less its
+    losses nor the energy at its end less its gains is above ``eta``). With ``n = 1`` the arithmetic of :func:`~.relative.relative_kernel`'s stage, bitwise.
 
     The inner gaps invert ``ln f`` in closed form: with ``p = 4 f = exp(v4)`` and
     ``q = sqrt(1 - p)``, ``D + s = a / sqrt(q)``, ``D = a p / (2 (1 + q) sqrt(q))`` and
