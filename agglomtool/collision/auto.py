@@ -291,7 +291,8 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
     piece where it happened too, as the whole-stage forms report them); ``eta`` the
     first-order error indicator [J] summed over them; ``clear`` False where the energy
     inside a piece may come near 0 (neither the energy at the start of a piece less its
-    losses nor the energy at its end less its gains is above ``eta``). With ``n = 1`` the arithmetic of :func:`~.relative.relative_kernel`'s stage, bitwise.
+    losses nor the energy at its end less its gains is above ``eta``). With ``n = 1``
+    the arithmetic of :func:`~.relative.relative_kernel`'s stage, bitwise.
 
     The inner gaps invert ``ln f`` in closed form: with ``p = 4 f = exp(v4)`` and
     ``q = sqrt(1 - p)``, ``D + s = a / sqrt(q)``, ``D = a p / (2 (1 + q) sqrt(q))`` and
