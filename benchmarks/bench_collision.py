@@ -31,6 +31,7 @@ from floor import floor_batch  # noqa: E402
 
 import agglomtool as at  # noqa: E402
 from agglomtool.api import _FUSED, _fused_inputs  # noqa: E402
+from agglomtool.collision.auto import PIECES, auto_fused  # noqa: E402
 from agglomtool.collision.critical import critical_speeds  # noqa: E402
 
 REPEATS = 7
@@ -139,6 +140,11 @@ def main(n=1_000_000, n_pool=20_000, n_crit=10_000):
             lambda m=mode: at.collide(**kw, u0=u0, mode=m, details=False), floor_fn)
         line(f"collide mode={mode}, 1e6 mixed, details off", n / med / 1e6, "M coll/s", best,
              med, f_med, f"goal >= 10 M/s idle, ratio <= {goal}", ratio)
+    pieces = auto_fused(ins, steps, n, True, False, return_pieces=True)[4]
+    shares = ", ".join(f"{label} {np.mean(pieces == v):.1%}" for v, label in
+                       [(1, "whole-stage closed forms")]
+                       + [(p, f"{p} pieces") for p in PIECES] + [(0, "ode")])
+    print(f"    (auto's forms: {shares})")
     r = at.collide(**kw, u0=u0, details=False)
     special = (r.path & 0b1111) != 0
     print(f"    (mixed batch: {r.agglomerated.mean():.1%} stick, {special.mean():.1%} take a "

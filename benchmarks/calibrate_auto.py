@@ -77,6 +77,65 @@ def _take(v, mask):
 
 
 RTOLS = (1e-7, 1e-6, 1e-5, 1e-4)
+G_BINS = ((1e-6, 1e-3), (1e-3, 1e-2), (1e-2, 0.05), (0.05, 0.1), (0.1, 1.0))
+PIECE_COUNTS = (2, 3, 4, 6, 8, 16, 32)
+U_STAR_PIECES = (1, 4, 8, 16, 32)
+
+
+def piecewise_envelope(arrs, truth):
+    """Largest ``|e_w(pieces) - e_w(ode)| / g`` per band of ``g`` for each piece count,
+    over the rebounds whose pieces are clear (the others are never trusted)."""
+    from agglomtool.collision.auto import piecewise_batch
+
+    print("piecewise closed forms: largest |e_w(n pieces) - e_w(ode)| / g over the clear "
+          "rebounds")
+    for n in PIECE_COUNTS:
+        e, _, _, g, clear = piecewise_batch(*arrs, n)
+        reb = (e > 0) & np.isfinite(g) & (g > 0)
+        ok = reb & clear
+        ratio = np.abs(e - truth)[ok] / g[ok]
+        parts = []
+        for lo, hi in G_BINS:
+            m = (g[ok] >= lo) & (g[ok] < hi)
+            if m.any():
+                parts.append(f"[{lo:g}, {hi:g}) {ratio[m].max():.3f} ({m.sum()})")
+        print(f"  n = {n}: " + "; ".join(parts) + f"; not clear {int((reb & ~clear).sum())}")
+
+
+def piecewise_critical_ratios(arrs, factor):
+    """Per scene the critical speed of the piecewise closed forms over that of "ode"
+    (bisection in the speed; the scenes' speeds are multiples of the "ode" one), the
+    largest over all scenes and over those whose threshold is not a viscous stop in the
+    separation while the body force pulls the pair apart (such sticks are never trusted,
+    module docstring of agglomtool.collision.auto)."""
+    from agglomtool.collision._codes import SEP_VIS
+    from agglomtool.collision.auto import piecewise_batch
+    from agglomtool.collision.relative import relative_body_force
+
+    one = factor == factor[0]
+    base = [a[one].copy() for a in arrs]
+    base[9] = base[9] / factor[0]  # each scene at its "ode" critical speed
+    f_b = np.array([relative_body_force(*(float(base[k][q]) for k in (0, 1, 10, 11)))
+                    for q in range(base[0].size)])
+    print("critical speeds: largest u*(n pieces) / u*(ode) over all scenes, and over those "
+          "not at an assisted viscous stop")
+    for n in U_STAR_PIECES:
+        def run(f, n=n):
+            b = list(base)
+            b[9] = base[9] * f
+            return piecewise_batch(*b, n)
+
+        lo = np.full(base[0].size, SPEEDS[0])
+        hi = np.full(base[0].size, SPEEDS[-1])
+        ok = (run(lo)[0] == 0) & (run(hi)[0] > 0)
+        for _ in range(60):
+            mid = np.sqrt(lo * hi)
+            reb = run(mid)[0] > 0
+            hi = np.where(reb, mid, hi)
+            lo = np.where(reb, lo, mid)
+        assisted = (run(lo)[1] == SEP_VIS) & (f_b < 0)
+        print(f"  n = {n}: {hi[ok].max():.4f}, {hi[ok & ~assisted].max():.4f} "
+              f"({int(ok.sum())} scenes, {int((ok & assisted).sum())} assisted)")
 
 
 def main():
@@ -95,10 +154,12 @@ def main():
     ratio = np.abs(e_rel - truth)[reb] / g[reb]
     gr = g[reb]
     print("closed forms: largest |e_w(relative) - e_w(ode)| / g")
-    for lo, hi in ((1e-6, 1e-3), (1e-3, 1e-2), (1e-2, 0.05), (0.05, 0.1), (0.1, 1.0)):
+    for lo, hi in G_BINS:
         m = (gr >= lo) & (gr < hi)
         if m.any():
             print(f"  g in [{lo:g}, {hi:g}): {ratio[m].max():.3f} ({m.sum()} rebounds)")
+    piecewise_envelope(arrs, truth)
+    piecewise_critical_ratios(arrs, factor)
     print(f"ode inside auto (steps {ODE_STEPS}): largest |k - k(ode)| / rtol "
           "with k = e_w^2, and largest |e_w - e_w(ode)|")
     k_t = truth * truth

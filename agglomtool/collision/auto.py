@@ -1,7 +1,8 @@
 """Mode "auto": per collision, the cheapest tier whose error bound is within a tolerance.
 
-Two tiers are candidates, in order of cost: the closed forms on the relative motion
-(:mod:`.relative`, ~0.1 us per collision) and the integrated truth (:mod:`.ode`). The
+Three forms are candidates, in order of cost: the closed forms on the relative motion
+(:mod:`.relative`, ~0.1 us per collision), the same closed forms on pieces of each liquid
+stage (below, 0.25-0.5 us) and the integrated truth (:mod:`.ode`, ~2-3 us). The
 Ennis criterion (:mod:`.stokes`) is cheaper still but is never a candidate: against the
 integrated truth its error in ``e_w`` stays above 0.1 over most of the calibration set, even
 far above the critical speed (no capillary force, no volume correction, rupture at ``H0``);
@@ -23,6 +24,33 @@ initial relative kinetic energy this is ``eta`` [-]; the error of
 Where the closed forms say "stick", the pair is far enough below the critical speed when the
 closed forms still stick at ``STICK_MARGIN`` times the speed; then "ode" sticks too.
 
+Piecewise closed forms
+----------------------
+Where that bound does not pass, each liquid stage (approach ``H0 -> Ha``, separation
+``Ha -> h_rupt``) is cut into ``n`` pieces and the same bookkeeping is applied on each
+piece from the speed the previous one left, so the viscous-only speed history is
+re-anchored at every boundary to the speed the capillary and body work have made. The
+pieces are of equal ``ln f`` (the distance function of :func:`~.bridge.ln_f`): then each
+has the same viscous number ``c Delta / n``, the factor the first-order error is linear
+in (pieces equal in ``ln D`` would spend most of themselves beyond ``D ~ a``, where
+``ln f`` is flat and nothing is lost to viscosity). The indicator is the same sum, over
+the pieces, of ``(c Delta_k / (m_r v_min,k)) |W_cons,k|``, normalised to ``g`` as above:
+it falls about as ``1 / n``. The rupture gap is Eq. 94's with ``Ca`` from the opening
+speed at contact, as in the whole-stage forms. One piece is the whole-stage forms,
+bitwise. The pieces stop the pair as those do (viscosity alone, or the energy spent at a
+piece's end); a piece whose energy may come near 0 inside it (neither its start less its
+losses nor its end less its gains exceeds the indicator so far) is not clear, and then no
+bound is claimed. Ladder: :data:`PIECES` in turn, the first whose bound
+``PIECEWISE_BOUND * g <= tol`` passes (``g <= G_MAX``), else "ode"; a count is skipped
+when ``PIECEWISE_BOUND`` times the whole stages' ``g`` exceeds ``n tol`` (the pieces
+divided ``g`` by at most about ``n``: at least 0.253 and 0.065 times it at 4 and 16 on
+the benchmark batch; this only saves time). A stick of the pieces is trusted when they
+still stick at :data:`PIECE_STICK_MARGIN` times the speed, neither time stopped by
+viscosity in the separation while the body force pulls the pair apart: there the
+integrated pair keeps moving under the body force, and such thresholds set a critical-
+speed error of 2.5 % however many pieces (measured), the others 1.6 % at 4 pieces and
+0.6 % at 16.
+
 How the constants were measured
 -------------------------------
 ``benchmarks/calibrate_auto.py``: 400 random scenes (seed 20240611; diameters 0.2-3 mm, 15 %
@@ -36,6 +64,16 @@ ratio of the critical speeds ``u*(relative) / u*(ode)`` was 1.036. Re-run on the
 property layer (314 scenes, 18840 collisions) the closed-form ratio reads 0.138 for
 ``g < 1e-3`` (errors below 1.4e-4) and 0.115-0.122 from there to ``g = 0.1``: the bound
 below keeps a safety factor of at least 1.45.
+
+The piecewise closed forms, same scenes and collisions, over the rebounds whose pieces are
+clear: the largest ``|e_w(n pieces) - e_w(ode)| / g`` was 0.139, 0.150, 0.158, 0.167,
+0.174, 0.187 at 2, 3, 4, 6, 8, 16 pieces (0.199 at 32; every band of ``g`` from 1e-6 to
+1, the largest always at ``g < 1e-2``); 78 rebounds at 4 pieces and 17 at 16 were not
+clear. (With the clear test the whole stages' ratio above ``g = 0.1`` is 0.136 instead of
+0.40: the excess came from minima of the energy inside a stage.) The largest
+``u*(n pieces) / u*(ode)`` was 1.0250 at every count from 2 to 32 pieces, and, without
+the thresholds at a viscous stop against a pulling-apart body force (63-77 of the 314
+scenes), 1.0165, 1.0103, 1.0063 and 1.0037 at 4, 8, 16 and 32 pieces.
 
 The integrated tier inside "auto" runs with :data:`ODE_STEPS` (steps capped at 1 in
 ``ln D``). Its error is measured in ``k = e_w^2``, the quantity the integration controls:
@@ -55,14 +93,46 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ._codes import APP_EN, APP_VIS, CONTACT, P_BROKEN, P_NO_BRIDGE, REBOUND, SEP_EN, SEP_VIS
+from ._codes import (
+    APP_EN,
+    APP_VIS,
+    CA,
+    CONTACT,
+    H_RUPT,
+    K_APP_I,
+    K_APP_J,
+    K_FIN_I,
+    K_FIN_J,
+    K_INI_I,
+    K_INI_J,
+    K_SEP_I,
+    K_SEP_J,
+    L_BDW_APP_I,
+    L_BDW_APP_J,
+    L_BDW_SEP_I,
+    L_BDW_SEP_J,
+    L_C,
+    L_CAP_APP,
+    L_CAP_SEP,
+    L_VIS_APP,
+    L_VIS_SEP,
+    P_BROKEN,
+    P_NO_BRIDGE,
+    REBOUND,
+    SEP_EN,
+    SEP_VIS,
+    ST_APP,
+    W_BODY,
+    W_CONTACT,
+    W_VOLCORR,
+)
 from ._jit import CACHE, parallel_launch
-from .bridge import bridge_volume, g_diff, ln_f_diff, rupture_distance
+from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_diff_from, ln_f_parts, rupture_distance
 from .fused import _one, prepare_at
 from .ode import ode_batch
 from .outcome import DETAIL_NAMES
 from .paper import _viscous_loss
-from .relative import reduced_mass, relative_body_force, relative_kernel
+from .relative import reduced_mass, relative_body_force, relative_kernel, term_work_fractions
 
 __all__ = [
     "run_auto",
@@ -99,6 +169,16 @@ ODE_K_ERROR_PER_RTOL = 10.0
 ODE_RTOL_MAX = 1e-5
 #: Codes of the tier used per collision.
 TIER_RELATIVE, TIER_ODE = 1, 2
+#: The numbers of pieces per liquid stage of the piecewise closed forms, tried in turn:
+#: on the benchmark batch (tol 0.01) 4 pieces take 8 % of the collisions, 16 pieces 4.5 %
+#: and leave 2.2 % to "ode" (14.7 % without the pieces); (8, 32) costs the same.
+PIECES = (4, 16)
+#: Measured at most 0.187 for 2 to 16 pieces (module docstring), safety factor 1.6.
+PIECEWISE_BOUND = 0.3
+#: Stick margins of the piecewise closed forms, per entry of :data:`PIECES`: measured
+#: ``u*(pieces) / u*(ode)`` at most 1.0165 (4) and 1.0063 (16) where the stick is trusted
+#: (module docstring), with safety factors 3.0 and 3.2 on the log.
+PIECE_STICK_MARGIN = (1.05, 1.02)
 
 _H_RUPT = DETAIL_NAMES.index("h_rupt")
 _W_CONTACT = DETAIL_NAMES.index("w_contact")
@@ -197,66 +277,353 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
     return ew, REBOUND, path, eta / max(ew, math.sqrt(eta))
 
 
-@njit(cache=CACHE)
-def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol):
-    """The closed forms' outcome and the tier to use for one collision:
-    ``(e_w, stage, path, tier, bound)`` as :func:`_choose` decides."""
-    ew, st, pa, g = closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                               theta, w, fn_i, fn_j, e)
-    tier = TIER_RELATIVE
-    bound = 0.0
-    if ew > 0.0:
-        b = CLOSED_FORM_BOUND * g
-        if g <= G_MAX and b <= tol:
-            bound = b
+_LN4 = math.log(4.0)
+
+
+@njit(cache=CACHE, error_model="numpy")
+def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
+    """One liquid stage from gap ``d_s`` to ``d_e`` in ``n`` pieces of equal ``ln f``
+    (module docstring), entering with kinetic energy ``k`` [J] at speed ``v`` [m/s].
+
+    Returns ``(k_end, code, l_cap, l_vis, l_bdw, eta, clear)``: ``code`` 0 reached
+    ``d_e``, 1 viscosity alone stopped the pair, 2 the energy ran out; the three losses [J]
+    summed over the pieces run (with a viscous stop, the capillary and body losses of the
+    piece where it happened too, as the whole-stage forms report them); ``eta`` the
+    first-order error indicator [J] summed over them; ``clear`` False where the energy
+    inside a piece may come near 0 (neither the energy at the start of a piece less its
+    losses nor the energy at its end less its gains is above ``eta``). With ``n = 1``
+    the arithmetic of :func:`~.relative.relative_kernel`'s stage, bitwise.
+
+    The inner gaps invert ``ln f`` in closed form: with ``p = 4 f = exp(v4)`` and
+    ``q = sqrt(1 - p)``, ``D + s = a / sqrt(q)``, ``D = a p / (2 (1 + q) sqrt(q))`` and
+    the capillary potential ``g = -a sqrt(q)``; none of them cancels. ``p`` and
+    ``1 - p`` go from piece to piece by the factor ``exp(dv4)`` and its ``expm1`` (no
+    exponential per piece; ``1 - p`` loses digits only relative to its start, where it
+    is tiny). The pieces next to the stage's ends take the capillary work in
+    the form of :func:`~.bridge.g_diff`.
+    """
+    k1, val1 = ln_f_parts(d_s, a2)
+    delta = abs(ln_f_diff_from(k1, val1, d_e, a2))
+    cd = c * (delta / n)
+    dv = cd / m_r
+    v4_s = 0.0
+    dv4 = 0.0
+    a = 0.0
+    p = 0.0
+    one_m = 0.0
+    ratio = 0.0
+    em = 0.0
+    if n > 1:
+        v4_s = val1 if k1 == 1 else val1 + _LN4
+        k2, val2 = ln_f_parts(d_e, a2)
+        dv4 = ((val2 if k2 == 1 else val2 + _LN4) - v4_s) / n
+        a = math.sqrt(a2)
+        # p = 4 f and 1 - p from piece to piece by the step's factor exp(dv4) = 1 + em.
+        em = math.expm1(dv4)
+        ratio = 1.0 + em
+        one_m = -math.expm1(v4_s)
+        p = 1.0 - one_m
+    two_per_m = 2.0 / m_r
+    d_prev = d_s
+    s_prev = math.sqrt(d_s * d_s + a2)
+    u_prev = d_s + s_prev
+    sq_prev = 0.0
+    l_cap = 0.0
+    l_vis = 0.0
+    l_bdw = 0.0
+    eta = 0.0
+    fb_abs = abs(f_b)
+    clear = True
+    for j in range(1, n + 1):
+        if j == n:
+            d = d_e
+            s = math.sqrt(d * d + a2)
+            u = d + s
+            sq = 0.0
         else:
-            tier = TIER_ODE
-    elif H0 > Ha:
-        # The same closed forms as relative_kernel (bitwise, tested), without a details
-        # array to allocate per collision.
-        ew2, _, _, _ = closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                                  theta, w * STICK_MARGIN, fn_i, fn_j, e)
-        if ew2 > 0.0:
-            tier = TIER_ODE
-    return ew, st, pa, tier, bound
+            one_m = one_m - p * em
+            p = p * ratio
+            if not one_m > 0.0:  # rounding where both ends lie far beyond a
+                one_m = -math.expm1(v4_s + dv4 * j)
+            q = math.sqrt(one_m)
+            sq = math.sqrt(q)
+            t = a / ((1.0 + q) * sq)
+            u = (1.0 + q) * t
+            s = 0.5 * (u + a * sq)
+            d = 0.5 * p * t
+        if j == 1 or j == n:
+            lc = kcap * (a2 * (d - d_prev) * (1.0 + (d_prev + d) / (s_prev + s))
+                         / (u_prev * u))
+        else:
+            lc = kcap * a * (sq_prev - sq)
+        lb = f_b * (d - d_prev)
+        if not cd < m_r * v:
+            return 0.0, 1, l_cap + lc, l_vis, l_bdw + lb, math.inf, False
+        lv = cd * (v - 0.5 * dv)
+        k_lo = k - max(lc, 0.0) - lv - max(lb, 0.0)
+        k = k - lc - lv - lb
+        k_lo = max(k_lo, k + min(lc, 0.0) + min(lb, 0.0))
+        eta += cd / (m_r * (v - dv)) * (abs(lc) + fb_abs * abs(d_prev - d))
+        l_cap += lc
+        l_vis += lv
+        l_bdw += lb
+        if not k > 0.0:
+            return k, 2, l_cap, l_vis, l_bdw, math.inf, False
+        # Every loss and gain grows monotonically along a piece (each force keeps its
+        # sign over a stage), so the energy inside it is at least its start less the
+        # losses and at least its end less the gains (k_lo): the piece is clear of an
+        # energy minimum near 0 between its ends when k_lo exceeds the indicator summed
+        # so far.
+        if not k_lo > eta:
+            clear = False
+        if j < n:
+            v = math.sqrt(k * two_per_m)
+        d_prev = d
+        s_prev = s
+        u_prev = u
+        sq_prev = sq
+    return k, 0, l_cap, l_vis, l_bdw, eta, clear
+
+
+@njit(cache=CACHE)
+def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, n,
+                     det):
+    """One collision by the closed forms of :func:`~.relative.relative_kernel` applied on
+    ``n`` pieces of each liquid stage, each piece starting from the speed the previous one
+    left (module docstring, "Piecewise closed forms").
+
+    Returns ``(e_w, stage, path, g, clear)`` with ``g`` the error indicator summed over
+    the pieces (``inf`` where the pair sticks) and ``clear`` False where the energy inside
+    a piece may come near 0 (:func:`_stage_pieces`; then ``g`` bounds nothing). ``det``
+    of length 0 or ``len(DETAIL_NAMES)`` as in :func:`~.relative.relative_kernel` (the
+    stage losses summed over the pieces).
+    ``n = 1`` gives the ``(e_w, stage, path, g)`` of :func:`closed_form_indicator` bitwise
+    (tested).
+    """
+    nan = math.nan
+    want = det.shape[0] > 0
+    if want:
+        for q in range(det.shape[0]):
+            det[q] = nan
+    m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
+    if not H0 > Ha:
+        if want:
+            det[W_CONTACT] = w
+            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+        if e > 0.0:
+            return e, REBOUND, P_NO_BRIDGE, 0.0, True
+        return 0.0, CONTACT, P_NO_BRIDGE, 0.0, True
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    kcap = 2.0 * math.pi * gamma * r * cos_t
+    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    k0 = 0.5 * m_r * w * w
+    h_rupt = nan
+    if want:
+        det[K_INI_I] = frac_j * k0
+        det[K_INI_J] = frac_i * k0
+        det[ST_APP] = m_r * w / c
+    k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(k0, w, H0, Ha, a2, m_r, c, kcap,
+                                                          f_b, n)
+    if want:
+        det[L_CAP_APP] = l_cap
+        det[L_BDW_APP_I] = frac_j * l_bdw
+        det[L_BDW_APP_J] = frac_i * l_bdw
+        if code != 1:
+            det[L_VIS_APP] = l_vis
+    stage = REBOUND
+    path = 0
+    k_end = 0.0
+    if code == 1:
+        stage = APP_VIS
+    elif code == 2:
+        stage = APP_EN
+    else:
+        w_c = math.sqrt(2.0 * k_app / m_r)
+        w_s = e * w_c
+        if want:
+            det[K_APP_I] = frac_j * k_app
+            det[K_APP_J] = frac_i * k_app
+            det[W_CONTACT] = w_c
+            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+        if not w_s > 0.0:
+            stage = CONTACT
+        else:
+            k_s = 0.5 * m_r * w_s * w_s
+            ca = mu_l * w_s / gamma
+            h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
+            if want:
+                det[K_SEP_I] = frac_j * k_s
+                det[K_SEP_J] = frac_i * k_s
+                det[CA] = ca
+                det[H_RUPT] = h_rupt
+            if not h_rupt > Ha:
+                path |= P_BROKEN
+                k_end = k_s
+            else:
+                k_end, code, l_cap, l_vis, l_bdw, eta_s, clear_s = _stage_pieces(
+                    k_s, w_s, Ha, h_rupt, a2, m_r, c, kcap, f_b, n)
+                eta = eta + eta_s
+                clear = clear and clear_s
+                if want:
+                    det[L_CAP_SEP] = l_cap
+                    det[L_BDW_SEP_I] = frac_j * l_bdw
+                    det[L_BDW_SEP_J] = frac_i * l_bdw
+                    if code != 1:
+                        det[L_VIS_SEP] = l_vis
+                if code == 1:
+                    stage = SEP_VIS
+                elif code == 2:
+                    stage = SEP_EN
+            if stage == REBOUND and want:
+                det[K_FIN_I] = frac_j * k_end
+                det[K_FIN_J] = frac_i * k_end
+    if want:
+        body, vol = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
+        det[W_BODY] = body
+        det[W_VOLCORR] = vol
+    if stage != REBOUND:
+        return 0.0, stage, path, math.inf, False
+    ew = math.sqrt(k_end / k0)
+    if not ew > 0.0:
+        return 0.0, SEP_EN, path, math.inf, False
+    eta /= k0
+    return ew, REBOUND, path, eta / max(ew, math.sqrt(eta)), clear
 
 
 @njit(parallel=True, cache=CACHE)
-def _choose_fused(ins, st, body, particle_slip, tol, e_w, stage, path, w_out, tier, bound):
+def _piecewise_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, n,
+                     e_w, stage, path, g, clear):
+    empty = np.empty(0)
+    for q in prange(e_w.shape[0]):
+        ew, st, pa, gq, cl = piecewise_kernel(m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q],
+                                          gamma[q], cos_t[q], theta[q], w[q], fn_i[q],
+                                          fn_j[q], e[q], n, empty)
+        e_w[q] = ew
+        stage[q] = st
+        path[q] = pa
+        g[q] = gq
+        clear[q] = cl
+
+
+def piecewise_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+                    n_pieces):
+    """:func:`piecewise_kernel` over 1-D arrays: ``(e_w, stage, path, g, clear)``."""
+    n_pieces = int(n_pieces)
+    if n_pieces < 1:
+        raise ValueError(f"n_pieces = {n_pieces!r} must be at least 1")
+    size = w.shape[0]
+    e_w = np.empty(size)
+    stage = np.empty(size, dtype=np.int8)
+    path = np.empty(size, dtype=np.int8)
+    g = np.empty(size)
+    clear = np.empty(size, dtype=np.bool_)
+    parallel_launch(_piecewise_batch, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
+                    fn_i, fn_j, e, n_pieces, e_w, stage, path, g, clear)
+    return e_w, stage, path, g, clear
+
+
+@njit(cache=CACHE)
+def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol, empty):
+    """The outcome and the form to use for one collision: ``(e_w, stage, path, pieces,
+    bound)`` with ``pieces`` 1 (the closed forms on whole stages), one of :data:`PIECES`
+    (the piecewise closed forms) or 0 ("ode": the outcome returned is then the closed
+    forms', to be replaced). ``empty`` is any array of length 0."""
+    ew, st, pa, g = closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
+                                               theta, w, fn_i, fn_j, e)
+    if ew > 0.0:
+        b = CLOSED_FORM_BOUND * g
+        if g <= G_MAX and b <= tol:
+            return ew, st, pa, 1, b
+    elif not H0 > Ha:
+        return ew, st, pa, 1, 0.0
+    else:
+        # Stick: trust it if the closed forms still stick at STICK_MARGIN x the speed (the
+        # same closed forms as relative_kernel, bitwise, tested, without a details array).
+        ew2, _, _, _ = closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
+                                                  theta, w * STICK_MARGIN, fn_i, fn_j, e)
+        if not ew2 > 0.0:
+            return ew, st, pa, 1, 0.0
+    rebound = ew > 0.0
+    assisted = relative_body_force(m_i, m_j, fn_i, fn_j) < 0.0
+    for i in range(len(PIECES)):
+        n = PIECES[i]
+        # The pieces divide the indicator by about n (measured at least 1/n of the whole
+        # stages' on the benchmark batch): skip a count that cannot pass (cost only).
+        if rebound and PIECEWISE_BOUND * g > n * tol:
+            continue
+        margin = PIECE_STICK_MARGIN[i]
+        if not rebound:
+            # The whole stages stick within their margin: try the margin's speed first (a
+            # rebound there ends this count; measured on the benchmark batch: no stick of
+            # the whole stages became a rebound of the pieces with a passing bound).
+            ew2, st2, _, _, _ = piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
+                                                 theta, w * margin, fn_i, fn_j, e, n, empty)
+            if ew2 > 0.0 or (st2 == SEP_VIS and assisted):
+                continue
+        ew_n, st_n, pa_n, g_n, clear = piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma,
+                                                        cos_t, theta, w, fn_i, fn_j, e, n,
+                                                        empty)
+        if ew_n > 0.0:
+            b = PIECEWISE_BOUND * g_n
+            if clear and g_n <= G_MAX and b <= tol:
+                return ew_n, st_n, pa_n, n, b
+        elif not (st_n == SEP_VIS and assisted):
+            # A stick, trusted if the pieces still stick at the margin's speed, neither
+            # time stopped by viscosity while the body force pulls the pair apart (then
+            # the integrated pair keeps moving: such thresholds set the measured u* error
+            # of 2.5 %, the others 1.6 % at n = 4, 0.6 % at n = 16).
+            if not rebound:
+                return ew_n, st_n, pa_n, n, 0.0
+            ew2, st2, _, _, _ = piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
+                                                 theta, w * margin, fn_i, fn_j, e, n, empty)
+            if not ew2 > 0.0 and not (st2 == SEP_VIS and assisted):
+                return ew_n, st_n, pa_n, n, 0.0
+    return ew, st, pa, 0, 0.0
+
+
+@njit(parallel=True, cache=CACHE)
+def _choose_fused(ins, st, body, particle_slip, tol, e_w, stage, path, w_out, pieces,
+                  bound):
+    empty = np.empty(0)
     for q in prange(e_w.shape[0]):
         m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, q, body,
                                                                    particle_slip)
-        ew, sg, pa, ti, b = _decide(m_i, m_j, r, H0, Ha, ins[8][q * st[8]], ins[9][q * st[9]],
-                                    cos_t, theta, w, fn_i, fn_j, ins[17][q * st[17]], tol)
+        ew, sg, pa, nq, b = _decide(m_i, m_j, r, H0, Ha, ins[8][q * st[8]],
+                                    ins[9][q * st[9]], cos_t, theta, w, fn_i, fn_j,
+                                    ins[17][q * st[17]], tol, empty)
         e_w[q] = ew
         stage[q] = sg
         path[q] = pa
         w_out[q] = w
-        tier[q] = ti
+        pieces[q] = nq
         bound[q] = b
 
 
-def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL):
+def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_pieces=False):
     """Mode "auto" without details from the fused kernels' inputs (:mod:`.fused`): the
     preparation and the choice in one compiled loop (no details rows), then "ode" on the
     collisions that need it, prepared for those only. Returns ``(e_w, stage, path, w)``,
-    bitwise what :func:`auto_batch` gives on the prepared arrays (tested)."""
+    bitwise what :func:`auto_batch` gives on the prepared arrays (tested); with
+    ``return_pieces`` also the form used per collision (``pieces`` of :func:`auto_batch`)."""
     tol = _check_tol(tol)
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     w = np.empty(n)
-    tier = np.empty(n, dtype=np.int8)
+    pieces = np.empty(n, dtype=np.int8)
     bound = np.empty(n)
     parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol, e_w,
-                    stage, path, w, tier, bound)
-    idx = np.flatnonzero(tier == TIER_ODE)
+                    stage, path, w, pieces, bound)
+    idx = np.flatnonzero(pieces == 0)
     if idx.size:
         rtol = ode_rtol(tol)
         k = prepare_at(ins, steps, idx, body, particle_slip)
         e_o, st_o, pa_o, _, _ = ode_batch(*k[:13], details=False, rtol=rtol,
                                           atol=1e-2 * rtol, **ODE_STEPS)
         e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
+    if return_pieces:
+        return e_w, stage, path, w, pieces
     return e_w, stage, path, w
 
 
@@ -285,50 +652,47 @@ def _check_tol(tol):
 
 @njit(parallel=True, cache=CACHE)
 def _choose(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol,
-            e_w, stage, path, tier, bound, det):
-    n = e_w.shape[0]
-    for q in prange(n):
-        scratch = det[q]
-        ew, st, pa, g = closed_form_indicator(
-            m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q], cos_t[q], theta[q], w[q],
-            fn_i[q], fn_j[q], e[q], scratch,
-        )
+            e_w, stage, path, pieces, bound, det):
+    empty = np.empty(0)
+    want = det.shape[1] > 0
+    for q in prange(e_w.shape[0]):
+        ew, st, pa, nq, b = _decide(m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q],
+                                    cos_t[q], theta[q], w[q], fn_i[q], fn_j[q], e[q], tol,
+                                    empty)
         e_w[q] = ew
         stage[q] = st
         path[q] = pa
-        tier[q] = TIER_RELATIVE
-        bound[q] = 0.0
-        if ew > 0.0:
-            b = CLOSED_FORM_BOUND * g
-            if g <= G_MAX and b <= tol:
-                bound[q] = b
+        pieces[q] = nq
+        bound[q] = b
+        if want and nq > 0:
+            # The details of the form chosen (its outcome is the one above, bitwise).
+            if nq == 1:
+                relative_kernel(m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q],
+                                cos_t[q], theta[q], w[q], fn_i[q], fn_j[q], e[q], det[q])
             else:
-                tier[q] = TIER_ODE
-        elif H0[q] > Ha[q]:
-            # Stick: trust it if the closed forms still stick at STICK_MARGIN x the speed.
-            ew2, _, _, _ = relative_kernel(
-                m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q], cos_t[q], theta[q],
-                w[q] * STICK_MARGIN, fn_i[q], fn_j[q], e[q], scratch[:0],
-            )
-            if ew2 > 0.0:
-                tier[q] = TIER_ODE
+                piecewise_kernel(m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q],
+                                 cos_t[q], theta[q], w[q], fn_i[q], fn_j[q], e[q], nq,
+                                 det[q])
 
 
 def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-               details=False, tol=DEFAULT_TOL):
-    """:func:`run_auto` that also returns the tier used per collision (``TIER_RELATIVE`` or
-    ``TIER_ODE``) and its error bound in ``e_w`` [-] (fifth and sixth arrays)."""
+               details=False, tol=DEFAULT_TOL, return_pieces=False):
+    """:func:`run_auto` that also returns the tier used per collision (``TIER_RELATIVE``:
+    the closed forms on the relative motion, on whole stages or piecewise; ``TIER_ODE``)
+    and its error bound in ``e_w`` [-] (fifth and sixth arrays). With ``return_pieces`` a
+    seventh array says which form: 1 the closed forms on whole stages, ``n`` in
+    :data:`PIECES` the piecewise closed forms on ``n`` pieces, 0 "ode"."""
     tol = _check_tol(tol)
     n = w.shape[0]
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
-    tier = np.empty(n, dtype=np.int8)
+    pieces = np.empty(n, dtype=np.int8)
     bound = np.empty(n)
-    det = np.empty((n, len(DETAIL_NAMES)))
+    det = np.empty((n, len(DETAIL_NAMES) if details else 0))
     args = (m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e)
-    parallel_launch(_choose, *args, tol, e_w, stage, path, tier, bound, det)
-    idx = np.flatnonzero(tier == TIER_ODE)
+    parallel_launch(_choose, *args, tol, e_w, stage, path, pieces, bound, det)
+    idx = np.flatnonzero(pieces == 0)
     if idx.size:
         rtol = ode_rtol(tol)
         sub = [np.ascontiguousarray(a[idx]) for a in args]
@@ -338,8 +702,9 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         bound[idx] = ode_bound(e_o, rtol)
         if details:
             det[idx] = det_o
-    if not details:
-        det = det[:, :0]
+    tier = np.where(pieces == 0, TIER_ODE, TIER_RELATIVE).astype(np.int8)
+    if return_pieces:
+        return e_w, stage, path, det, tier, bound, pieces
     return e_w, stage, path, det, tier, bound
 
 
