@@ -162,6 +162,8 @@ def check_pair(p_i, p_j) -> None:
     d_i, d_j = p_i.d, p_j.d
     if d_i.ndim == 0 and d_j.ndim == 0:
         both = math.isinf(d_i) and math.isinf(d_j)
+    elif d_i.max() < math.inf or d_j.max() < math.inf:
+        both = False  # one side holds no plate at all (two reductions, no mask)
     else:
         both = np.any(np.isinf(d_i) & np.isinf(d_j))
     if both:

@@ -323,41 +323,79 @@ def prepare_at(ins, steps, idx, body, particle_slip):
     return out
 
 
+@njit(cache=CACHE, inline="always")
+def _speed_rules(d_i, d_j, u0, u0_j, given, si, sj, su, sv, k):
+    """The rules of :func:`check_speeds` broken by collision ``k``: four booleans."""
+    plate_i = math.isinf(d_i[k * si])
+    plate_j = math.isinf(d_j[k * sj])
+    u = u0[k * su]
+    r1 = False
+    r2 = False
+    if given:
+        v = u0_j[k * sv]
+        r1 = plate_j and v != 0.0
+        r2 = plate_i and u != 0.0
+        w = u + v
+    else:
+        w = (0.0 if plate_i else u) + (0.0 if plate_j else u)
+    return r1, r2, not w > 0.0, math.isinf(w)
+
+
 @njit(cache=CACHE)
+def _check_speeds_serial(d_i, d_j, u0, u0_j, given, si, sj, su, sv, n):
+    f1 = n
+    f2 = n
+    f3 = n
+    f4 = n
+    for k in range(n):
+        r1, r2, r3, r4 = _speed_rules(d_i, d_j, u0, u0_j, given, si, sj, su, sv, k)
+        if r1 and k < f1:
+            f1 = k
+        if r2 and k < f2:
+            f2 = k
+        if r3 and k < f3:
+            f3 = k
+        if r4 and k < f4:
+            f4 = k
+    return f1, f2, f3, f4
+
+
+@njit(parallel=True, cache=CACHE)
+def _check_speeds_parallel(d_i, d_j, u0, u0_j, given, si, sj, su, sv, n):
+    # Each rule's first offender as a min-reduction over the collisions: the same answer as
+    # the serial scan, whatever order the threads take.
+    f1 = n
+    f2 = n
+    f3 = n
+    f4 = n
+    for k in prange(n):
+        r1, r2, r3, r4 = _speed_rules(d_i, d_j, u0, u0_j, given, si, sj, su, sv, k)
+        f1 = min(f1, k if r1 else n)
+        f2 = min(f2, k if r2 else n)
+        f3 = min(f3, k if r3 else n)
+        f4 = min(f4, k if r4 else n)
+    return f1, f2, f3, f4
+
+
 def check_speeds(d_i, d_j, u0, u0_j, n):
     """Validate the lab speeds of ``n`` collisions (arrays of length 1 or ``n``).
 
     Returns ``(code, index)`` of the first failing rule, in the order the rules are checked
     (``code`` 0: all good): 1 a plate j with ``u0_j != 0``; 2 a plate i with ``u0 != 0``
     when ``u0_j`` is given; 3 not approaching (``u_i + u_j <= 0``); 4 an infinite speed.
-    ``u0_j`` of length 0 means None.
+    ``index`` is that rule's first offending collision. ``u0_j`` of length 0 means None.
+    Batches of :data:`SERIAL_BELOW` collisions or more are scanned on every thread.
     """
     given = u0_j.shape[0] > 0
-    si = 1 if d_i.shape[0] > 1 else 0
-    sj = 1 if d_j.shape[0] > 1 else 0
-    su = 1 if u0.shape[0] > 1 else 0
-    sv = 1 if (given and u0_j.shape[0] > 1) else 0
-    first = np.full(5, -1, dtype=np.int64)
-    for k in range(n):
-        plate_i = math.isinf(d_i[k * si])
-        plate_j = math.isinf(d_j[k * sj])
-        u = u0[k * su]
-        if given:
-            v = u0_j[k * sv]
-            if first[1] < 0 and plate_j and v != 0.0:
-                first[1] = k
-            if first[2] < 0 and plate_i and u != 0.0:
-                first[2] = k
-            w = u + v
-        else:
-            w = (0.0 if plate_i else u) + (0.0 if plate_j else u)
-        if first[3] < 0 and not w > 0.0:
-            first[3] = k
-        if first[4] < 0 and math.isinf(w):
-            first[4] = k
+    steps = (1 if d_i.shape[0] > 1 else 0, 1 if d_j.shape[0] > 1 else 0,
+             1 if u0.shape[0] > 1 else 0, 1 if (given and u0_j.shape[0] > 1) else 0)
+    if n < SERIAL_BELOW:
+        first = _check_speeds_serial(d_i, d_j, u0, u0_j, given, *steps, n)
+    else:
+        first = parallel_launch(_check_speeds_parallel, d_i, d_j, u0, u0_j, given, *steps, n)
     for code in range(1, 5):
-        if first[code] >= 0:
-            return code, first[code]
+        if first[code - 1] < n:
+            return code, int(first[code - 1])
     return 0, -1
 
 

@@ -312,7 +312,7 @@ def _first_zero_scan(d_start, d_end, start_kind, start_val, k, share, v, m, forc
     return hi
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, inline="always")
 def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a2):
     """One liquid stage (approach ``H0 -> Ha`` or separation ``Ha -> h_rupt``).
 
