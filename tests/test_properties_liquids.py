@@ -182,3 +182,19 @@ def test_hypothetical_slag_is_fixed():
     # Shabanian et al. (2024), Table 2: 10 Pa s, 0.400 N/m, 2500 kg/m3 (exact).
     liq = fixed_liquid(10.0, 0.400, 2500.0, 10.0, name="hypothetical slag")
     assert (liq.mu, liq.gamma, liq.rho) == (10.0, 0.4, 2500.0)
+
+
+def test_oxides_without_a_surface_tension_term_are_named_with_their_share():
+    """A user's oxide a surface-tension model has no term for is not dropped quietly: a
+    PlausibilityWarning names it and the share of the melt left out (so --strict stops)."""
+    from agglomtool import PlausibilityWarning
+
+    melt = {"SiO2": 60.0, "CaO": 30.0, "P2O5": 10.0}
+    with pytest.warns(PlausibilityWarning, match=r"P2O5 \(up to 0\.04\d* mole fraction"):
+        surface_tension_mills(melt, 1673.15)
+    with pytest.warns(PlausibilityWarning, match=r"Kucuk.*P2O5"):
+        surface_tension_kucuk(melt)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        with pytest.raises(PlausibilityWarning):
+            surface_tension_mills(melt, 1673.15)

@@ -37,6 +37,17 @@ _MILLS_ACTIVE = {
 }
 
 
+def _left_out(model: str, unknown: list, x: Mapping) -> None:
+    """Say which oxides of the user's melt a model has no term for, and how much of the melt
+    they are: their share is left out of the model's sum (a PlausibilityWarning, so that
+    ``--strict`` or an error filter turns it into an error)."""
+    from ..plausibility import PlausibilityWarning
+
+    share = sum(float(np.max(np.asarray(x[k]))) for k in unknown)
+    warnings.warn(f"{model} has no term for {', '.join(unknown)} (up to {share:.3g} mole "
+                  "fraction of the melt): that share is left out of its sum",
+                  PlausibilityWarning, stacklevel=3)
+
 def surface_tension_mills(composition: Mapping[str, float], T, *, temperature="per-oxide"):
     """Surface tension of a slag by Mills's additive model [N/m].
 
@@ -77,7 +88,7 @@ def surface_tension_mills(composition: Mapping[str, float], T, *, temperature="p
     x = mole_fractions(normalise_wt(composition))
     unknown = sorted(k for k in x if k not in _MILLS_GAMMA)
     if unknown:
-        warnings.warn(f"Mills surface tension has no data for {unknown}; ignored", stacklevel=2)
+        _left_out("Mills surface tension", unknown, x)
     gamma_1773 = 0.0
     slope = 0.0
     for oxide, xi in x.items():
@@ -136,7 +147,7 @@ def surface_tension_kucuk(composition: Mapping[str, float]):
     x = mole_fractions(normalise_wt(composition))
     unknown = sorted(k for k in x if k not in _KUCUK and k not in _KUCUK_BASE)
     if unknown:
-        warnings.warn(f"Kucuk (1999) has no terms for {unknown}; ignored", stacklevel=2)
+        _left_out("Kucuk (1999) surface tension", unknown, x)
     return 1e-3 * (271.2 + sum(c * 100.0 * x.get(k, 0.0) for k, c in _KUCUK.items()))
 
 
