@@ -198,3 +198,17 @@ def test_oxides_without_a_surface_tension_term_are_named_with_their_share():
         warnings.simplefilter("error", PlausibilityWarning)
         with pytest.raises(PlausibilityWarning):
             surface_tension_mills(melt, 1673.15)
+
+
+def test_riboud_warnings_name_the_value_and_the_calibration():
+    """Riboud's calibration is 1473-1773 K on mould fluxes; the warning says which input
+    left it and by how much (the temperature 100 K beyond, Al2O3 above 0.2)."""
+    from agglomtool import PlausibilityWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        viscosity_riboud(BF_SLAG, 1400.0)  # within 100 K of the calibration: silent
+    with pytest.warns(PlausibilityWarning, match=r"T = 1200-1300 K .*1473-1773 K"):
+        viscosity_riboud(BF_SLAG, np.array([1200.0, 1300.0]))
+    with pytest.warns(PlausibilityWarning, match=r"Al2O3 = 0\.\d+ mole fraction"):
+        viscosity_riboud({"SiO2": 40.0, "CaO": 25.0, "Al2O3": 35.0}, 1600.0)

@@ -244,7 +244,11 @@ def viscosity_riboud(composition: Mapping[str, float], T):
     xf, xal = x.get("CaF2", 0.0), x.get("Al2O3", 0.0)
     ln_a = -19.81 + 1.73 * xc + 5.82 * xf + 7.02 * xn - 35.76 * xal
     b = 31140.0 - 23896.0 * xc - 46356.0 * xf - 39159.0 * xn + 68833.0 * xal
-    if (T < 1373.0).any() or (T > 1873.0).any() or xal > 0.2:
-        _warn("temperature or composition outside the Riboud calibration (mould fluxes, "
-              "1473-1773 K, Al2O3 <= 20 mol %)")
+    # The calibration spans 1473-1773 K; an Arrhenius form is trusted 100 K beyond it.
+    if (T < 1373.0).any() or (T > 1873.0).any():
+        _warn(f"T = {float(T.min()):g}-{float(T.max()):g} K reaches more than 100 K beyond "
+              "the Riboud calibration (mould fluxes, 1473-1773 K)")
+    if xal > 0.2:
+        _warn(f"Al2O3 = {xal:.3g} mole fraction is above the Riboud calibration "
+              "(mould fluxes, Al2O3 <= 0.2)")
     return np.exp(ln_a + np.log(T) + b / T)
