@@ -287,15 +287,35 @@ def _from_candidate(vals, raw, tier, body, particle_slip, rtol, w_max, max_iter,
     return _paper_bracket(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty)
 
 
+@njit(cache=CACHE, inline="always")
+def _viscous_bound(m_i, m_j, r, H0, Ha, mu_l):
+    """:func:`viscous_lower_bound` of one collision [m/s]: at or below it every tier sticks."""
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    m_r, _, _ = reduced_mass(m_i, m_j)
+    return c * -ln_f_diff(H0, Ha, a2) / m_r
+
+
+@njit(cache=CACHE, inline="always")
+def _bisect(lo, hi, steps, vals, raw, tier, body, particle_slip, rtol, empty):
+    """Bisect in ``ln w`` between a sticking ``lo`` and a rebounding ``hi`` [m/s] until
+    ``hi - lo <= rtol hi`` (at most ``steps`` halvings); returns the rebounding end."""
+    for _ in range(steps):
+        if hi - lo <= rtol * hi:
+            break
+        mid = math.sqrt(lo) * math.sqrt(hi)
+        if _sticks(vals, raw, mid, tier, body, particle_slip, empty):
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
 @njit(cache=CACHE)
 def _paper_bracket(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty):
     """Mode "paper" from the relative threshold ``w`` [m/s]: a bracket around it widened
     geometrically until it holds, then bisection in ``ln w`` (:func:`_from_candidate`)."""
-    m_i, m_j, r, H0, Ha = vals[0], vals[1], vals[2], vals[3], vals[4]
-    mu_l = raw[8]
-    a2 = (H0 - Ha) * (H0 + Ha)
-    m_r, _, _ = reduced_mass(m_i, m_j)
-    w_vis = 1.5 * math.pi * mu_l * r * r * -ln_f_diff(H0, Ha, a2) / m_r
+    w_vis = _viscous_bound(vals[0], vals[1], vals[2], vals[3], vals[4], raw[8])
     g = BRACKET
     if _sticks(vals, raw, w, tier, body, particle_slip, empty):
         lo, hi = w, w * g
@@ -322,15 +342,7 @@ def _paper_bracket(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty):
             lo = hi / g
         else:
             return math.nan, _SEARCH
-    for _ in range(200):
-        if hi - lo <= rtol * hi:
-            break
-        mid = math.sqrt(lo) * math.sqrt(hi)
-        if _sticks(vals, raw, mid, tier, body, particle_slip, empty):
-            lo = mid
-        else:
-            hi = mid
-    return hi, _BRACKETED
+    return _bisect(lo, hi, 200, vals, raw, tier, body, particle_slip, rtol, empty), _BRACKETED
 
 
 @njit(cache=CACHE)
@@ -339,20 +351,9 @@ def _search_one(vals, raw, tier, body, particle_slip, rtol, u_max, empty):
     :func:`first_rebound_speed`, run to this collision's own convergence; ``inf`` where it
     exceeds ``u_max`` [m/s] (the search stops as soon as every speed up to ``u_max`` is
     known to stick)."""
-    m_i, m_j, r, H0, Ha = vals[0], vals[1], vals[2], vals[3], vals[4]
     w_per_u0 = vals[10]
-    mu_l = raw[8]
-    a2 = (H0 - Ha) * (H0 + Ha)
-    c = 1.5 * math.pi * mu_l * r * r
-    delta = -ln_f_diff(H0, Ha, a2)
-    if math.isinf(m_j):
-        m_r = m_i
-    elif math.isinf(m_i):
-        m_r = m_j
-    else:
-        m_r = m_i * (m_j / (m_i + m_j))
     # 1. Double from the viscous bound (which sticks) until a rebound.
-    hi = max(c * delta / m_r, MIN_SPEED)
+    hi = max(_viscous_bound(vals[0], vals[1], vals[2], vals[3], vals[4], raw[8]), MIN_SPEED)
     w_max = u_max * w_per_u0
     found = False
     for _ in range(MAX_DOUBLINGS):
@@ -374,16 +375,8 @@ def _search_one(vals, raw, tier, body, particle_slip, rtol, u_max, empty):
             top = g
             break
         lo = g
-    hi = top
     # 3. Bisect in ln w between a sticking lo and a rebounding hi.
-    for _ in range(64):
-        if hi - lo <= rtol * hi:
-            break
-        mid = math.sqrt(lo) * math.sqrt(hi)
-        if _sticks(vals, raw, mid, tier, body, particle_slip, empty):
-            lo = mid
-        else:
-            hi = mid
+    hi = _bisect(lo, top, 64, vals, raw, tier, body, particle_slip, rtol, empty)
     u_star = hi / w_per_u0
     return u_star if u_star <= u_max else math.inf
 
