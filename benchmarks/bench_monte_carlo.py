@@ -21,12 +21,18 @@ from __future__ import annotations
 
 import os
 import platform
+import sys
 import time
+from pathlib import Path
 
 import numba
 import numpy as np
 
-import agglomtool as at
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from bench_collision import timings  # noqa: E402  (best and median of REPEATS = 7 runs)
+
+import agglomtool as at  # noqa: E402
 from agglomtool.uncertainty import DEFAULT_QUANTILES, monte_carlo, table4_case
 from agglomtool.uncertainty._inputs import base_inputs, evaluate_e_w
 from agglomtool.uncertainty.monte_carlo import _summary, draw_inputs
@@ -34,17 +40,6 @@ from agglomtool.uncertainty.monte_carlo import _summary, draw_inputs
 N = 1_000_000
 REPEATS = 7
 GOAL = 0.3  # [s] for a 1e6-sample run on an idle machine
-
-
-def timings(fn, repeats=REPEATS):
-    """(best, median) wall time [s] of ``repeats`` calls after one warm-up call."""
-    fn()
-    ts = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return min(ts), float(np.median(ts))
 
 
 def paired(fn, ref_fn, repeats=REPEATS):
