@@ -275,6 +275,25 @@ def swap_path(path):
     return out
 
 
+#: Dvoretzky-Kiefer-Wolfowitz: P(sup|F_n - F| > eps) <= 2 exp(-2 n eps^2). At
+#: ``DKW_ALPHA = 1e-6`` a correct sampler fails the bound once in a million runs
+#: (``tests/test_uncertainty.py`` and ``tests/test_uncertainty_sampling.py`` use it).
+DKW_ALPHA = 1e-6
+
+
+def dkw_eps(n: int) -> float:
+    """The DKW bound on the sup distance of ``n`` samples' empirical CDF at ``DKW_ALPHA``."""
+    return math.sqrt(math.log(2.0 / DKW_ALPHA) / (2.0 * n))
+
+
+def ks_sup(x: np.ndarray, cdf) -> float:
+    """Kolmogorov-Smirnov distance of the samples ``x`` from the law with CDF ``cdf``."""
+    x = np.sort(x)
+    f = cdf(x)
+    n = x.size
+    return float(max(np.max(np.arange(1, n + 1) / n - f), np.max(f - np.arange(n) / n)))
+
+
 #: The closed-form tiers whose invariants ``test_invariants.py`` and ``test_stability.py``
 #: assert: the published model and the default, frame-consistent tier. Those modules run
 #: every test once per tier (``pytestmark = pytest.mark.usefixtures("closed_form_tier")``)

@@ -11,6 +11,7 @@ import math
 import numpy as np
 import pytest
 import scipy.stats as st
+from conftest import dkw_eps, ks_sup
 from hypothesis import given, settings
 from hypothesis import strategies as hs
 
@@ -29,20 +30,6 @@ from agglomtool.uncertainty import (
 )
 
 N_TEST = 100_000
-# Dvoretzky-Kiefer-Wolfowitz: P(sup|F_n - F| > eps) <= 2 exp(-2 n eps^2). At alpha = 1e-6
-# a correct sampler fails this bound once in a million runs.
-ALPHA = 1e-6
-
-
-def dkw_eps(n: int) -> float:
-    return math.sqrt(math.log(2.0 / ALPHA) / (2.0 * n))
-
-
-def ks_sup(x: np.ndarray, cdf) -> float:
-    x = np.sort(x)
-    f = cdf(x)
-    n = x.size
-    return float(max(np.max(np.arange(1, n + 1) / n - f), np.max(f - np.arange(n) / n)))
 
 
 def water_small():
