@@ -117,7 +117,10 @@ for row, (title, cond) in enumerate(CASES.items()):
                     color="0.4", rotation=90, ha="right")
     ax.set(xlabel="geometric standard deviation of the sand sizes [-]",
            ylabel="bed agglomeration propensity [-]", title=f"(b) {title}")
-    ax.legend(fontsize=8, loc="upper left" if row == 0 else "lower right")
+    if row == 0:
+        ax.legend(fontsize=8, loc="upper left")
+    else:  # lower right, lifted above the "wide" label of its line
+        ax.legend(fontsize=8, loc="lower right", bbox_to_anchor=(1.0, 0.14))
 fig.suptitle("Beds, not pairs: 1000 um sand with ilmenite (a) and with a size spread (b)")
 save(fig, "bed_mixtures")
 
