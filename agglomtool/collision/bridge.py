@@ -26,6 +26,8 @@ __all__ = [
     "ln_f_array",
     "ln_f_diff_array",
     "g_diff",
+    "gap_parts",
+    "g_diff_s",
     "rupture_distance",
     "bridge_volume",
 ]
@@ -65,6 +67,27 @@ def ln_f_parts(D, a2):
     if q < 0.5:
         return 1, math.log1p(-q * q)
     return 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+
+
+@njit(cache=CACHE)
+def gap_parts(D, a2):
+    """``(s, kind, value)`` of the gap ``D`` [m]: ``s = sqrt(D^2 + a^2)`` [m] and
+    :func:`ln_f_parts`, bitwise as there, with the square root taken once for both ``ln f``
+    and :func:`g_diff_s` (a kernel needs both at each gap)."""
+    s = math.sqrt(D * D + a2)
+    if D <= 0.0:
+        return s, 0, -math.inf
+    q = a2 / ((D + s) * (D + s))
+    if q < 0.5:
+        return s, 1, math.log1p(-q * q)
+    return s, 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+
+
+@njit(cache=CACHE)
+def g_diff_s(D1, s1, D2, s2, a2):
+    """:func:`g_diff` from the square roots ``s_k = sqrt(D_k^2 + a^2)`` of
+    :func:`gap_parts`, bitwise as there."""
+    return a2 * (D2 - D1) * (1.0 + (D1 + D2) / (s1 + s2)) / ((D1 + s1) * (D2 + s2))
 
 
 @njit(cache=CACHE)

@@ -81,6 +81,8 @@ from .bridge import (
     _LN4,
     bridge_volume,
     g_diff,
+    g_diff_s,
+    gap_parts,
     ln_f_diff_from,
     ln_f_parts,
     rupture_distance,
@@ -265,6 +267,109 @@ def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c,
 
 
 @njit(cache=CACHE)
+def _stop_residual(D, d_start, s_start, start_kind, start_val, p, two_p_vs, force, c, kcap,
+                   a2):
+    """:func:`_stop_gap` 's residual ``G`` at the gap ``D`` [kg m/s] and ``dG / d ln D``."""
+    s = math.sqrt(D * D + a2)
+    g = a2 * (D - d_start) * (1.0 + (d_start + D) / (s_start + s)) / ((d_start + s_start)
+                                                                       * (D + s))
+    q = a2 / ((D + s) * (D + s))
+    if q < 0.5:
+        kind, val = 1, math.log1p(-q * q)
+    else:
+        kind, val = 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+    c_delta = c * abs((val - start_val) + (start_kind - kind) * _LN4)
+    gp = a2 / (s * (D + s))
+    qq = two_p_vs * (kcap * g - force * (D - d_start))
+    if qq > 0.0:
+        root = math.sqrt(qq)
+        return ((p - c_delta) - root,
+                -c * gp * gp - 0.5 * two_p_vs * D * (kcap * gp - force) / root)
+    return p - c_delta, -c * gp * gp
+
+
+@njit(cache=CACHE)
+def _stop_gap(d_start, s_start, start_kind, start_val, d_end, s_end, u_end, l_cap, p, v_sum,
+              force, c, kcap, a2):
+    """The gap where a particle stops first in a separation stage of a wetting liquid
+    (``d_end > d_start``, ``kcap >= 0``): :func:`_first_zero` of its running energy, solved
+    through a better-conditioned residual.
+
+    Why one zero. Over the stage ``c Delta < p`` (the stage checked it at its end), so the
+    viscous loss ``c Delta (v - c Delta / (2 m))`` is an increasing concave function of
+    ``Delta``, and ``Delta = ln f(D) - ln f(d_start)`` is increasing and concave in ``D``
+    (``d ln f / dD = (s - D)^2 / (D s^2)`` decreases): the loss is concave. The capillary
+    term ``share kcap (g(D) - g(d_start))`` is concave (``g'' = -a^2 / s^3``) for
+    ``kcap >= 0`` and the body-force term is linear. So the running energy is convex; with
+    ``E(d_start) = k > 0`` and ``E(d_end) <= 0`` its set ``E <= 0`` is one interval
+    reaching ``d_end``: the first zero is the only one.
+
+    The residual. Each particle enters the stage with ``k = p v / 2`` and ``m v = p``, so
+    its running energy is ``E = (v / (2 p)) (u^2 - Q)`` with ``u = p - c Delta > 0`` and
+    ``Q = (2 p / v_sum) (kcap (g(D) - g(d_start)) - force (D - d_start))``; its share of the
+    gap change is ``v / v_sum`` (for a plate, per unit speed: ``v = 1``, the same form). So
+    ``E <= 0`` exactly where ``G = u - sqrt(max(Q, 0)) <= 0``. ``E`` has a near-double
+    zero where the viscous loss dominates (``u^2`` touches ``Q``); ``G`` crosses zero with
+    a slope, so Newton converges fast on it.
+
+    The method: Newton in ``ln D`` on the bracket ``[lo, hi]`` (``G(lo) > 0 >= G(hi)``),
+    started at ``d_end`` from the stage's own end values (``u_end``, ``l_cap``: no
+    evaluation); a step that leaves the bracket or does not halve the previous one is
+    replaced by bisection in ``ln D``. It stops when the next Newton step ``dy`` would
+    change ``D`` by less than a relative 1e-8 and 1e-4 ``l``, ``l = ln(D / d_start)``
+    (taking it: the error left is of the order of ``dy^2 / (4 l)``, at most 2.5e-13; the
+    ``l`` term guards a zero just past ``d_start``, where ``sqrt(Q)`` bends sharply), when
+    the bracket's relative width is 1e-12, or after at most 100 steps: it cannot run away.
+    On the mixed benchmark batch it takes 3.7 evaluations (the one at ``d_end`` comes free
+    from the stage) where the skipping scan and regula falsi of :func:`_first_zero` took
+    about 12. Its result agrees with the plain scan's
+    (:func:`_first_zero_scan`) within 2e-12 plus the zero's own conditioning, 8 units of
+    rounding of ``k`` over ``|dE / d ln D|`` (tested).
+    """
+    two_p_vs = 2.0 * p / v_sum
+    qq = two_p_vs * (l_cap - force * (d_end - d_start))
+    x = d_end
+    gp = a2 / (s_end * (d_end + s_end))
+    if qq > 0.0:
+        root = math.sqrt(qq)
+        f = u_end - root
+        df = -c * gp * gp - 0.5 * two_p_vs * d_end * (kcap * gp - force) / root
+    else:
+        f = u_end
+        df = -c * gp * gp
+    if f > 0.0:  # rounding: the energy at d_end is zero to its last digits
+        return d_end
+    lo, hi = d_start, d_end
+    dy_old = math.log(d_end / d_start)
+    for _ in range(100):
+        newton = df < 0.0
+        if newton:
+            dy = -f / df
+            # Converged: the error left after this step is of the order of dy^2 / (4 l),
+            # with l = ln(x / d_start) (near d_start, G has the curvature of sqrt(Q)).
+            if abs(dy) <= 1e-8 and abs(dy) <= 1e-4 * math.log(x / d_start):
+                return x * math.exp(dy)
+            xn = x * math.exp(dy)
+            newton = lo < xn < hi and abs(dy) <= 0.5 * dy_old
+        if not newton:
+            dy = 0.5 * math.log(hi / lo)
+            xn = lo * math.exp(dy)
+            if not lo < xn < hi:  # the bracket is down to adjacent doubles
+                return hi
+        dy_old = abs(dy)
+        f, df = _stop_residual(xn, d_start, s_start, start_kind, start_val, p, two_p_vs,
+                               force, c, kcap, a2)
+        x = xn
+        if f <= 0.0:
+            hi = x
+        else:
+            lo = x
+        if hi - lo <= 1e-12 * hi:
+            return x
+    return hi
+
+
+@njit(cache=CACHE)
 def _first_zero_scan(d_start, d_end, start_kind, start_val, k, share, v, m, force, c, kcap, a2):
     """Reference of :func:`_first_zero`: the same result by evaluating every scan point.
 
@@ -313,34 +418,38 @@ def _first_zero_scan(d_start, d_end, start_kind, start_val, k, share, v, m, forc
 
 
 @njit(cache=CACHE, inline="always")
-def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a2):
+def _stage(d_start, s_start, start_kind, start_val, d_end, s_end, end_kind, end_val, k_i, k_j,
+           v_i, v_j, share_i, share_j, m_i, m_j, f_i, f_j, p, c, kcap, a2):
     """One liquid stage (approach ``H0 -> Ha`` or separation ``Ha -> h_rupt``).
 
-    ``k_*``: energies at the start [J]; ``v_*``: CM-frame speeds [m/s]; ``f_*``: body forces
-    along each particle's motion relative to its partner [N]; ``p``: the common CM momentum
-    [kg m/s]. Returns ``(code, k_end_i, k_end_j, d_stop, flags, l_cap, l_vis, l_bdw_i,
-    l_bdw_j)`` with ``code`` 0 (both go on), 1 (viscous stop), 2 (energy spent), 3 (the lone
-    mover runs out), 4 (viscosity stops the lone mover); ``flags`` 1 if i stopped first,
-    2 if j did; ``d_stop`` NaN when nobody stopped. Losses are those of the ordinary path
-    (both moving over the whole stage).
+    ``s_*, *_kind, *_val``: :func:`~.bridge.gap_parts` of the two gaps (computed once by
+    the caller: the approach's end is the separation's start); ``k_*``: energies at the
+    start [J]; ``v_*``: CM-frame speeds [m/s]; ``share_*``: each particle's share of the
+    gap change (Eqs. 13-16: ``v_i / (v_i + v_j)``, which is the mass fraction ``frac_j``);
+    ``f_*``: body forces along each particle's motion relative to its partner [N]; ``p``:
+    the common CM momentum [kg m/s]. Returns
+    ``(code, k_end_i, k_end_j, d_stop, flags, l_cap, l_vis, l_bdw_i, l_bdw_j)`` with
+    ``code`` 0 (both go on), 1 (viscous stop), 2 (energy spent), 3 (the lone mover runs
+    out), 4 (viscosity stops the lone mover); ``flags`` 1 if i stopped first, 2 if j did;
+    ``d_stop`` NaN when nobody stopped. Losses are those of the ordinary path (both moving
+    over the whole stage).
     """
     nan = math.nan
-    start_kind, start_val = ln_f_parts(d_start, a2)  # once: every gap below is measured from it
-    # ln f differences are formed from ln_f_parts as ln_f_diff_from forms them (bitwise), each
-    # gap's parts computed once.
-    end_kind, end_val = ln_f_parts(d_end, a2)
+    # ln f differences are formed from the gaps' parts as ln_f_diff_from forms them (bitwise).
     c_delta = c * abs((end_val - start_val) + (start_kind - end_kind) * _LN4)
     dist = abs(d_end - d_start)
-    share_i = v_i / (v_i + v_j)
-    share_j = v_j / (v_i + v_j)
-    l_cap = kcap * g_diff(d_start, d_end, a2)
+    l_cap = kcap * g_diff_s(d_start, s_start, d_end, s_end, a2)
     if not c_delta < p:  # viscosity alone stops both (Eqs. 73, 80 / 75, 82); also Delta = inf
         return 1, 0.0, 0.0, nan, 0, l_cap, nan, nan, nan
-    l_vis = c_delta * (v_i + v_j - 0.5 * c_delta / p * (v_i + v_j))
+    # Each particle carries the CM momentum p = m v, so its viscous loss (_viscous_loss)
+    # is c Delta v (1 - c Delta / (2 p)): one division for both, and the keep factor lies in
+    # (1/2, 1] (no cancellation). A plate (v = 0) loses nothing, as there.
+    keep = 1.0 - 0.5 * c_delta / p
+    l_vis = c_delta * (v_i + v_j) * keep
     l_bdw_i = -f_i * share_i * dist
     l_bdw_j = -f_j * share_j * dist
-    e_i = k_i - share_i * l_cap - _viscous_loss(v_i, m_i, c_delta) - l_bdw_i
-    e_j = k_j - share_j * l_cap - _viscous_loss(v_j, m_j, c_delta) - l_bdw_j
+    e_i = k_i - share_i * l_cap - c_delta * v_i * keep - l_bdw_i
+    e_j = k_j - share_j * l_cap - c_delta * v_j * keep - l_bdw_j
     # A plate (infinite mass, zero CM speed) is the limit of a partner far heavier than the
     # particle: its energy and share vanish, but its running energy per unit CM speed stays
     # finite. With k/v = p/2, share/v = 1/(v_i + v_j) and m v = p, that ratio is the running
@@ -351,9 +460,9 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
     s_i = e_i
     s_j = e_j
     if math.isinf(m_i):
-        s_i = 0.5 * p - l_cap / v_sum - _viscous_loss(1.0, p, c_delta) + f_i * dist / v_sum
+        s_i = 0.5 * p - l_cap / v_sum - c_delta * keep + f_i * dist / v_sum
     if math.isinf(m_j):
-        s_j = 0.5 * p - l_cap / v_sum - _viscous_loss(1.0, p, c_delta) + f_j * dist / v_sum
+        s_j = 0.5 * p - l_cap / v_sum - c_delta * keep + f_j * dist / v_sum
     if s_i > 0.0 and s_j > 0.0:
         return 0, e_i, e_j, nan, 0, l_cap, l_vis, l_bdw_i, l_bdw_j
     if s_i <= 0.0 and s_j <= 0.0:
@@ -367,18 +476,20 @@ def _stage(d_start, d_end, k_i, k_j, v_i, v_j, m_i, m_j, f_i, f_j, p, c, kcap, a
         flag = 2
         k_x, share_x, v_x, m_x, f_x = k_j, share_j, v_j, m_j, f_j
         k_y, share_y, v_y, m_y, f_y = k_i, share_i, v_i, m_i, f_i
-    if math.isinf(m_x):
-        # The plate stops first: where its running energy per unit speed reaches zero.
-        d_stop = _first_zero(
-            d_start, d_end, start_kind, start_val, 0.5 * p, 1.0 / v_sum, 1.0, p, f_x, c,
-            kcap, a2
-        )
-    elif k_x <= 0.0:
+    if k_x <= 0.0 and not math.isinf(m_x):
         d_stop = d_start  # zero energy from the start: it never moves
     else:
-        d_stop = _first_zero(
-            d_start, d_end, start_kind, start_val, k_x, share_x, v_x, m_x, f_x, c, kcap, a2
-        )
+        if math.isinf(m_x):
+            # The plate stops first: where its running energy per unit speed reaches zero.
+            k_z, share_z, v_z, m_z = 0.5 * p, 1.0 / v_sum, 1.0, p
+        else:
+            k_z, share_z, v_z, m_z = k_x, share_x, v_x, m_x
+        if d_end > d_start and kcap >= 0.0:  # a separation, wetting: one zero
+            d_stop = _stop_gap(d_start, s_start, start_kind, start_val, d_end, s_end,
+                               p - c_delta, l_cap, p, v_sum, f_x, c, kcap, a2)
+        else:
+            d_stop = _first_zero(d_start, d_end, start_kind, start_val, k_z, share_z, v_z,
+                                 m_z, f_x, c, kcap, a2)
     dist_1 = abs(d_stop - d_start)
     dist_2 = abs(d_end - d_stop)
     # Eqs. 39-42, 140-142 (Eq. 142 read as Eq. 140: particle j's own share and force).
@@ -445,8 +556,11 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
         det[K_INI_I] = k_i
         det[K_INI_J] = k_j
         det[ST_APP] = p / c
+    s_h0, kind_h0, val_h0 = gap_parts(H0, a2)
+    s_ha, kind_ha, val_ha = gap_parts(Ha, a2)
     code, ka_i, ka_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
-        H0, Ha, k_i, k_j, frac_j * w, frac_i * w, m_i, m_j, fn_i, -fn_j, p, c, kcap, a2
+        H0, s_h0, kind_h0, val_h0, Ha, s_ha, kind_ha, val_ha, k_i, k_j, frac_j * w,
+        frac_i * w, frac_j, frac_i, m_i, m_j, fn_i, -fn_j, p, c, kcap, a2
     )
     if flags == 1:
         path |= P_APP_I
@@ -488,9 +602,10 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
         path |= P_BROKEN
         kf_i, kf_j = ks_i, ks_j
     else:
+        s_hr, kind_hr, val_hr = gap_parts(h_rupt, a2)
         code, kf_i, kf_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
-            Ha, h_rupt, ks_i, ks_j, frac_j * w_s, frac_i * w_s, m_i, m_j, -fn_i, fn_j,
-            p_s, c, kcap, a2,
+            Ha, s_ha, kind_ha, val_ha, h_rupt, s_hr, kind_hr, val_hr, ks_i, ks_j,
+            frac_j * w_s, frac_i * w_s, frac_j, frac_i, m_i, m_j, -fn_i, fn_j, p_s, c, kcap, a2,
         )
         if flags == 1:
             path |= P_SEP_I
