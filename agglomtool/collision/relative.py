@@ -76,7 +76,15 @@ from ._codes import (
     W_VOLCORR,
 )
 from ._jit import CACHE, parallel_launch
-from .bridge import bridge_volume, g_diff, ln_f, ln_f_diff, rupture_distance
+from .bridge import (
+    _LN4,
+    bridge_volume,
+    g_diff,
+    g_diff_s,
+    gap_parts,
+    ln_f,
+    rupture_distance,
+)
 from .paper import _viscous_loss
 
 __all__ = [
@@ -180,9 +188,12 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
         det[K_INI_J] = frac_i * k0
         det[ST_APP] = m_r * w / c
 
-    # ---- approach, H0 -> Ha
-    c_delta = c * -ln_f_diff(H0, Ha, a2)
-    l_cap = kcap * g_diff(H0, Ha, a2)
+    # ---- approach, H0 -> Ha (each gap's square root and ln f parts taken once; the
+    # differences formed as ln_f_diff and g_diff form them, bitwise)
+    s_h0, kind_h0, val_h0 = gap_parts(H0, a2)
+    s_ha, kind_ha, val_ha = gap_parts(Ha, a2)
+    c_delta = c * -((val_ha - val_h0) + (kind_h0 - kind_ha) * _LN4)
+    l_cap = kcap * g_diff_s(H0, s_h0, Ha, s_ha, a2)
     l_bdw = -f_b * (H0 - Ha)
     stage = REBOUND
     k_fin = 0.0
@@ -225,8 +236,9 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
                     path |= P_BROKEN
                     k_end = k_s
                 else:
-                    c_delta = c * ln_f_diff(Ha, h_rupt, a2)
-                    l_cap = kcap * g_diff(Ha, h_rupt, a2)
+                    s_hr, kind_hr, val_hr = gap_parts(h_rupt, a2)
+                    c_delta = c * ((val_hr - val_ha) + (kind_ha - kind_hr) * _LN4)
+                    l_cap = kcap * g_diff_s(Ha, s_ha, h_rupt, s_hr, a2)
                     l_bdw = f_b * (h_rupt - Ha)
                     k_end = 0.0
                     if want:
