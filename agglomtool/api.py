@@ -229,10 +229,12 @@ def _speed_error(code, index, ins, steps):
     return ValueError("u0 = inf (or u0_j = inf) is outside the allowed range: finite speeds [m/s]")
 
 
-def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True):
+def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True,
+                  check=True):
     """Validated raw inputs in the order of :data:`INPUT_NAMES`, their broadcast shape, the
     flat arrays and steps of the fused kernels. ``speeds=False``: ``u0`` and ``u0_j`` are
-    ignored (zero speed, no speed checks)."""
+    ignored (zero speed, no speed checks). ``check=False``: the lab-speed rules are left to
+    the caller (``fused_batch(check=True)`` applies them in its own pass)."""
     if speeds:
         u0 = as_float_array("u0", u0)
         u0_j = np.nan if u0_j is None else as_float_array("u0_j", u0_j)
@@ -249,7 +251,7 @@ def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True
     n = 1
     for s in shape:
         n *= s
-    if not speeds:
+    if not speeds or not check:
         return shape, ins, steps, n
     code, index = check_speeds(
         ins[0], ins[4], ins[18], ins[19][:0] if u0_j is np.nan else ins[19], n
@@ -324,12 +326,17 @@ def collide(
     check_inputs(p_i, p_j, liquid, gas, bed)
     _check_flags(body_forces, drag_slip, details)
     _check_tol_mode(tol, mode)
-    shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j)
+    fused = mode in _FUSED
+    shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j,
+                                         check=not fused)
     particle = drag_slip == "particle"
-    if mode in _FUSED:
-        e_w, stage, path, w, det = fused_batch(
-            ins, steps, n, _FUSED[mode], body_forces, particle, details=details
+    if fused:
+        # The speed rules are checked in the kernel's own pass (no separate scan).
+        e_w, stage, path, w, det, (code, index) = fused_batch(
+            ins, steps, n, _FUSED[mode], body_forces, particle, details=details, check=True
         )
+        if code:
+            raise _speed_error(code, index, ins, steps)
     elif mode == "auto" and not details:
         e_w, stage, path, w = auto_fused(ins, steps, n, body_forces, particle,
                                          DEFAULT_TOL if tol is None else tol)

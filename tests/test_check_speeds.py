@@ -60,3 +60,52 @@ def test_all_good_and_broadcast_inputs():
     u0 = np.full(n, 0.1)
     u0[[17, 40_000]] = 0.0
     assert check_speeds(one, one, u0, np.empty(0), n) == (3, 17)
+
+
+@pytest.mark.parametrize("n", [SERIAL_BELOW - 1, 200_003])
+@pytest.mark.parametrize("given", [False, True])
+@pytest.mark.parametrize("seed", range(4))
+def test_the_kernels_own_pass_names_the_same_offender(n, given, seed):
+    """``fused_batch(check=True)`` (what ``collide`` uses for modes paper and relative)
+    applies the rules inside the kernel's loop: the same rule and first offender as the
+    reference, and the collisions that obey every rule get the same outcomes as without
+    the check."""
+    from agglomtool.api import _fused_inputs
+    from agglomtool.collision.fused import TIER_PAPER, TIER_RELATIVE, fused_batch
+    from agglomtool.inputs import Bed, Gas, Liquid, Particle
+
+    rng = np.random.default_rng(100 + seed)
+    d_i = rng.uniform(1e-4, 1e-3, n)
+    d_j = rng.uniform(1e-4, 1e-3, n)
+    u0 = rng.uniform(0.01, 1.0, n)
+    u0_j = rng.uniform(0.01, 1.0, n) if given else None
+    for _ in range(rng.integers(0, 4)):
+        k = rng.integers(0, n, 5)
+        kind = rng.integers(0, 4)
+        if kind == 0:
+            d_j[k] = np.inf
+        elif kind == 1:
+            d_i[k] = np.inf
+        elif kind == 2:
+            u0[k] = -u0[k] * 3.0
+        else:
+            u0[k] = np.inf
+    both = np.isinf(d_i) & np.isinf(d_j)
+    d_j[both] = 5e-4  # at most one plate per pair (a Particle-level rule)
+    kw = dict(liquid=Liquid(mu=1e-3, gamma=0.07, rho=1000.0, theta_deg=10.0),
+              gas=Gas(mu=1.8e-5, rho=1.2), bed=Bed(eps=0.55), beta_deg=30.0, e=0.9)
+    p_i = Particle(d=d_i, rho=2500.0, h0=5e-6, ha=1e-7)
+    p_j = Particle(d=d_j, rho=2500.0, h0=5e-6, ha=1e-7)
+    _, ins, steps, _ = _fused_inputs(p_i, p_j, kw["liquid"], kw["gas"], kw["bed"],
+                                     kw["beta_deg"], kw["e"], u0, u0_j, check=False)
+    expect = reference(d_i, d_j, u0, np.empty(0) if u0_j is None else u0_j, n)
+    for tier in (TIER_PAPER, TIER_RELATIVE):
+        *out, first = fused_batch(ins, steps, n, tier, True, False, check=True)
+        assert first == expect
+        plain = fused_batch(ins, steps, n, tier, True, False)
+        with np.errstate(invalid="ignore"):
+            w = np.where(np.isinf(d_i), 0.0, u0) + (
+                np.where(np.isinf(d_j), 0.0, u0) if u0_j is None else u0_j)
+            good = (w > 0.0) & np.isfinite(w)
+        for a, b in zip(out[:4], plain[:4], strict=True):
+            np.testing.assert_array_equal(a[good], b[good])

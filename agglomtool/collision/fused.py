@@ -206,10 +206,30 @@ def _one(ins, st, k, body, particle_slip):
 
 
 @njit(parallel=True, cache=CACHE)
-def _fused_parallel(ins, st, body, particle_slip, tier, e_w, stage, path, w_out, det):
+def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det):
     want = det.shape[1] > 0
     empty = np.empty(0)
-    for k in prange(e_w.shape[0]):
+    n = e_w.shape[0]
+    # Each speed rule's first offender as a min-reduction (check_speeds' rules and answer).
+    f1 = n
+    f2 = n
+    f3 = n
+    f4 = n
+    for k in prange(n):
+        if check:
+            r1, r2, r3, r4 = _speed_rules(ins[0], ins[4], ins[18], ins[19],
+                                          not math.isnan(ins[19][k * st[19]]), st[0], st[4],
+                                          st[18], st[19], k)
+            f1 = min(f1, k if r1 else n)
+            f2 = min(f2, k if r2 else n)
+            f3 = min(f3, k if r3 else n)
+            f4 = min(f4, k if r4 else n)
+            if r3 or r4:  # no approach, or an infinite speed: nothing to compute
+                e_w[k] = math.nan
+                stage[k] = -1
+                path[k] = 0
+                w_out[k] = math.nan
+                continue
         row = det[k] if want else empty
         m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, k, body,
                                                                    particle_slip)
@@ -226,13 +246,37 @@ def _fused_parallel(ins, st, body, particle_slip, tier, e_w, stage, path, w_out,
         stage[k] = sg
         path[k] = pa
         w_out[k] = w
+    return f1, f2, f3, f4
 
 
 @njit(cache=CACHE)
-def _fused_serial(ins, st, body, particle_slip, tier, e_w, stage, path, w_out, det):
+def _fused_serial(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det):
     want = det.shape[1] > 0
     empty = np.empty(0)
-    for k in range(e_w.shape[0]):
+    n = e_w.shape[0]
+    f1 = n
+    f2 = n
+    f3 = n
+    f4 = n
+    for k in range(n):
+        if check:
+            r1, r2, r3, r4 = _speed_rules(ins[0], ins[4], ins[18], ins[19],
+                                          not math.isnan(ins[19][k * st[19]]), st[0], st[4],
+                                          st[18], st[19], k)
+            if r1 and k < f1:
+                f1 = k
+            if r2 and k < f2:
+                f2 = k
+            if r3 and k < f3:
+                f3 = k
+            if r4 and k < f4:
+                f4 = k
+            if r3 or r4:  # no approach, or an infinite speed: nothing to compute
+                e_w[k] = math.nan
+                stage[k] = -1
+                path[k] = 0
+                w_out[k] = math.nan
+                continue
         row = det[k] if want else empty
         m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, k, body,
                                                                    particle_slip)
@@ -249,6 +293,7 @@ def _fused_serial(ins, st, body, particle_slip, tier, e_w, stage, path, w_out, d
         stage[k] = sg
         path[k] = pa
         w_out[k] = w
+    return f1, f2, f3, f4
 
 
 @njit(cache=CACHE)
@@ -393,6 +438,12 @@ def check_speeds(d_i, d_j, u0, u0_j, n):
         first = _check_speeds_serial(d_i, d_j, u0, u0_j, given, *steps, n)
     else:
         first = parallel_launch(_check_speeds_parallel, d_i, d_j, u0, u0_j, given, *steps, n)
+    return _first_rule(first, n)
+
+
+def _first_rule(first, n):
+    """``(code, index)`` of the first broken rule from each rule's first offender (``n``:
+    none), in the order the rules are checked; ``(0, -1)`` when all hold."""
     for code in range(1, 5):
         if first[code - 1] < n:
             return code, int(first[code - 1])
@@ -438,24 +489,30 @@ def flat_inputs(values, shape):
     return tuple(arrays), steps
 
 
-def fused_batch(ins, steps, n, tier, body, particle_slip, details=False):
+def fused_batch(ins, steps, n, tier, body, particle_slip, details=False, check=False):
     """Run the fused preparation and the ``tier`` kernel (:data:`TIER_PAPER` or
     :data:`TIER_RELATIVE`) on ``n`` collisions.
 
     Returns ``(e_w, stage, path, w, det)``; ``det`` has shape ``(n, N_DETAILS)`` with
-    ``details``, else ``(n, 0)``.
+    ``details``, else ``(n, 0)``. With ``check`` the lab speeds are validated in the same
+    pass, by the rules of :func:`check_speeds` (``u0_j`` NaN meaning None), and a sixth
+    item ``(code, index)`` is returned as there; collisions that break rule 3 or 4 are not
+    computed (their outputs are NaN, stage -1), so a caller must raise on a nonzero code.
     """
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     w = np.empty(n)
     det = np.empty((n, N_DETAILS if details else 0))
-    args = (ins, steps, bool(body), bool(particle_slip), int(tier), e_w, stage, path, w, det)
+    args = (ins, steps, bool(body), bool(particle_slip), int(tier), bool(check), e_w, stage,
+            path, w, det)
     if n < SERIAL_BELOW:
-        _fused_serial(*args)
+        first = _fused_serial(*args)
     else:
-        parallel_launch(_fused_parallel, *args)
-    return e_w, stage, path, w, det
+        first = parallel_launch(_fused_parallel, *args)
+    if not check:
+        return e_w, stage, path, w, det
+    return e_w, stage, path, w, det, _first_rule(first, n)
 
 
 def prepare_flat(ins, steps, n, body, particle_slip):
