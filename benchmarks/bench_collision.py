@@ -145,10 +145,10 @@ def main(n=1_000_000, n_pool=20_000, n_crit=10_000):
                        [(1, "whole-stage closed forms")]
                        + [(p, f"{p} pieces") for p in PIECES] + [(0, "ode")])
     print(f"    (auto's forms: {shares})")
-    r = at.collide(**kw, u0=u0, details=False)
+    r = at.collide(**kw, u0=u0, mode="paper", details=False)
     special = (r.path & 0b1111) != 0
-    print(f"    (mixed batch: {r.agglomerated.mean():.1%} stick, {special.mean():.1%} take a "
-          "one-particle-stops path)")
+    print(f"    (mixed batch, mode paper: {r.agglomerated.mean():.1%} stick, "
+          f"{special.mean():.1%} take a one-particle-stops path)")
     best, med, f_med, ratio = paired(
         lambda: at.collide(**kw, u0=u0, mode="paper", details=True), floor_fn, 5)
     line("collide mode=paper, 1e6 mixed, details on", n / med / 1e6, "M coll/s", best, med,
