@@ -127,9 +127,9 @@ from ._codes import (
     W_VOLCORR,
 )
 from ._jit import CACHE, parallel_launch
-from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_diff_from, ln_f_parts, rupture_distance
-from .fused import _one, prepare_at
-from .ode import ode_batch
+from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts, rupture_distance
+from .fused import _one
+from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
 from .paper import _viscous_loss
 from .relative import reduced_mass, relative_body_force, relative_kernel, term_work_fractions
@@ -280,8 +280,37 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
 _LN4 = math.log(4.0)
 
 
+@njit(cache=CACHE)
+def _gap_parts(d, a2):
+    """What a stage needs of a gap ``d`` that is an end of it: ``(kind, value)`` of
+    :func:`~.bridge.ln_f_parts`, ``s = sqrt(d^2 + a^2)`` and ``1 - 4 f = -expm1(v4)``
+    (:func:`_stage_pieces`)."""
+    kd, vd = ln_f_parts(d, a2)
+    return kd, vd, math.sqrt(d * d + a2), -math.expm1(vd if kd == 1 else vd + _LN4)
+
+
+@njit(cache=CACHE)
+def _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
+    """The quantities of one collision the piecewise closed forms need at every speed and
+    piece count, computed once (:func:`_decide` tries up to four of them): the masses, the
+    force constants, ``a``, the parts of ``H0`` and ``Ha`` (:func:`_gap_parts`) and the cube
+    root of the bridge volume (the rupture gap of Eq. 94 is that times factors of ``theta``
+    and ``Ca``, as in :func:`~.bridge.rupture_distance`, bitwise). ``H0 > Ha``."""
+    m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    kcap = 2.0 * math.pi * gamma * r * cos_t
+    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    k_h0, v_h0, s_h0, om_h0 = _gap_parts(H0, a2)
+    k_ha, v_ha, s_ha, om_ha = _gap_parts(Ha, a2)
+    vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)
+    return (m_r, frac_i, frac_j, a2, c, kcap, f_b, math.sqrt(a2), k_h0, v_h0, s_h0, om_h0,
+            k_ha, v_ha, s_ha, om_ha, vol3)
+
+
 @njit(cache=CACHE, error_model="numpy")
-def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
+def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s, k2, val2,
+                  s_e, a):
     """One liquid stage from gap ``d_s`` to ``d_e`` in ``n`` pieces of equal ``ln f``
     (module docstring), entering with kinetic energy ``k`` [J] at speed ``v`` [m/s].
 
@@ -301,31 +330,32 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
     exponential per piece; ``1 - p`` loses digits only relative to its start, where it
     is tiny). The pieces next to the stage's ends take the capillary work in
     the form of :func:`~.bridge.g_diff`.
+
+    The parts of the ends (``(k1, val1, s_s, om_s)`` of ``d_s`` and ``(k2, val2)``,
+    ``s_e`` of ``d_e``, see :func:`_gap_parts`) and ``a = sqrt(a2)`` are computed by the
+    caller, once per collision where they do not depend on the speed.
     """
-    k1, val1 = ln_f_parts(d_s, a2)
-    delta = abs(ln_f_diff_from(k1, val1, d_e, a2))
+    # ln f(d_e) - ln f(d_s) as ln_f_diff_from forms it.
+    delta = abs((val2 - val1) + (k1 - k2) * _LN4)
     cd = c * (delta / n)
     dv = cd / m_r
     v4_s = 0.0
     dv4 = 0.0
-    a = 0.0
     p = 0.0
     one_m = 0.0
     ratio = 0.0
     em = 0.0
     if n > 1:
         v4_s = val1 if k1 == 1 else val1 + _LN4
-        k2, val2 = ln_f_parts(d_e, a2)
         dv4 = ((val2 if k2 == 1 else val2 + _LN4) - v4_s) / n
-        a = math.sqrt(a2)
         # p = 4 f and 1 - p from piece to piece by the step's factor exp(dv4) = 1 + em.
         em = math.expm1(dv4)
         ratio = 1.0 + em
-        one_m = -math.expm1(v4_s)
+        one_m = om_s
         p = 1.0 - one_m
     two_per_m = 2.0 / m_r
     d_prev = d_s
-    s_prev = math.sqrt(d_s * d_s + a2)
+    s_prev = s_s
     u_prev = d_s + s_prev
     sq_prev = 0.0
     l_cap = 0.0
@@ -337,7 +367,7 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
     for j in range(1, n + 1):
         if j == n:
             d = d_e
-            s = math.sqrt(d * d + a2)
+            s = s_e
             u = d + s
             sq = 0.0
         else:
@@ -400,31 +430,40 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
     ``n = 1`` gives the ``(e_w, stage, path, g)`` of :func:`closed_form_indicator` bitwise
     (tested).
     """
-    nan = math.nan
-    want = det.shape[0] > 0
-    if want:
-        for q in range(det.shape[0]):
-            det[q] = nan
-    m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if not H0 > Ha:
-        if want:
+        nan = math.nan
+        if det.shape[0] > 0:
+            for q in range(det.shape[0]):
+                det[q] = nan
+            m_r, _, _ = reduced_mass(m_i, m_j)
             det[W_CONTACT] = w
             det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
             return e, REBOUND, P_NO_BRIDGE, 0.0, True
         return 0.0, CONTACT, P_NO_BRIDGE, 0.0, True
-    a2 = (H0 - Ha) * (H0 + Ha)
-    c = 1.5 * math.pi * mu_l * r * r
-    kcap = 2.0 * math.pi * gamma * r * cos_t
-    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    return _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det,
+                      _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
+
+
+@njit(cache=CACHE)
+def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts):
+    """:func:`piecewise_kernel` with ``H0 > Ha`` from the collision's ``parts``
+    (:func:`_collision_parts`)."""
+    (m_r, frac_i, frac_j, a2, c, kcap, f_b, a, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha,
+     om_ha, vol3) = parts
+    nan = math.nan
+    want = det.shape[0] > 0
+    if want:
+        for q in range(det.shape[0]):
+            det[q] = nan
     k0 = 0.5 * m_r * w * w
     h_rupt = nan
     if want:
         det[K_INI_I] = frac_j * k0
         det[K_INI_J] = frac_i * k0
         det[ST_APP] = m_r * w / c
-    k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(k0, w, H0, Ha, a2, m_r, c, kcap,
-                                                          f_b, n)
+    k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(
+        k0, w, H0, Ha, a2, m_r, c, kcap, f_b, n, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha, a)
     if want:
         det[L_CAP_APP] = l_cap
         det[L_BDW_APP_I] = frac_j * l_bdw
@@ -451,7 +490,8 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
         else:
             k_s = 0.5 * m_r * w_s * w_s
             ca = mu_l * w_s / gamma
-            h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
+            # rupture_distance(theta, ca, bridge_volume(r, a2)), its cube root done once
+            h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * vol3
             if want:
                 det[K_SEP_I] = frac_j * k_s
                 det[K_SEP_J] = frac_i * k_s
@@ -461,8 +501,10 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
                 path |= P_BROKEN
                 k_end = k_s
             else:
+                k_hr, v_hr = ln_f_parts(h_rupt, a2)
                 k_end, code, l_cap, l_vis, l_bdw, eta_s, clear_s = _stage_pieces(
-                    k_s, w_s, Ha, h_rupt, a2, m_r, c, kcap, f_b, n)
+                    k_s, w_s, Ha, h_rupt, a2, m_r, c, kcap, f_b, n, k_ha, v_ha, s_ha, om_ha,
+                    k_hr, v_hr, math.sqrt(h_rupt * h_rupt + a2), a)
                 eta = eta + eta_s
                 clear = clear and clear_s
                 if want:
@@ -545,7 +587,9 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
         if not ew2 > 0.0:
             return ew, st, pa, 1, 0.0
     rebound = ew > 0.0
-    assisted = relative_body_force(m_i, m_j, fn_i, fn_j) < 0.0
+    # H0 > Ha here (else the whole stages' bound is 0, or their stick is returned above).
+    parts = _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j)
+    assisted = parts[6] < 0.0  # the relative body force pulls the pair apart
     for i in range(len(PIECES)):
         n = PIECES[i]
         # The pieces divide the indicator by about n (measured at least 1/n of the whole
@@ -557,13 +601,12 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
             # The whole stages stick within their margin: try the margin's speed first (a
             # rebound there ends this count; measured on the benchmark batch: no stick of
             # the whole stages became a rebound of the pieces with a passing bound).
-            ew2, st2, _, _, _ = piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                                 theta, w * margin, fn_i, fn_j, e, n, empty)
+            ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
+                                           empty, parts)
             if ew2 > 0.0 or (st2 == SEP_VIS and assisted):
                 continue
-        ew_n, st_n, pa_n, g_n, clear = piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma,
-                                                        cos_t, theta, w, fn_i, fn_j, e, n,
-                                                        empty)
+        ew_n, st_n, pa_n, g_n, clear = _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, empty,
+                                                  parts)
         if ew_n > 0.0:
             b = PIECEWISE_BOUND * g_n
             if clear and g_n <= G_MAX and b <= tol:
@@ -575,53 +618,61 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
             # of 2.5 %, the others 1.6 % at n = 4, 0.6 % at n = 16).
             if not rebound:
                 return ew_n, st_n, pa_n, n, 0.0
-            ew2, st2, _, _, _ = piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                                 theta, w * margin, fn_i, fn_j, e, n, empty)
+            ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
+                                           empty, parts)
             if not ew2 > 0.0 and not (st2 == SEP_VIS and assisted):
                 return ew_n, st_n, pa_n, n, 0.0
     return ew, st, pa, 0, 0.0
 
 
 @njit(parallel=True, cache=CACHE)
-def _choose_fused(ins, st, body, particle_slip, tol, e_w, stage, path, w_out, pieces,
-                  bound):
+def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max, first_change,
+                  e_w, stage, path, w_out, pieces):
     empty = np.empty(0)
     for q in prange(e_w.shape[0]):
         m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, q, body,
                                                                    particle_slip)
-        ew, sg, pa, nq, b = _decide(m_i, m_j, r, H0, Ha, ins[8][q * st[8]],
-                                    ins[9][q * st[9]], cos_t, theta, w, fn_i, fn_j,
-                                    ins[17][q * st[17]], tol, empty)
+        mu_l = ins[8][q * st[8]]
+        gamma = ins[9][q * st[9]]
+        e = ins[17][q * st[17]]
+        ew, sg, pa, nq, _ = _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
+                                    fn_j, e, tol, empty)
+        if nq == 0:
+            # "ode" here, on the numbers just prepared (what ode_batch does with them).
+            ew, sg, pa, _, status = ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
+                                               w, fn_i, fn_j, e, empty, rtol, atol, False,
+                                               True, h_first, h_max, first_change)
+            if status != 0:
+                nq = -1
         e_w[q] = ew
         stage[q] = sg
         path[q] = pa
         w_out[q] = w
         pieces[q] = nq
-        bound[q] = b
 
 
 def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_pieces=False):
     """Mode "auto" without details from the fused kernels' inputs (:mod:`.fused`): the
-    preparation and the choice in one compiled loop (no details rows), then "ode" on the
-    collisions that need it, prepared for those only. Returns ``(e_w, stage, path, w)``,
-    bitwise what :func:`auto_batch` gives on the prepared arrays (tested); with
-    ``return_pieces`` also the form used per collision (``pieces`` of :func:`auto_batch`)."""
+    preparation, the choice and "ode" where it is chosen in one compiled loop (no details
+    rows, no second pass). Returns ``(e_w, stage, path, w)``, bitwise what
+    :func:`auto_batch` gives on the prepared arrays (tested); with ``return_pieces`` also
+    the form used per collision (``pieces`` of :func:`auto_batch`)."""
     tol = _check_tol(tol)
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     w = np.empty(n)
     pieces = np.empty(n, dtype=np.int8)
-    bound = np.empty(n)
-    parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol, e_w,
-                    stage, path, w, pieces, bound)
-    idx = np.flatnonzero(pieces == 0)
-    if idx.size:
-        rtol = ode_rtol(tol)
-        k = prepare_at(ins, steps, idx, body, particle_slip)
-        e_o, st_o, pa_o, _, _ = ode_batch(*k[:13], details=False, rtol=rtol,
-                                          atol=1e-2 * rtol, **ODE_STEPS)
-        e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
+    rtol = ode_rtol(tol)
+    parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol, rtol,
+                    1e-2 * rtol, float(ODE_STEPS["first_step"]), float(ODE_STEPS["max_step"]),
+                    float(ODE_STEPS["first_change"]), e_w, stage, path, w, pieces)
+    if pieces.min() < 0:
+        bad = int(np.flatnonzero(pieces < 0)[0])
+        raise RuntimeError(
+            f"ode: collision {bad} needed more than {MAX_STEPS} steps in one stage "
+            f"(w = {w[bad]!r} m/s); loosen tol = {tol!r}"
+        )
     if return_pieces:
         return e_w, stage, path, w, pieces
     return e_w, stage, path, w
