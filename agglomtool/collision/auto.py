@@ -641,7 +641,8 @@ def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
             # "ode" here, on the numbers just prepared (what ode_batch does with them).
             ew, sg, pa, _, status = ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
                                                w, fn_i, fn_j, e, empty, rtol, atol, False,
-                                               True, h_first, h_max, first_change)
+                                               True, h_first, h_max, first_change,
+                                               ODE_K_ERROR_PER_RTOL * rtol)
             if status != 0:
                 nq = -1
         e_w[q] = ew
@@ -748,7 +749,8 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         rtol = ode_rtol(tol)
         sub = [np.ascontiguousarray(a[idx]) for a in args]
         e_o, st_o, pa_o, det_o, _ = ode_batch(*sub, details=details, rtol=rtol,
-                                              atol=1e-2 * rtol, **ODE_STEPS)
+                                              atol=1e-2 * rtol, **ODE_STEPS,
+                                              stick_margin=ODE_K_ERROR_PER_RTOL * rtol)
         e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
         bound[idx] = ode_bound(e_o, rtol)
         if details:
