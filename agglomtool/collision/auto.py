@@ -127,7 +127,7 @@ from ._codes import (
     W_VOLCORR,
 )
 from ._jit import CACHE, parallel_launch
-from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts, rupture_distance
+from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts
 from .fused import _one
 from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
@@ -228,19 +228,42 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
     :func:`~.relative.relative_kernel` written out with the same arithmetic, each ``ln f``
     difference, capillary work and the rupture gap computed once for both the outcome and
     the indicator. Bitwise the same ``(e_w, stage, path, g)`` (tested)."""
-    m_r, _, _ = reduced_mass(m_i, m_j)
     if not H0 > Ha:
         if e > 0.0:
             return e, REBOUND, P_NO_BRIDGE, 0.0
         return 0.0, CONTACT, P_NO_BRIDGE, 0.0
+    return _whole_at(w, e, theta, mu_l, gamma,
+                     _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
+
+
+@njit(cache=CACHE)
+def _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
+    """What :func:`closed_form_indicator_lean` computes independently of the speed, for a
+    collision with ``H0 > Ha``: the reduced mass, ``a^2``, the force constants, the parts of
+    ``ln f(Ha)`` (:func:`~.bridge.ln_f_parts`), the approach's ``c Delta``, capillary and
+    body losses and the cube root of the bridge volume (:func:`_decide` evaluates the
+    closed forms at two speeds)."""
+    m_r, _, _ = reduced_mass(m_i, m_j)
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
     kcap = 2.0 * math.pi * gamma * r * cos_t
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
-    k0 = 0.5 * m_r * w * w
-    c_delta = c * -ln_f_diff(H0, Ha, a2)
+    k_h0, v_h0 = ln_f_parts(H0, a2)
+    k_ha, v_ha = ln_f_parts(Ha, a2)
+    # c * -ln_f_diff(H0, Ha, a2), as ln_f_diff_from forms it
+    c_delta = c * -((v_ha - v_h0) + (k_h0 - k_ha) * _LN4)
     l_cap = kcap * g_diff(H0, Ha, a2)
     l_bdw = -f_b * (H0 - Ha)
+    vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)
+    return m_r, a2, c, kcap, f_b, H0, Ha, k_ha, v_ha, c_delta, l_cap, l_bdw, vol3
+
+
+@njit(cache=CACHE)
+def _whole_at(w, e, theta, mu_l, gamma, parts):
+    """:func:`closed_form_indicator_lean` at the speed ``w`` from the collision's ``parts``
+    (:func:`_whole_parts`)."""
+    m_r, a2, c, kcap, f_b, H0, Ha, k_ha, v_ha, c_delta, l_cap, l_bdw, vol3 = parts
+    k0 = 0.5 * m_r * w * w
     if not c_delta < m_r * w:
         return 0.0, APP_VIS, 0, math.inf
     k_app = k0 - l_cap - _viscous_loss(w, m_r, c_delta) - l_bdw
@@ -250,7 +273,8 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
     if not w_s > 0.0:
         return 0.0, CONTACT, 0, math.inf
     k_s = 0.5 * m_r * w_s * w_s
-    h_rupt = rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2))
+    # rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2)), cube root done once
+    h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(mu_l * w_s / gamma)) * vol3
     path = 0
     sep = h_rupt > Ha
     c_delta_s = 0.0
@@ -259,7 +283,8 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
         path |= P_BROKEN
         k_end = k_s
     else:
-        c_delta_s = c * ln_f_diff(Ha, h_rupt, a2)
+        k_hr, v_hr = ln_f_parts(h_rupt, a2)
+        c_delta_s = c * ((v_hr - v_ha) + (k_ha - k_hr) * _LN4)  # c * ln_f_diff(Ha, h_rupt)
         l_cap_s = kcap * g_diff(Ha, h_rupt, a2)
         if not c_delta_s < m_r * w_s:
             return 0.0, SEP_VIS, path, math.inf
@@ -571,23 +596,24 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
     bound)`` with ``pieces`` 1 (the closed forms on whole stages), one of :data:`PIECES`
     (the piecewise closed forms) or 0 ("ode": the outcome returned is then the closed
     forms', to be replaced). ``empty`` is any array of length 0."""
-    ew, st, pa, g = closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                               theta, w, fn_i, fn_j, e)
+    if not H0 > Ha:
+        if e > 0.0:
+            return e, REBOUND, P_NO_BRIDGE, 1, 0.0
+        return 0.0, CONTACT, P_NO_BRIDGE, 1, 0.0
+    # closed_form_indicator_lean, its speed-independent part kept for a second speed
+    whole = _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j)
+    ew, st, pa, g = _whole_at(w, e, theta, mu_l, gamma, whole)
     if ew > 0.0:
         b = CLOSED_FORM_BOUND * g
         if g <= G_MAX and b <= tol:
             return ew, st, pa, 1, b
-    elif not H0 > Ha:
-        return ew, st, pa, 1, 0.0
     else:
         # Stick: trust it if the closed forms still stick at STICK_MARGIN x the speed (the
         # same closed forms as relative_kernel, bitwise, tested, without a details array).
-        ew2, _, _, _ = closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                                  theta, w * STICK_MARGIN, fn_i, fn_j, e)
+        ew2, _, _, _ = _whole_at(w * STICK_MARGIN, e, theta, mu_l, gamma, whole)
         if not ew2 > 0.0:
             return ew, st, pa, 1, 0.0
     rebound = ew > 0.0
-    # H0 > Ha here (else the whole stages' bound is 0, or their stick is returned above).
     parts = _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j)
     assisted = parts[6] < 0.0  # the relative body force pulls the pair apart
     for i in range(len(PIECES)):
