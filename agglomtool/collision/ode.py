@@ -124,6 +124,12 @@ def _rhs(y, k, sigma, a2, kc, fb, vis, volcorr):
     ``vis = 2 c / (m_r w)`` [-]."""
     D = math.exp(y)
     x = volume_correction(D, a2) if volcorr else 1.0
+    return _rhs_at(D, x, k, sigma, kc, fb, vis)
+
+
+@njit(cache=CACHE)
+def _rhs_at(D, x, k, sigma, kc, fb, vis):
+    """:func:`_rhs` at the gap ``D`` with its volume correction ``x``."""
     return -D * (kc * x + fb) + sigma * vis * x * x * math.sqrt(max(k, 0.0))
 
 
@@ -131,7 +137,8 @@ def _rhs(y, k, sigma, a2, kc, fb, vis, volcorr):
 def _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
     """One Dormand-Prince 5(4) step from ``(y, k)`` of size ``h`` with ``f1 = dk/dy`` there.
 
-    Returns ``(k5, k5 - k4, dk/dy at the new point)`` (the last is the next step's ``f1``).
+    Returns ``(k5, k5 - k4, dk/dy at the new point, the gap there)`` (the third is the
+    next step's ``f1``; the last two stages share the new point's gap).
     """
     f2 = _rhs(y + h / 5.0, k + h * (f1 / 5.0), sigma, a2, kc, fb, vis, volcorr)
     f3 = _rhs(y + 0.3 * h, k + h * (3.0 / 40.0 * f1 + 9.0 / 40.0 * f2),
@@ -144,19 +151,21 @@ def _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
                  - 212.0 / 729.0 * f4),
         sigma, a2, kc, fb, vis, volcorr,
     )
-    f6 = _rhs(
-        y + h,
+    d_new = math.exp(y + h)
+    x_new = volume_correction(d_new, a2) if volcorr else 1.0
+    f6 = _rhs_at(
+        d_new, x_new,
         k + h * (9017.0 / 3168.0 * f1 - 355.0 / 33.0 * f2 + 46732.0 / 5247.0 * f3
                  + 49.0 / 176.0 * f4 - 5103.0 / 18656.0 * f5),
-        sigma, a2, kc, fb, vis, volcorr,
+        sigma, kc, fb, vis,
     )
     k5 = k + h * (35.0 / 384.0 * f1 + 500.0 / 1113.0 * f3 + 125.0 / 192.0 * f4
                   - 2187.0 / 6784.0 * f5 + 11.0 / 84.0 * f6)
-    f7 = _rhs(y + h, k5, sigma, a2, kc, fb, vis, volcorr)
+    f7 = _rhs_at(d_new, x_new, k5, sigma, kc, fb, vis)
     # b5 - b4 of the embedded pair
     err = h * (71.0 / 57600.0 * f1 - 71.0 / 16695.0 * f3 + 71.0 / 1920.0 * f4
                - 17253.0 / 339200.0 * f5 + 22.0 / 525.0 * f6 - 1.0 / 40.0 * f7)
-    return k5, err, f7
+    return k5, err, f7, d_new
 
 
 @njit(cache=CACHE)
@@ -238,7 +247,7 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
     while steps < MAX_STEPS:
         if direction * (y + h - y1) > 0.0:
             h = y1 - y
-        k_new, err, f_new = _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr)
+        k_new, err, f_new, d_new = _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr)
         scale = atol + rtol * max(abs(k), abs(k_new))
         ratio = abs(err) / scale
         if ratio > 1.0:
@@ -251,7 +260,8 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
             k_hi = k_new
             for _ in range(60):
                 mid = 0.5 * (lo + hi)
-                k_mid, _, _ = _dp_step(y, k, mid * h, f1, sigma, a2, kc, fb, vis, volcorr)
+                k_mid, _, _, _ = _dp_step(y, k, mid * h, f1, sigma, a2, kc, fb, vis,
+                                          volcorr)
                 if k_mid > 0.0 and y + mid * h >= _rupture_gap_log(
                     theta, ca_per_sqrtk, vol, k_mid
                 ):
@@ -270,12 +280,14 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
             return 0.0, y, _STOPPED, steps
         if direction * (y - y1) >= 0.0:
             return k, y1, _REACHED, steps
-        if need >= 0.0 and _cannot_rebound(math.exp(y), k, a2, kc, fb, vis, e2, need):
+        # d_new = exp(y) here (y advanced by h: the same sum as in the step)
+        if need >= 0.0 and _cannot_rebound(d_new, k, a2, kc, fb, vis, e2, need):
             return k, y, _CANNOT, steps
-        if stick_margin >= 0.0 and _must_stick(math.exp(y), k + stick_margin, h_end, a2, kc,
-                                               fb, vis, lnf_end, pulls):
+        if stick_margin >= 0.0 and _must_stick(d_new, k + stick_margin, h_end, a2, kc, fb,
+                                               vis, lnf_end, pulls):
             return 0.0, y, _STOPPED, steps
-        factor = 5.0 if ratio == 0.0 else min(5.0, max(0.2, 0.9 * ratio ** -0.2))
+        # 0.9 ratio^-0.2 exceeds 5 below ratio = 1.8e-4 (5.05 there): no power needed.
+        factor = 5.0 if ratio <= 1.8e-4 else min(5.0, max(0.2, 0.9 * ratio ** -0.2))
         h *= factor
         if abs(h) > h_max:
             h = direction * h_max
