@@ -335,7 +335,7 @@ def _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
 
 @njit(cache=CACHE, error_model="numpy")
 def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s, k2, val2,
-                  s_e, a):
+                  s_e, a, indicator=True):
     """One liquid stage from gap ``d_s`` to ``d_e`` in ``n`` pieces of equal ``ln f``
     (module docstring), entering with kinetic energy ``k`` [J] at speed ``v`` [m/s].
 
@@ -358,7 +358,8 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s,
 
     The parts of the ends (``(k1, val1, s_s, om_s)`` of ``d_s`` and ``(k2, val2)``,
     ``s_e`` of ``d_e``, see :func:`_gap_parts`) and ``a = sqrt(a2)`` are computed by the
-    caller, once per collision where they do not depend on the speed.
+    caller, once per collision where they do not depend on the speed. ``indicator`` False
+    skips ``eta`` and ``clear`` (returned as 0 and True) where only the outcome is wanted.
     """
     # ln f(d_e) - ln f(d_s) as ln_f_diff_from forms it.
     delta = abs((val2 - val1) + (k1 - k2) * _LN4)
@@ -415,10 +416,13 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s,
         if not cd < m_r * v:
             return 0.0, 1, l_cap + lc, l_vis, l_bdw + lb, math.inf, False
         lv = cd * (v - 0.5 * dv)
-        k_lo = k - max(lc, 0.0) - lv - max(lb, 0.0)
+        k_lo = 0.0
+        if indicator:
+            k_lo = k - max(lc, 0.0) - lv - max(lb, 0.0)
         k = k - lc - lv - lb
-        k_lo = max(k_lo, k + min(lc, 0.0) + min(lb, 0.0))
-        eta += cd / (m_r * (v - dv)) * (abs(lc) + fb_abs * abs(d_prev - d))
+        if indicator:
+            k_lo = max(k_lo, k + min(lc, 0.0) + min(lb, 0.0))
+            eta += cd / (m_r * (v - dv)) * (abs(lc) + fb_abs * abs(d_prev - d))
         l_cap += lc
         l_vis += lv
         l_bdw += lb
@@ -429,7 +433,7 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s,
         # losses and at least its end less the gains (k_lo): the piece is clear of an
         # energy minimum near 0 between its ends when k_lo exceeds the indicator summed
         # so far.
-        if not k_lo > eta:
+        if indicator and not k_lo > eta:
             clear = False
         if j < n:
             v = math.sqrt(k * two_per_m)
@@ -471,9 +475,10 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
 
 
 @njit(cache=CACHE)
-def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts):
+def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
     """:func:`piecewise_kernel` with ``H0 > Ha`` from the collision's ``parts``
-    (:func:`_collision_parts`)."""
+    (:func:`_collision_parts`); ``indicator`` False: the outcome only (``g`` and ``clear``
+    then mean nothing; :func:`_stage_pieces`)."""
     (m_r, frac_i, frac_j, a2, c, kcap, f_b, a, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha,
      om_ha, vol3) = parts
     nan = math.nan
@@ -488,7 +493,8 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts):
         det[K_INI_J] = frac_i * k0
         det[ST_APP] = m_r * w / c
     k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(
-        k0, w, H0, Ha, a2, m_r, c, kcap, f_b, n, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha, a)
+        k0, w, H0, Ha, a2, m_r, c, kcap, f_b, n, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha, a,
+        indicator)
     if want:
         det[L_CAP_APP] = l_cap
         det[L_BDW_APP_I] = frac_j * l_bdw
@@ -529,7 +535,7 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts):
                 k_hr, v_hr = ln_f_parts(h_rupt, a2)
                 k_end, code, l_cap, l_vis, l_bdw, eta_s, clear_s = _stage_pieces(
                     k_s, w_s, Ha, h_rupt, a2, m_r, c, kcap, f_b, n, k_ha, v_ha, s_ha, om_ha,
-                    k_hr, v_hr, math.sqrt(h_rupt * h_rupt + a2), a)
+                    k_hr, v_hr, math.sqrt(h_rupt * h_rupt + a2), a, indicator)
                 eta = eta + eta_s
                 clear = clear and clear_s
                 if want:
@@ -628,7 +634,7 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
             # rebound there ends this count; measured on the benchmark batch: no stick of
             # the whole stages became a rebound of the pieces with a passing bound).
             ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
-                                           empty, parts)
+                                           empty, parts, False)
             if ew2 > 0.0 or (st2 == SEP_VIS and assisted):
                 continue
         ew_n, st_n, pa_n, g_n, clear = _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, empty,
@@ -645,7 +651,7 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
             if not rebound:
                 return ew_n, st_n, pa_n, n, 0.0
             ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
-                                           empty, parts)
+                                           empty, parts, False)
             if not ew2 > 0.0 and not (st2 == SEP_VIS and assisted):
                 return ew_n, st_n, pa_n, n, 0.0
     return ew, st, pa, 0, 0.0
