@@ -143,6 +143,7 @@ __all__ = [
     "DEFAULT_TOL",
     "TIER_RELATIVE",
     "TIER_ODE",
+    "ode_options",
 ]
 
 #: Measured 0.119 (see the module docstring), with a safety factor 1.7.
@@ -656,7 +657,7 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
 
 @njit(parallel=True, cache=CACHE)
 def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max, first_change,
-                  e_w, stage, path, w_out, pieces):
+                  stick_margin, e_w, stage, path, w_out, pieces):
     empty = np.empty(0)
     for q in prange(e_w.shape[0]):
         m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, q, body,
@@ -671,7 +672,7 @@ def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
             ew, sg, pa, _, status = ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
                                                w, fn_i, fn_j, e, empty, rtol, atol, False,
                                                True, h_first, h_max, first_change,
-                                               ODE_K_ERROR_PER_RTOL * rtol)
+                                               stick_margin)
             if status != 0:
                 nq = -1
         e_w[q] = ew
@@ -693,10 +694,10 @@ def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_piece
     path = np.empty(n, dtype=np.int8)
     w = np.empty(n)
     pieces = np.empty(n, dtype=np.int8)
-    rtol = ode_rtol(tol)
-    parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol, rtol,
-                    1e-2 * rtol, float(ODE_STEPS["first_step"]), float(ODE_STEPS["max_step"]),
-                    float(ODE_STEPS["first_change"]), e_w, stage, path, w, pieces)
+    o = ode_options(ode_rtol(tol))
+    parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol,
+                    o["rtol"], o["atol"], o["first_step"], o["max_step"], o["first_change"],
+                    o["stick_margin"], e_w, stage, path, w, pieces)
     if pieces.min() < 0:
         bad = int(np.flatnonzero(pieces < 0)[0])
         raise RuntimeError(
@@ -714,6 +715,20 @@ def ode_rtol(tol):
     below ``tol^2``, since near the critical speed an error ``dk`` in ``k = e_w^2`` moves
     ``e_w`` by up to ``sqrt(dk)``."""
     return min(ODE_RTOL_MAX, tol * tol / ODE_K_ERROR_PER_RTOL)
+
+
+def ode_options(rtol):
+    """The keywords of :func:`~.ode.ode_batch` for the "ode" tier inside "auto" at ``rtol``:
+    ``atol = 1e-2 rtol``, :data:`ODE_STEPS`, and the stick stop of the separation with the
+    error bound in ``k`` as its margin (``ODE_K_ERROR_PER_RTOL rtol``): the separation ends
+    as a stick once the pair would stick even with that much more energy, so that a pair
+    stopped there sticks in the exact integration too, as long as the integration error is
+    within that bound (tested on pairs near the critical speed)."""
+    rtol = float(rtol)
+    return dict(rtol=rtol, atol=1e-2 * rtol, first_step=float(ODE_STEPS["first_step"]),
+                max_step=float(ODE_STEPS["max_step"]),
+                first_change=float(ODE_STEPS["first_change"]),
+                stick_margin=ODE_K_ERROR_PER_RTOL * rtol)
 
 
 def ode_bound(e_w, rtol):
@@ -777,9 +792,7 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     if idx.size:
         rtol = ode_rtol(tol)
         sub = [np.ascontiguousarray(a[idx]) for a in args]
-        e_o, st_o, pa_o, det_o, _ = ode_batch(*sub, details=details, rtol=rtol,
-                                              atol=1e-2 * rtol, **ODE_STEPS,
-                                              stick_margin=ODE_K_ERROR_PER_RTOL * rtol)
+        e_o, st_o, pa_o, det_o, _ = ode_batch(*sub, details=details, **ode_options(rtol))
         e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
         bound[idx] = ode_bound(e_o, rtol)
         if details:
