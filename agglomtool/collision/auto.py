@@ -82,9 +82,8 @@ capillary and body work left to the rupture gap or, where those forces pull the 
 all the way, by the bound on the speed they and viscosity leave (:func:`~.ode._must_stick`).
 A pair stopped there sticks in the exact integration too; it saves 3.1 of the 18.4 steps
 of a stick on the benchmark batch's integrated share (38 % of the sticks' steps on mixed
-pairs at 0.9-1.1 ``u0*``) and changes no other outcome (tested). Its error is measured in ``k = e_w^2``, the quantity the
-integration controls:
-the largest ``|k - k(ode)| / rtol`` against ``rtol = 1e-10`` was 2.3, 2.9 and 0.77 at
+pairs at 0.9-1.1 ``u0*``) and changes no other outcome (tested). Its error is measured in
+``k = e_w^2``, the quantity the integration controls: the largest ``|k - k(ode)| / rtol`` against ``rtol = 1e-10`` was 2.3, 2.9 and 0.77 at
 ``rtol`` 1e-7, 1e-6 and 1e-5 (0.78 at 1e-4, not used), with no outcome flipped (the same
 with the stick stop, 14.0 instead of 14.5 steps per collision at 1e-5); on the
 fidelity suite 1.6, 1.3, 0.87; on 2e5 collisions of the mixed benchmark batch 2.4 and 1.0
