@@ -141,7 +141,7 @@ from ._codes import (
     W_VOLCORR,
 )
 from ._jit import CACHE, parallel_launch
-from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts, rupture_distance
+from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts
 from .fused import _one
 from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
@@ -268,14 +268,15 @@ def _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
     c_delta = c * -((v_ha - v_h0) + (k_h0 - k_ha) * _LN4)
     l_cap = kcap * g_diff(H0, Ha, a2)
     l_bdw = -f_b * (H0 - Ha)
-    return m_r, a2, c, kcap, f_b, H0, Ha, r, k_ha, v_ha, c_delta, l_cap, l_bdw
+    vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)
+    return m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw
 
 
 @njit(cache=CACHE, inline="always")
 def _whole_at(w, e, theta, mu_l, gamma, parts):
     """:func:`closed_form_indicator_lean` at the speed ``w`` from the collision's ``parts``
     (:func:`_whole_parts`)."""
-    m_r, a2, c, kcap, f_b, H0, Ha, r, k_ha, v_ha, c_delta, l_cap, l_bdw = parts
+    m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw = parts
     k0 = 0.5 * m_r * w * w
     if not c_delta < m_r * w:
         return 0.0, APP_VIS, 0, math.inf
@@ -286,7 +287,8 @@ def _whole_at(w, e, theta, mu_l, gamma, parts):
     if not w_s > 0.0:
         return 0.0, CONTACT, 0, math.inf
     k_s = 0.5 * m_r * w_s * w_s
-    h_rupt = rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2))
+    # rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2)), cube root done once
+    h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(mu_l * w_s / gamma)) * vol3
     path = 0
     sep = h_rupt > Ha
     c_delta_s = 0.0
