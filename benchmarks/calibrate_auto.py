@@ -139,7 +139,7 @@ def piecewise_critical_ratios(arrs, factor):
 
 
 def main():
-    from agglomtool.collision.auto import ODE_STEPS, closed_form_indicator_lean
+    from agglomtool.collision.auto import ODE_STEPS, closed_form_indicator_lean, ode_options
     from agglomtool.collision.ode import ode_batch
     from agglomtool.collision.relative import run_relative
 
@@ -160,11 +160,11 @@ def main():
             print(f"  g in [{lo:g}, {hi:g}): {ratio[m].max():.3f} ({m.sum()} rebounds)")
     piecewise_envelope(arrs, truth)
     piecewise_critical_ratios(arrs, factor)
-    print(f"ode inside auto (steps {ODE_STEPS}): largest |k - k(ode)| / rtol "
+    print(f"ode inside auto (steps {ODE_STEPS}, stick stop): largest |k - k(ode)| / rtol "
           "with k = e_w^2, and largest |e_w - e_w(ode)|")
     k_t = truth * truth
     for rtol in RTOLS:
-        e_l, _, _, _, steps = ode_batch(*arrs, rtol=rtol, atol=1e-2 * rtol, **ODE_STEPS)
+        e_l, _, _, _, steps = ode_batch(*arrs, **ode_options(rtol))
         dk = np.abs(e_l * e_l - k_t)
         flips = int(np.sum((e_l > 0) != (truth > 0)))
         print(f"  rtol {rtol:g}: {dk.max() / rtol:.3g}; e_w {np.abs(e_l - truth).max():.3g}; "

@@ -19,6 +19,7 @@ from agglomtool.collision.auto import (
     TIER_ODE,
     auto_batch,
     ode_bound,
+    ode_options,
     ode_rtol,
 )
 from agglomtool.collision.ode import ode_batch
@@ -87,7 +88,7 @@ def test_loose_ode_stays_within_its_bound_in_k_near_u0(hard, tol):
     step cap, ``rtol = 1e-5`` erred by up to 190 ``rtol`` in ``k`` near ``u0*``."""
     args, truth = hard
     rtol = ode_rtol(tol)
-    e_w = ode_batch(*args, rtol=rtol, atol=1e-2 * rtol, **ODE_STEPS)[0]
+    e_w = ode_batch(*args, **ode_options(rtol))[0]
     dk = np.abs(e_w * e_w - truth * truth)
     assert dk.max() <= ODE_K_ERROR_PER_RTOL * rtol
     bound = ode_bound(e_w, rtol)
@@ -138,3 +139,38 @@ def test_mode_ode_keeps_its_step_settings():
                 dict(first_change=0.0)):
         with pytest.raises(ValueError, match="first_step"):
             ode_batch(*args, **bad)
+
+
+@pytest.fixture(scope="module")
+def both_sides():
+    """Mixed pairs at 0.9-1.1 times their critical speed: sticks and rebounds near it."""
+    args = near_threshold_inputs(120, 7, np.geomspace(0.9, 1.1, 12))
+    return args, ode_batch(*args)[0]
+
+
+@pytest.mark.parametrize("tol", [0.01, 0.003])
+def test_stick_stop_ends_only_pairs_that_stick(both_sides, tol):
+    """The separation's stick stop of auto's integration (``ode_options``) ends a stage only
+    where the pair sticks in the truth: near ``u0*``, on both sides of it, every pair it
+    stopped early sticks in mode "ode" at rtol 1e-10, every other pair keeps the plain loose
+    integration's outcome bitwise, and it does stop pairs (fewer steps)."""
+    args, truth = both_sides
+    opts = ode_options(ode_rtol(tol))
+    plain = dict(opts, stick_margin=None)
+    e_s, st_s, _, _, n_s = ode_batch(*args, **opts)
+    e_p, st_p, _, _, n_p = ode_batch(*args, **plain)
+    stopped = n_s < n_p
+    assert np.all(n_s <= n_p)
+    assert stopped.sum() >= 50
+    assert np.all(e_s[stopped] == 0.0) and np.all(truth[stopped] == 0.0)
+    np.testing.assert_array_equal(e_s[~stopped], e_p[~stopped])
+    np.testing.assert_array_equal(st_s[~stopped], st_p[~stopped])
+    # Both sides of the threshold are in the set, and the stop stays within auto's bound.
+    assert np.sum(truth == 0.0) >= 100 and np.sum(truth > tol) >= 100
+    assert np.all(np.abs(e_s - truth) <= ode_bound(e_s, opts["rtol"]))
+
+
+def test_stick_stop_refuses_a_negative_margin():
+    args = near_threshold_inputs(n_scenes=2, seed=11)
+    with pytest.raises(ValueError, match="stick_margin"):
+        ode_batch(*args, stick_margin=-1e-6)

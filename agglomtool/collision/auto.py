@@ -76,14 +76,28 @@ the thresholds at a viscous stop against a pulling-apart body force (63-77 of th
 scenes), 1.0165, 1.0103, 1.0063 and 1.0037 at 4, 8, 16 and 32 pieces.
 
 The integrated tier inside "auto" runs with :data:`ODE_STEPS` (steps capped at 1 in
-``ln D``). Its error is measured in ``k = e_w^2``, the quantity the integration controls:
-the largest ``|k - k(ode)| / rtol`` against ``rtol = 1e-10`` was 2.3, 2.9 and 0.77 at
-``rtol`` 1e-7, 1e-6 and 1e-5 (0.78 at 1e-4, not used), with no outcome flipped; on the
-fidelity suite 1.6, 1.3, 0.87; on 2e5 collisions of the mixed benchmark batch 2.4 and 1.0
-at 1e-6 and 1e-5. With mode "ode"'s own first step and no cap the same ratio was 90-190:
-the error estimate of the embedded pair is only asymptotic and was fooled by steps of
-several units of ``ln D``, which put ``e_w`` off by up to 0.015 at ``rtol = 1e-5`` just
-above the critical speed. The constants below add a safety factor to each.
+``ln D``) and a stick stop (:func:`ode_options`): the separation ends as a stick as soon as
+the pair would stick even with :data:`ODE_K_ERROR_PER_RTOL` ``rtol`` more energy, by the
+capillary and body work left to the rupture gap or, where those forces pull the pair back
+all the way, by the bound on the speed they and viscosity leave (:func:`~.ode._must_stick`).
+A pair stopped there sticks in the exact integration too; it saves 3.1 of the 18.4 steps
+of a stick on the benchmark batch's integrated share (38 % of the sticks' steps on mixed
+pairs at 0.9-1.1 ``u0*``) and changes no other outcome (tested). Its error is measured in
+``k = e_w^2``, the quantity the integration controls: the largest ``|k - k(ode)| / rtol``
+against ``rtol = 1e-10`` was 2.3, 2.9 and 0.77 at ``rtol`` 1e-7, 1e-6 and 1e-5 (0.78 at
+1e-4, not used), with no outcome flipped (the same with the stick stop, 14.0 instead of
+14.5 steps per collision at 1e-5); on the fidelity suite 1.6, 1.3, 0.87; on the benchmark
+batch's integrated share (21 675 of 1e6 collisions) 0.94 at 1e-5 and 6.6 at 1e-6. Not
+everywhere: on a 2e5-collision batch drawn as the benchmark's, three slag rebounds
+(``e_w`` 0.15-0.31) erred by up to 378 ``rtol`` at 1e-5 (``e_w`` off by 0.006; a step of
+1 in ``ln D`` across their fast viscous decay fooled the estimate), but "auto" gives them
+to the whole-stage closed forms (its error there at most 1.2e-5, and within its reported
+bound on all 2e5); and at 1e-7 pairs whose energy dips to about 0 inside the bridge reach
+119 ``rtol`` (``e_w`` 0 against 0.0035), where the reference itself changes between stick
+and rebound with its tolerance. With mode "ode"'s own first step and no cap the ratio was
+90-190 on the calibration set: the error estimate of the embedded pair is only asymptotic
+and was fooled by steps of several units of ``ln D``, which put ``e_w`` off by up to 0.015
+at ``rtol = 1e-5`` just above the critical speed. The constants below add a safety factor to each.
 """
 
 from __future__ import annotations
@@ -127,9 +141,9 @@ from ._codes import (
     W_VOLCORR,
 )
 from ._jit import CACHE, parallel_launch
-from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_diff_from, ln_f_parts, rupture_distance
-from .fused import _one, prepare_at
-from .ode import ode_batch
+from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts
+from .fused import _one
+from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
 from .paper import _viscous_loss
 from .relative import reduced_mass, relative_body_force, relative_kernel, term_work_fractions
@@ -143,6 +157,7 @@ __all__ = [
     "DEFAULT_TOL",
     "TIER_RELATIVE",
     "TIER_ODE",
+    "ode_options",
 ]
 
 #: Measured 0.119 (see the module docstring), with a safety factor 1.7.
@@ -228,19 +243,41 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
     :func:`~.relative.relative_kernel` written out with the same arithmetic, each ``ln f``
     difference, capillary work and the rupture gap computed once for both the outcome and
     the indicator. Bitwise the same ``(e_w, stage, path, g)`` (tested)."""
-    m_r, _, _ = reduced_mass(m_i, m_j)
     if not H0 > Ha:
         if e > 0.0:
             return e, REBOUND, P_NO_BRIDGE, 0.0
         return 0.0, CONTACT, P_NO_BRIDGE, 0.0
+    return _whole_at(w, e, theta, mu_l, gamma,
+                     _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
+
+
+@njit(cache=CACHE, inline="always")
+def _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
+    """What :func:`closed_form_indicator_lean` computes independently of the speed, for a
+    collision with ``H0 > Ha``: the reduced mass, ``a^2``, the force constants, the parts of
+    ``ln f(Ha)`` (:func:`~.bridge.ln_f_parts`), the approach's ``c Delta``, capillary and
+    body losses (:func:`_decide` evaluates the closed forms at two speeds)."""
+    m_r, _, _ = reduced_mass(m_i, m_j)
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
     kcap = 2.0 * math.pi * gamma * r * cos_t
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
-    k0 = 0.5 * m_r * w * w
-    c_delta = c * -ln_f_diff(H0, Ha, a2)
+    k_h0, v_h0 = ln_f_parts(H0, a2)
+    k_ha, v_ha = ln_f_parts(Ha, a2)
+    # c * -ln_f_diff(H0, Ha, a2), as ln_f_diff_from forms it
+    c_delta = c * -((v_ha - v_h0) + (k_h0 - k_ha) * _LN4)
     l_cap = kcap * g_diff(H0, Ha, a2)
     l_bdw = -f_b * (H0 - Ha)
+    vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)
+    return m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw
+
+
+@njit(cache=CACHE, inline="always")
+def _whole_at(w, e, theta, mu_l, gamma, parts):
+    """:func:`closed_form_indicator_lean` at the speed ``w`` from the collision's ``parts``
+    (:func:`_whole_parts`)."""
+    m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw = parts
+    k0 = 0.5 * m_r * w * w
     if not c_delta < m_r * w:
         return 0.0, APP_VIS, 0, math.inf
     k_app = k0 - l_cap - _viscous_loss(w, m_r, c_delta) - l_bdw
@@ -250,7 +287,8 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
     if not w_s > 0.0:
         return 0.0, CONTACT, 0, math.inf
     k_s = 0.5 * m_r * w_s * w_s
-    h_rupt = rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2))
+    # rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2)), cube root done once
+    h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(mu_l * w_s / gamma)) * vol3
     path = 0
     sep = h_rupt > Ha
     c_delta_s = 0.0
@@ -259,7 +297,8 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
         path |= P_BROKEN
         k_end = k_s
     else:
-        c_delta_s = c * ln_f_diff(Ha, h_rupt, a2)
+        k_hr, v_hr = ln_f_parts(h_rupt, a2)
+        c_delta_s = c * ((v_hr - v_ha) + (k_ha - k_hr) * _LN4)  # c * ln_f_diff(Ha, h_rupt)
         l_cap_s = kcap * g_diff(Ha, h_rupt, a2)
         if not c_delta_s < m_r * w_s:
             return 0.0, SEP_VIS, path, math.inf
@@ -280,8 +319,37 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
 _LN4 = math.log(4.0)
 
 
+@njit(cache=CACHE)
+def _gap_parts(d, a2):
+    """What a stage needs of a gap ``d`` that is an end of it: ``(kind, value)`` of
+    :func:`~.bridge.ln_f_parts`, ``s = sqrt(d^2 + a^2)`` and ``1 - 4 f = -expm1(v4)``
+    (:func:`_stage_pieces`)."""
+    kd, vd = ln_f_parts(d, a2)
+    return kd, vd, math.sqrt(d * d + a2), -math.expm1(vd if kd == 1 else vd + _LN4)
+
+
+@njit(cache=CACHE)
+def _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
+    """The quantities of one collision the piecewise closed forms need at every speed and
+    piece count, computed once (:func:`_decide` tries up to four of them): the masses, the
+    force constants, ``a``, the parts of ``H0`` and ``Ha`` (:func:`_gap_parts`) and the cube
+    root of the bridge volume (the rupture gap of Eq. 94 is that times factors of ``theta``
+    and ``Ca``, as in :func:`~.bridge.rupture_distance`, bitwise). ``H0 > Ha``."""
+    m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    kcap = 2.0 * math.pi * gamma * r * cos_t
+    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    k_h0, v_h0, s_h0, om_h0 = _gap_parts(H0, a2)
+    k_ha, v_ha, s_ha, om_ha = _gap_parts(Ha, a2)
+    vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)
+    return (m_r, frac_i, frac_j, a2, c, kcap, f_b, math.sqrt(a2), k_h0, v_h0, s_h0, om_h0,
+            k_ha, v_ha, s_ha, om_ha, vol3)
+
+
 @njit(cache=CACHE, error_model="numpy")
-def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
+def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s, k2, val2,
+                  s_e, a, indicator=True):
     """One liquid stage from gap ``d_s`` to ``d_e`` in ``n`` pieces of equal ``ln f``
     (module docstring), entering with kinetic energy ``k`` [J] at speed ``v`` [m/s].
 
@@ -301,31 +369,33 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
     exponential per piece; ``1 - p`` loses digits only relative to its start, where it
     is tiny). The pieces next to the stage's ends take the capillary work in
     the form of :func:`~.bridge.g_diff`.
+
+    The parts of the ends (``(k1, val1, s_s, om_s)`` of ``d_s`` and ``(k2, val2)``,
+    ``s_e`` of ``d_e``, see :func:`_gap_parts`) and ``a = sqrt(a2)`` are computed by the
+    caller, once per collision where they do not depend on the speed. ``indicator`` False
+    skips ``eta`` and ``clear`` (returned as 0 and True) where only the outcome is wanted.
     """
-    k1, val1 = ln_f_parts(d_s, a2)
-    delta = abs(ln_f_diff_from(k1, val1, d_e, a2))
+    # ln f(d_e) - ln f(d_s) as ln_f_diff_from forms it.
+    delta = abs((val2 - val1) + (k1 - k2) * _LN4)
     cd = c * (delta / n)
     dv = cd / m_r
     v4_s = 0.0
     dv4 = 0.0
-    a = 0.0
     p = 0.0
     one_m = 0.0
     ratio = 0.0
     em = 0.0
     if n > 1:
         v4_s = val1 if k1 == 1 else val1 + _LN4
-        k2, val2 = ln_f_parts(d_e, a2)
         dv4 = ((val2 if k2 == 1 else val2 + _LN4) - v4_s) / n
-        a = math.sqrt(a2)
         # p = 4 f and 1 - p from piece to piece by the step's factor exp(dv4) = 1 + em.
         em = math.expm1(dv4)
         ratio = 1.0 + em
-        one_m = -math.expm1(v4_s)
+        one_m = om_s
         p = 1.0 - one_m
     two_per_m = 2.0 / m_r
     d_prev = d_s
-    s_prev = math.sqrt(d_s * d_s + a2)
+    s_prev = s_s
     u_prev = d_s + s_prev
     sq_prev = 0.0
     l_cap = 0.0
@@ -337,7 +407,7 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
     for j in range(1, n + 1):
         if j == n:
             d = d_e
-            s = math.sqrt(d * d + a2)
+            s = s_e
             u = d + s
             sq = 0.0
         else:
@@ -360,10 +430,13 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
         if not cd < m_r * v:
             return 0.0, 1, l_cap + lc, l_vis, l_bdw + lb, math.inf, False
         lv = cd * (v - 0.5 * dv)
-        k_lo = k - max(lc, 0.0) - lv - max(lb, 0.0)
+        k_lo = 0.0
+        if indicator:
+            k_lo = k - max(lc, 0.0) - lv - max(lb, 0.0)
         k = k - lc - lv - lb
-        k_lo = max(k_lo, k + min(lc, 0.0) + min(lb, 0.0))
-        eta += cd / (m_r * (v - dv)) * (abs(lc) + fb_abs * abs(d_prev - d))
+        if indicator:
+            k_lo = max(k_lo, k + min(lc, 0.0) + min(lb, 0.0))
+            eta += cd / (m_r * (v - dv)) * (abs(lc) + fb_abs * abs(d_prev - d))
         l_cap += lc
         l_vis += lv
         l_bdw += lb
@@ -374,7 +447,7 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n):
         # losses and at least its end less the gains (k_lo): the piece is clear of an
         # energy minimum near 0 between its ends when k_lo exceeds the indicator summed
         # so far.
-        if not k_lo > eta:
+        if indicator and not k_lo > eta:
             clear = False
         if j < n:
             v = math.sqrt(k * two_per_m)
@@ -400,31 +473,42 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
     ``n = 1`` gives the ``(e_w, stage, path, g)`` of :func:`closed_form_indicator` bitwise
     (tested).
     """
-    nan = math.nan
-    want = det.shape[0] > 0
-    if want:
-        for q in range(det.shape[0]):
-            det[q] = nan
-    m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if not H0 > Ha:
-        if want:
+        nan = math.nan
+        if det.shape[0] > 0:
+            for q in range(det.shape[0]):
+                det[q] = nan
+            m_r, _, _ = reduced_mass(m_i, m_j)
             det[W_CONTACT] = w
             det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
             return e, REBOUND, P_NO_BRIDGE, 0.0, True
         return 0.0, CONTACT, P_NO_BRIDGE, 0.0, True
-    a2 = (H0 - Ha) * (H0 + Ha)
-    c = 1.5 * math.pi * mu_l * r * r
-    kcap = 2.0 * math.pi * gamma * r * cos_t
-    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    return _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det,
+                      _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
+
+
+@njit(cache=CACHE)
+def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
+    """:func:`piecewise_kernel` with ``H0 > Ha`` from the collision's ``parts``
+    (:func:`_collision_parts`); ``indicator`` False: the outcome only (``g`` and ``clear``
+    then mean nothing; :func:`_stage_pieces`)."""
+    (m_r, frac_i, frac_j, a2, c, kcap, f_b, a, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha,
+     om_ha, vol3) = parts
+    nan = math.nan
+    want = det.shape[0] > 0
+    if want:
+        for q in range(det.shape[0]):
+            det[q] = nan
     k0 = 0.5 * m_r * w * w
     h_rupt = nan
     if want:
         det[K_INI_I] = frac_j * k0
         det[K_INI_J] = frac_i * k0
         det[ST_APP] = m_r * w / c
-    k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(k0, w, H0, Ha, a2, m_r, c, kcap,
-                                                          f_b, n)
+    k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(
+        k0, w, H0, Ha, a2, m_r, c, kcap, f_b, n, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha, a,
+        indicator)
     if want:
         det[L_CAP_APP] = l_cap
         det[L_BDW_APP_I] = frac_j * l_bdw
@@ -451,7 +535,8 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
         else:
             k_s = 0.5 * m_r * w_s * w_s
             ca = mu_l * w_s / gamma
-            h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
+            # rupture_distance(theta, ca, bridge_volume(r, a2)), its cube root done once
+            h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * vol3
             if want:
                 det[K_SEP_I] = frac_j * k_s
                 det[K_SEP_J] = frac_i * k_s
@@ -461,8 +546,10 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
                 path |= P_BROKEN
                 k_end = k_s
             else:
+                k_hr, v_hr = ln_f_parts(h_rupt, a2)
                 k_end, code, l_cap, l_vis, l_bdw, eta_s, clear_s = _stage_pieces(
-                    k_s, w_s, Ha, h_rupt, a2, m_r, c, kcap, f_b, n)
+                    k_s, w_s, Ha, h_rupt, a2, m_r, c, kcap, f_b, n, k_ha, v_ha, s_ha, om_ha,
+                    k_hr, v_hr, math.sqrt(h_rupt * h_rupt + a2), a, indicator)
                 eta = eta + eta_s
                 clear = clear and clear_s
                 if want:
@@ -529,23 +616,26 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
     bound)`` with ``pieces`` 1 (the closed forms on whole stages), one of :data:`PIECES`
     (the piecewise closed forms) or 0 ("ode": the outcome returned is then the closed
     forms', to be replaced). ``empty`` is any array of length 0."""
-    ew, st, pa, g = closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                               theta, w, fn_i, fn_j, e)
+    if not H0 > Ha:
+        if e > 0.0:
+            return e, REBOUND, P_NO_BRIDGE, 1, 0.0
+        return 0.0, CONTACT, P_NO_BRIDGE, 1, 0.0
+    # closed_form_indicator_lean, its speed-independent part kept for a second speed
+    whole = _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j)
+    ew, st, pa, g = _whole_at(w, e, theta, mu_l, gamma, whole)
     if ew > 0.0:
         b = CLOSED_FORM_BOUND * g
         if g <= G_MAX and b <= tol:
             return ew, st, pa, 1, b
-    elif not H0 > Ha:
-        return ew, st, pa, 1, 0.0
     else:
         # Stick: trust it if the closed forms still stick at STICK_MARGIN x the speed (the
         # same closed forms as relative_kernel, bitwise, tested, without a details array).
-        ew2, _, _, _ = closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                                  theta, w * STICK_MARGIN, fn_i, fn_j, e)
+        ew2, _, _, _ = _whole_at(w * STICK_MARGIN, e, theta, mu_l, gamma, whole)
         if not ew2 > 0.0:
             return ew, st, pa, 1, 0.0
     rebound = ew > 0.0
-    assisted = relative_body_force(m_i, m_j, fn_i, fn_j) < 0.0
+    parts = _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j)
+    assisted = parts[6] < 0.0  # the relative body force pulls the pair apart
     for i in range(len(PIECES)):
         n = PIECES[i]
         # The pieces divide the indicator by about n (measured at least 1/n of the whole
@@ -557,13 +647,12 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
             # The whole stages stick within their margin: try the margin's speed first (a
             # rebound there ends this count; measured on the benchmark batch: no stick of
             # the whole stages became a rebound of the pieces with a passing bound).
-            ew2, st2, _, _, _ = piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                                 theta, w * margin, fn_i, fn_j, e, n, empty)
+            ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
+                                           empty, parts, False)
             if ew2 > 0.0 or (st2 == SEP_VIS and assisted):
                 continue
-        ew_n, st_n, pa_n, g_n, clear = piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma,
-                                                        cos_t, theta, w, fn_i, fn_j, e, n,
-                                                        empty)
+        ew_n, st_n, pa_n, g_n, clear = _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, empty,
+                                                  parts)
         if ew_n > 0.0:
             b = PIECEWISE_BOUND * g_n
             if clear and g_n <= G_MAX and b <= tol:
@@ -575,53 +664,62 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
             # of 2.5 %, the others 1.6 % at n = 4, 0.6 % at n = 16).
             if not rebound:
                 return ew_n, st_n, pa_n, n, 0.0
-            ew2, st2, _, _, _ = piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                                 theta, w * margin, fn_i, fn_j, e, n, empty)
+            ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
+                                           empty, parts, False)
             if not ew2 > 0.0 and not (st2 == SEP_VIS and assisted):
                 return ew_n, st_n, pa_n, n, 0.0
     return ew, st, pa, 0, 0.0
 
 
 @njit(parallel=True, cache=CACHE)
-def _choose_fused(ins, st, body, particle_slip, tol, e_w, stage, path, w_out, pieces,
-                  bound):
+def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max, first_change,
+                  stick_margin, e_w, stage, path, w_out, pieces):
     empty = np.empty(0)
     for q in prange(e_w.shape[0]):
         m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, q, body,
                                                                    particle_slip)
-        ew, sg, pa, nq, b = _decide(m_i, m_j, r, H0, Ha, ins[8][q * st[8]],
-                                    ins[9][q * st[9]], cos_t, theta, w, fn_i, fn_j,
-                                    ins[17][q * st[17]], tol, empty)
+        mu_l = ins[8][q * st[8]]
+        gamma = ins[9][q * st[9]]
+        e = ins[17][q * st[17]]
+        ew, sg, pa, nq, _ = _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
+                                    fn_j, e, tol, empty)
+        if nq == 0:
+            # "ode" here, on the numbers just prepared (what ode_batch does with them).
+            ew, sg, pa, _, status = ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
+                                               w, fn_i, fn_j, e, empty, rtol, atol, False,
+                                               True, h_first, h_max, first_change,
+                                               stick_margin)
+            if status != 0:
+                nq = -1
         e_w[q] = ew
         stage[q] = sg
         path[q] = pa
         w_out[q] = w
         pieces[q] = nq
-        bound[q] = b
 
 
 def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_pieces=False):
     """Mode "auto" without details from the fused kernels' inputs (:mod:`.fused`): the
-    preparation and the choice in one compiled loop (no details rows), then "ode" on the
-    collisions that need it, prepared for those only. Returns ``(e_w, stage, path, w)``,
-    bitwise what :func:`auto_batch` gives on the prepared arrays (tested); with
-    ``return_pieces`` also the form used per collision (``pieces`` of :func:`auto_batch`)."""
+    preparation, the choice and "ode" where it is chosen in one compiled loop (no details
+    rows, no second pass). Returns ``(e_w, stage, path, w)``, bitwise what
+    :func:`auto_batch` gives on the prepared arrays (tested); with ``return_pieces`` also
+    the form used per collision (``pieces`` of :func:`auto_batch`)."""
     tol = _check_tol(tol)
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     w = np.empty(n)
     pieces = np.empty(n, dtype=np.int8)
-    bound = np.empty(n)
-    parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol, e_w,
-                    stage, path, w, pieces, bound)
-    idx = np.flatnonzero(pieces == 0)
-    if idx.size:
-        rtol = ode_rtol(tol)
-        k = prepare_at(ins, steps, idx, body, particle_slip)
-        e_o, st_o, pa_o, _, _ = ode_batch(*k[:13], details=False, rtol=rtol,
-                                          atol=1e-2 * rtol, **ODE_STEPS)
-        e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
+    o = ode_options(ode_rtol(tol))
+    parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol,
+                    o["rtol"], o["atol"], o["first_step"], o["max_step"], o["first_change"],
+                    o["stick_margin"], e_w, stage, path, w, pieces)
+    if pieces.min() < 0:
+        bad = int(np.flatnonzero(pieces < 0)[0])
+        raise RuntimeError(
+            f"ode: collision {bad} needed more than {MAX_STEPS} steps in one stage "
+            f"(w = {w[bad]!r} m/s); loosen tol = {tol!r}"
+        )
     if return_pieces:
         return e_w, stage, path, w, pieces
     return e_w, stage, path, w
@@ -633,6 +731,20 @@ def ode_rtol(tol):
     below ``tol^2``, since near the critical speed an error ``dk`` in ``k = e_w^2`` moves
     ``e_w`` by up to ``sqrt(dk)``."""
     return min(ODE_RTOL_MAX, tol * tol / ODE_K_ERROR_PER_RTOL)
+
+
+def ode_options(rtol):
+    """The keywords of :func:`~.ode.ode_batch` for the "ode" tier inside "auto" at ``rtol``:
+    ``atol = 1e-2 rtol``, :data:`ODE_STEPS`, and the stick stop of the separation with the
+    error bound in ``k`` as its margin (``ODE_K_ERROR_PER_RTOL rtol``): the separation ends
+    as a stick once the pair would stick even with that much more energy, so that a pair
+    stopped there sticks in the exact integration too, as long as the integration error is
+    within that bound (tested on pairs near the critical speed)."""
+    rtol = float(rtol)
+    return dict(rtol=rtol, atol=1e-2 * rtol, first_step=float(ODE_STEPS["first_step"]),
+                max_step=float(ODE_STEPS["max_step"]),
+                first_change=float(ODE_STEPS["first_change"]),
+                stick_margin=ODE_K_ERROR_PER_RTOL * rtol)
 
 
 def ode_bound(e_w, rtol):
@@ -696,8 +808,7 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     if idx.size:
         rtol = ode_rtol(tol)
         sub = [np.ascontiguousarray(a[idx]) for a in args]
-        e_o, st_o, pa_o, det_o, _ = ode_batch(*sub, details=details, rtol=rtol,
-                                              atol=1e-2 * rtol, **ODE_STEPS)
+        e_o, st_o, pa_o, det_o, _ = ode_batch(*sub, details=details, **ode_options(rtol))
         e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
         bound[idx] = ode_bound(e_o, rtol)
         if details:

@@ -124,6 +124,12 @@ def _rhs(y, k, sigma, a2, kc, fb, vis, volcorr):
     ``vis = 2 c / (m_r w)`` [-]."""
     D = math.exp(y)
     x = volume_correction(D, a2) if volcorr else 1.0
+    return _rhs_at(D, x, k, sigma, kc, fb, vis)
+
+
+@njit(cache=CACHE)
+def _rhs_at(D, x, k, sigma, kc, fb, vis):
+    """:func:`_rhs` at the gap ``D`` with its volume correction ``x``."""
     return -D * (kc * x + fb) + sigma * vis * x * x * math.sqrt(max(k, 0.0))
 
 
@@ -131,7 +137,8 @@ def _rhs(y, k, sigma, a2, kc, fb, vis, volcorr):
 def _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
     """One Dormand-Prince 5(4) step from ``(y, k)`` of size ``h`` with ``f1 = dk/dy`` there.
 
-    Returns ``(k5, k5 - k4, dk/dy at the new point)`` (the last is the next step's ``f1``).
+    Returns ``(k5, k5 - k4, dk/dy at the new point, the gap there)`` (the third is the
+    next step's ``f1``; the last two stages share the new point's gap).
     """
     f2 = _rhs(y + h / 5.0, k + h * (f1 / 5.0), sigma, a2, kc, fb, vis, volcorr)
     f3 = _rhs(y + 0.3 * h, k + h * (3.0 / 40.0 * f1 + 9.0 / 40.0 * f2),
@@ -144,19 +151,21 @@ def _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
                  - 212.0 / 729.0 * f4),
         sigma, a2, kc, fb, vis, volcorr,
     )
-    f6 = _rhs(
-        y + h,
+    d_new = math.exp(y + h)
+    x_new = volume_correction(d_new, a2) if volcorr else 1.0
+    f6 = _rhs_at(
+        d_new, x_new,
         k + h * (9017.0 / 3168.0 * f1 - 355.0 / 33.0 * f2 + 46732.0 / 5247.0 * f3
                  + 49.0 / 176.0 * f4 - 5103.0 / 18656.0 * f5),
-        sigma, a2, kc, fb, vis, volcorr,
+        sigma, kc, fb, vis,
     )
     k5 = k + h * (35.0 / 384.0 * f1 + 500.0 / 1113.0 * f3 + 125.0 / 192.0 * f4
                   - 2187.0 / 6784.0 * f5 + 11.0 / 84.0 * f6)
-    f7 = _rhs(y + h, k5, sigma, a2, kc, fb, vis, volcorr)
+    f7 = _rhs_at(d_new, x_new, k5, sigma, kc, fb, vis)
     # b5 - b4 of the embedded pair
     err = h * (71.0 / 57600.0 * f1 - 71.0 / 16695.0 * f3 + 71.0 / 1920.0 * f4
                - 17253.0 / 339200.0 * f5 + 22.0 / 525.0 * f6 - 1.0 / 40.0 * f7)
-    return k5, err, f7
+    return k5, err, f7, d_new
 
 
 @njit(cache=CACHE)
@@ -177,6 +186,28 @@ def _cannot_rebound(D, k, a2, kc, fb, vis, e2, need):
 
 
 @njit(cache=CACHE)
+def _must_stick(D, k, h_end, a2, kc, fb, vis, lnf_end, pulls):
+    """True when the separation, now at gap ``D`` with ``k``, cannot reach the rupture gap
+    ``h_end`` with energy left (normalised as in :func:`_rhs`).
+
+    Two bounds, each exact for the equation of motion: (1) the energy at ``h_end`` is ``k``
+    less the work ``W`` of the capillary and body forces from ``D`` to ``h_end`` less the
+    viscous loss (never negative), so ``k <= W`` sticks; (2) where the capillary and body
+    forces together pull the pair back all the way to ``h_end`` (``pulls``), the speed
+    ``v = sqrt(k)`` falls monotonically and, with ``dv/dy = -D (kc X_v + fb) / (2 v) -
+    vis X_v^2 / 2``, ``v(h_end) <= v - W / (2 v) - (vis / 2) (ln f(h_end) - ln f(D))``;
+    that at most 0 sticks too.
+    """
+    w_rest = kc * g_diff(D, h_end, a2) + fb * (h_end - D)
+    if k <= w_rest:
+        return True
+    if pulls:
+        v = math.sqrt(k)
+        return v - 0.5 * w_rest / v - 0.5 * vis * (lnf_end - ln_f(D, a2)) <= 0.0
+    return False
+
+
+@njit(cache=CACHE)
 def _rupture_gap_log(theta, ca_per_sqrtk, vol, k):
     """``ln h_rupt`` (Eq. 94) at the opening speed ``w sqrt(k)``."""
     return math.log(rupture_distance(theta, ca_per_sqrtk * math.sqrt(max(k, 0.0)), vol))
@@ -185,18 +216,30 @@ def _rupture_gap_log(theta, ca_per_sqrtk, vol, k):
 @njit(cache=CACHE)
 def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
                e2, need, event, theta, ca_per_sqrtk, vol, h_first=1e-2, h_max=math.inf,
-               first_change=math.inf):
+               first_change=math.inf, stick_margin=-1.0):
     """Integrate ``dk/dy`` from ``y0`` towards ``y1``.
 
     ``need >= 0`` enables the early stop of :func:`_cannot_rebound` (approach only; -1
     disables it). ``event`` stops at the first ``y >= ln h_rupt(k)`` (self-consistent
     rupture). ``h_first`` is the first trial step and ``h_max`` the largest step, both in
     ``ln D``; the first trial step is also at most the one over which ``k`` changes by
-    ``first_change`` times ``max(k, 1e-3)`` at its initial rate. Returns
-    ``(k, y, status, steps)``.
+    ``first_change`` times ``max(k, 1e-3)`` at its initial rate. ``stick_margin >= 0``
+    (separation to the fixed gap ``exp(y1)`` only; -1 disables it) stops the stage as a
+    stick once :func:`_must_stick` holds for ``k + stick_margin``: with ``stick_margin`` a
+    bound of the integration error in ``k``, the pair it integrates sticks then too.
+    Returns ``(k, y, status, steps)``.
     """
     direction = 1.0 if y1 > y0 else -1.0
     y, k = y0, k0
+    h_end = 0.0
+    lnf_end = 0.0
+    pulls = False
+    if stick_margin >= 0.0:
+        h_end = math.exp(y1)
+        lnf_end = ln_f(h_end, a2)
+        # kc X_v + fb keeps its sign between its values at the ends (X_v is monotonic).
+        pulls = min(kc * volume_correction(math.exp(y0), a2),
+                    kc * volume_correction(h_end, a2)) + fb >= 0.0
     f1 = _rhs(y, k, sigma, a2, kc, fb, vis, volcorr)
     h = direction * min(abs(y1 - y0), h_first,
                         first_change * max(abs(k), 1e-3) / max(abs(f1), 1e-300))
@@ -204,7 +247,7 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
     while steps < MAX_STEPS:
         if direction * (y + h - y1) > 0.0:
             h = y1 - y
-        k_new, err, f_new = _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr)
+        k_new, err, f_new, d_new = _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr)
         scale = atol + rtol * max(abs(k), abs(k_new))
         ratio = abs(err) / scale
         if ratio > 1.0:
@@ -217,7 +260,8 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
             k_hi = k_new
             for _ in range(60):
                 mid = 0.5 * (lo + hi)
-                k_mid, _, _ = _dp_step(y, k, mid * h, f1, sigma, a2, kc, fb, vis, volcorr)
+                k_mid, _, _, _ = _dp_step(y, k, mid * h, f1, sigma, a2, kc, fb, vis,
+                                          volcorr)
                 if k_mid > 0.0 and y + mid * h >= _rupture_gap_log(
                     theta, ca_per_sqrtk, vol, k_mid
                 ):
@@ -236,9 +280,14 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
             return 0.0, y, _STOPPED, steps
         if direction * (y - y1) >= 0.0:
             return k, y1, _REACHED, steps
-        if need >= 0.0 and _cannot_rebound(math.exp(y), k, a2, kc, fb, vis, e2, need):
+        # d_new = exp(y) here (y advanced by h: the same sum as in the step)
+        if need >= 0.0 and _cannot_rebound(d_new, k, a2, kc, fb, vis, e2, need):
             return k, y, _CANNOT, steps
-        factor = 5.0 if ratio == 0.0 else min(5.0, max(0.2, 0.9 * ratio ** -0.2))
+        if stick_margin >= 0.0 and _must_stick(d_new, k + stick_margin, h_end, a2, kc, fb,
+                                               vis, lnf_end, pulls):
+            return 0.0, y, _STOPPED, steps
+        # 0.9 ratio^-0.2 exceeds 5 below ratio = 1.8e-4 (5.05 there): no power needed.
+        factor = 5.0 if ratio <= 1.8e-4 else min(5.0, max(0.2, 0.9 * ratio ** -0.2))
         h *= factor
         if abs(h) > h_max:
             h = direction * h_max
@@ -248,14 +297,16 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
 @njit(cache=CACHE)
 def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det,
                rtol, atol, self_consistent, volcorr, h_first=1e-2, h_max=math.inf,
-               first_change=math.inf):
+               first_change=math.inf, stick_margin=-1.0):
     """One collision integrated. Returns ``(e_w, stage, path, steps, status)``.
 
     ``status`` is 4 when :data:`MAX_STEPS` was exceeded (the wrapper raises), else 0.
     ``det`` as in :func:`agglomtool.collision.paper.paper_kernel`; the per-particle columns
     hold the CM-frame split of the relative energies; the viscous losses are the energy
     balance of the integrated stage (``K_start - K_end - L_cap - L_bdw``). ``h_first`` and
-    ``h_max``, ``first_change``: the step settings of :func:`ode_batch`.
+    ``h_max``, ``first_change``: the step settings of :func:`ode_batch`; ``stick_margin``
+    (>= 0 enables it, contact rupture only): the separation stops as a stick where
+    :func:`_must_stick` holds for ``k + stick_margin``.
     """
     nan = math.nan
     want = det.shape[0] > 0
@@ -342,7 +393,7 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         k_end, y_stop, status, steps_sep = _integrate(
             math.log(Ha), y_end, k_s, -1.0, a2, kc, fb, vis, volcorr, rtol, atol,
             e2, -1.0, self_consistent, theta, mu_l * w / gamma, vol, h_first, h_max,
-            first_change,
+            first_change, -1.0 if self_consistent else stick_margin,
         )
         steps += steps_sep
         if status == _TOO_MANY:
@@ -376,12 +427,12 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
 @njit(parallel=True, cache=CACHE)
 def _run_ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
                    rtol, atol, self_consistent, volcorr, h_first, h_max, first_change,
-                   e_w, stage, path, steps, status, det):
+                   stick_margin, e_w, stage, path, steps, status, det):
     for q in prange(e_w.shape[0]):
         ew, st, pa, ns, stat = ode_kernel(
             m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q], cos_t[q], theta[q],
             w[q], fn_i[q], fn_j[q], e[q], det[q], rtol, atol, self_consistent, volcorr,
-            h_first, h_max, first_change,
+            h_first, h_max, first_change, stick_margin,
         )
         e_w[q] = ew
         stage[q] = st
@@ -393,7 +444,7 @@ def _run_ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j
 def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
               details=False, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, rupture="contact",
               volume_corrected=True, first_step=DEFAULT_FIRST_STEP, max_step=math.inf,
-              first_change=math.inf):
+              first_change=math.inf, stick_margin=None):
     """:func:`run_ode` that also returns the accepted steps per collision (fifth array).
 
     Parameters
@@ -414,6 +465,11 @@ def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         be two orders of magnitude below the true error (measured near the critical speed,
         where ``k`` ends close to 0); mode "auto" caps the step (:mod:`.auto`). The
         defaults (0.01, no cap, no limit) are those of mode "ode".
+    stick_margin : float or None
+        A bound of the integration error in ``k`` [-] (>= 0), or None (mode "ode"): with
+        it the separation (contact rupture) stops as a stick as soon as the pair would
+        stick even with that much more energy (:func:`_must_stick`), instead of
+        integrating on until its energy is spent.
     """
     if rupture not in RUPTURE_MODES:
         raise ValueError(f"rupture = {rupture!r} is not one of {RUPTURE_MODES}")
@@ -423,6 +479,12 @@ def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         raise ValueError(f"first_step = {first_step!r}, max_step = {max_step!r}, "
                          f"first_change = {first_change!r}: need 0 < first_step <= max_step "
                          "and first_change > 0")
+    if stick_margin is None:
+        margin = -1.0
+    else:
+        margin = float(stick_margin)
+        if not margin >= 0.0:
+            raise ValueError(f"stick_margin = {stick_margin!r} must be >= 0 (or None)")
     n = w.shape[0]
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
@@ -434,8 +496,8 @@ def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         _run_ode_batch,
         m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         float(rtol), float(atol), rupture == "self-consistent", bool(volume_corrected),
-        float(first_step), float(max_step), float(first_change), e_w, stage, path, steps,
-        status, det,
+        float(first_step), float(max_step), float(first_change), margin, e_w, stage, path,
+        steps, status, det,
     )
     if np.any(status == _TOO_MANY):
         bad = int(np.flatnonzero(status == _TOO_MANY)[0])
