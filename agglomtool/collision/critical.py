@@ -20,7 +20,7 @@ from numba import njit, prange
 
 from ._jit import CACHE, parallel_launch
 from .bridge import ln_f_diff, ln_f_diff_array
-from .critical_relative import MAX_ITER, OK, relative_threshold
+from .critical_relative import MAX_ITER, OK, kernel_constants, kernel_e_w, threshold_from
 from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one
 from .paper import paper_kernel
 from .relative import reduced_mass, relative_kernel
@@ -218,29 +218,41 @@ _FOUND, _ABOVE, _SEARCH, _BRACKETED = 0, 1, 2, 3
 
 
 @njit(cache=CACHE, inline="always")
-def _relative_candidate(vals, raw, body, particle_slip, max_iter):
-    """``(w*, ok)``: the near-closed-form threshold of mode "relative" [m/s]. Where the drag
-    depends on the particles' own speed (``drag_slip="particle"``) the body forces are
-    re-evaluated at the candidate until it moves by less than :data:`SLIP_RTOL`
-    (at most :data:`SLIP_ITER` rounds)."""
-    m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, w_per_u0 = vals
+def _relative_candidate(kc, vals, raw, body, particle_slip, max_iter):
+    """``(w*, ok)``: the near-closed-form threshold of mode "relative" [m/s] from the
+    collision's kernel constants ``kc`` at zero speed. Where the drag depends on the
+    particles' own speed (``drag_slip="particle"``) the body forces are re-evaluated at the
+    candidate until it moves by less than :data:`SLIP_RTOL` (at most :data:`SLIP_ITER`
+    rounds)."""
+    m_i, m_j, r, H0, Ha, cos_t, theta, _, _, _, w_per_u0 = vals
     mu_l = raw[8]
     gamma = raw[9]
     e = raw[17]
-    w, status = relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i,
-                                   fn_j, e, max_iter)
+    w, status = threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter)
     if not (body and particle_slip) or status != OK:
         return w, status == OK
     for _ in range(SLIP_ITER):
         pre = _prep(raw, w / w_per_u0, body, particle_slip)
-        w_new, status = relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
-                                           pre[7], pre[8], e, max_iter)
+        kc_w = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, pre[7],
+                                pre[8])
+        w_new, status = threshold_from(kc_w, H0, Ha, mu_l, gamma, theta, e, max_iter)
         if status != OK:
             return math.nan, False
         if abs(w_new - w) <= SLIP_RTOL * w_new:
             return w_new, True
         w = w_new
     return math.nan, False
+
+
+@njit(cache=CACHE, inline="always")
+def _check_sticks(own, kc, vals, raw, w_rel, tier, body, particle_slip, empty):
+    """:func:`_sticks` at ``w_rel`` [m/s]; with ``own`` (mode "relative", body forces that
+    do not depend on the speed) from the kernel's speed-independent numbers ``kc``
+    (:func:`.critical_relative.kernel_e_w`, bitwise the kernel's ``e_w``)."""
+    if own:
+        return kernel_e_w(kc, vals[3], vals[4], raw[8], raw[9], vals[6], raw[17],
+                          w_rel) == 0.0
+    return _sticks(vals, raw, w_rel, tier, body, particle_slip, empty)
 
 
 @njit(cache=CACHE)
@@ -255,7 +267,10 @@ def _from_candidate(vals, raw, tier, body, particle_slip, rtol, w_max, max_iter,
 
     - ``relative``: ``hi = w* (1 + delta)``, ``delta`` = :data:`NUDGE` ``rtol`` (then
       ``rtol / 4``, should rounding in the kernel put its switch a little above ``w*``);
-      anything else goes to the search.
+      anything else goes to the search. Where the body forces do not depend on the speed
+      the two kernel evaluations share its speed-independent work with each other and
+      with the threshold (:func:`.critical_relative.kernel_e_w`, the kernel's arithmetic
+      bitwise);
     - ``paper``: with body forces, ``_SEARCH`` at once (see the code); without, the same
       check first (the tiers then agree to rounding); else a bracket around ``w*`` widened
       geometrically (factor :data:`BRACKET`, squared at
@@ -268,15 +283,18 @@ def _from_candidate(vals, raw, tier, body, particle_slip, rtol, w_max, max_iter,
         # 20 on the benchmark's mixed set); a bracket around the relative one was measured
         # 10-15 % slower than the plain search there, so the search runs directly.
         return math.nan, _SEARCH
-    w, ok = _relative_candidate(vals, raw, body, particle_slip, max_iter)
+    kc = kernel_constants(vals[0], vals[1], vals[2], vals[3], vals[4], raw[8], raw[9],
+                          vals[5], vals[6], vals[7], vals[8])
+    w, ok = _relative_candidate(kc, vals, raw, body, particle_slip, max_iter)
     if not ok or not w > 0.0 or math.isinf(w):
         return math.nan, _SEARCH
+    own = tier != TIER_PAPER and not (body and particle_slip)
     delta = NUDGE * rtol
     for _ in range(2):
         hi = w * (1.0 + delta)
-        if not _sticks(vals, raw, hi, tier, body, particle_slip, empty):
+        if not _check_sticks(own, kc, vals, raw, hi, tier, body, particle_slip, empty):
             lo = hi * (1.0 - rtol)
-            if _sticks(vals, raw, lo, tier, body, particle_slip, empty):
+            if _check_sticks(own, kc, vals, raw, lo, tier, body, particle_slip, empty):
                 return hi, _FOUND
             break
         if tier == TIER_PAPER:

@@ -93,9 +93,10 @@ from numba import njit
 
 from ._jit import CACHE
 from .bridge import _LN4, bridge_volume, g_diff, ln_f_diff, ln_f_parts
-from .relative import reduced_mass, relative_body_force
+from .relative import _viscous_loss, reduced_mass, relative_body_force
 
-__all__ = ["relative_threshold", "NEWTON_RTOL", "MAX_ITER", "OK", "FAILED", "NEVER"]
+__all__ = ["relative_threshold", "threshold_from", "kernel_constants", "kernel_e_w",
+           "NEWTON_RTOL", "MAX_ITER", "OK", "FAILED", "NEVER"]
 
 #: Newton stops when a step changes ``t = sqrt(Ca)`` by at most this fraction of ``t``.
 NEWTON_RTOL = 1e-10
@@ -196,6 +197,78 @@ def _e_zero(Ha, a2, kcap, f_b, max_iter):
 
 
 @njit(cache=CACHE)
+def kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j):
+    """The numbers of :func:`.relative.relative_kernel` that do not depend on the speed, for
+    one collision with a bridge (``H0 > Ha > 0``), each formed by the same operations as
+    there: ``(m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha)`` with
+    ``d_app = -Delta(H0, Ha)``, ``g_app = g(Ha) - g(H0)``, ``v13 = V_b^(1/3)``,
+    ``(k_ha, v_ha) = ln_f_parts(Ha)`` and ``s_ha = sqrt(Ha^2 + a^2)``. The threshold and
+    the check of its candidate (:func:`kernel_e_w`) share them."""
+    m_r, _, _ = reduced_mass(m_i, m_j)
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    kcap = 2.0 * math.pi * gamma * r * cos_t
+    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    d_app = -ln_f_diff(H0, Ha, a2)
+    g_app = g_diff(H0, Ha, a2)
+    v13 = bridge_volume(r, a2) ** (1.0 / 3.0)
+    k_ha, v_ha = ln_f_parts(Ha, a2)
+    s_ha = math.sqrt(Ha * Ha + a2)
+    return m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha
+
+
+@njit(cache=CACHE, inline="always")
+def kernel_e_w(kc, H0, Ha, mu_l, gamma, theta, e, w):
+    """``e_w`` of :func:`.relative.relative_kernel` at relative speed ``w`` [m/s] from its
+    speed-independent numbers ``kc`` (:func:`kernel_constants`): the kernel's own
+    operations in its own order (bitwise its ``e_w``; a test holds it to that), without
+    the details and with the work that does not depend on ``w`` done once. 0 where the
+    pair sticks. The gap ``sqrt(h^2 + a^2)`` at rupture is taken once for the distance
+    function and the capillary difference (each of :func:`.bridge.ln_f_parts` and
+    :func:`.bridge.g_diff` takes the same square root)."""
+    m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
+    # ---- approach, H0 -> Ha
+    k0 = 0.5 * m_r * w * w
+    c_delta = c * d_app
+    if not c_delta < m_r * w:
+        return 0.0
+    l_vis = _viscous_loss(w, m_r, c_delta)
+    l_bdw = -f_b * (H0 - Ha)
+    k_app = k0 - kcap * g_app - l_vis - l_bdw
+    if not k_app > 0.0:
+        return 0.0
+    # ---- contact
+    w_s = e * math.sqrt(2.0 * k_app / m_r)
+    if not w_s > 0.0:
+        return 0.0
+    # ---- separation, Ha -> h_rupt
+    k_s = 0.5 * m_r * w_s * w_s
+    ca = mu_l * w_s / gamma
+    h = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * v13
+    if not h > Ha:
+        k_end = k_s
+    else:
+        s = math.sqrt(h * h + a2)
+        q = a2 / ((h + s) * (h + s))
+        if q < 0.5:
+            k_h, v_h = 1, math.log1p(-q * q)
+        else:
+            k_h, v_h = 0, math.log(h) + math.log(s) - 2.0 * math.log(h + s)
+        c_delta = c * ((v_h - v_ha) + (k_ha - k_h) * _LN4)
+        l_cap = kcap * (a2 * (h - Ha) * (1.0 + (Ha + h) / (s_ha + s))
+                        / ((Ha + s_ha) * (h + s)))
+        l_bdw = f_b * (h - Ha)
+        if not c_delta < m_r * w_s:
+            return 0.0
+        l_vis = _viscous_loss(w_s, m_r, c_delta)
+        k_end = k_s - l_cap - l_vis - l_bdw
+        if not k_end > 0.0:
+            return 0.0
+    e_w = math.sqrt(k_end / k0)
+    return e_w if e_w > 0.0 else 0.0
+
+
+@njit(cache=CACHE)
 def relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e,
                        max_iter):
     """Smallest relative impact speed ``w*`` [m/s] above which mode "relative" rebounds
@@ -205,25 +278,26 @@ def relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_
     converge (``w*`` meaningless: search instead); :data:`NEVER` where no speed rebounds.
     The kernel sticks at ``w*`` itself and rebounds just above it (to rounding).
     """
-    m_r, _, _ = reduced_mass(m_i, m_j)
-    a2 = (H0 - Ha) * (H0 + Ha)
-    c = 1.5 * math.pi * mu_l * r * r
-    kcap = 2.0 * math.pi * gamma * r * cos_t
-    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    kc = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j)
+    return threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter)
+
+
+@njit(cache=CACHE)
+def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter):
+    """:func:`relative_threshold` from the collision's :func:`kernel_constants` ``kc``."""
+    m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
     c_m = c / m_r
     # Approach: contact speed w_c = sqrt((w - w_v)^2 - 2 E_a / m_r) for w > w_v.
-    w_v = c_m * -ln_f_diff(H0, Ha, a2)
-    e_a = kcap * g_diff(H0, Ha, a2) - f_b * (H0 - Ha)
+    w_v = c_m * d_app
+    e_a = kcap * g_app - f_b * (H0 - Ha)
     wc_min = math.sqrt(-2.0 * e_a / m_r) if e_a < 0.0 else 0.0
     w_app = w_v + (0.0 if e_a < 0.0 else math.sqrt(2.0 * e_a / m_r))
     if math.isinf(w_app) or math.isnan(w_app):
         return math.inf, NEVER if math.isinf(w_app) else FAILED
     # Separation in t = sqrt(Ca): h(t) = hb (1 + t).
     kappa = mu_l / gamma
-    hb = (1.0 + 0.5 * theta) * bridge_volume(r, a2) ** (1.0 / 3.0)
+    hb = (1.0 + 0.5 * theta) * v13
     t_min = math.sqrt(kappa * e * wc_min)
-    k_ha, v_ha = ln_f_parts(Ha, a2)
-    s_ha = math.sqrt(Ha * Ha + a2)
     if hb * (1.0 + t_min) <= Ha:
         return w_app, OK  # the bridge is broken at contact: every contact rebounds
     f_a, _ = _sep(t_min, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
