@@ -98,7 +98,7 @@ import math
 from numba import njit
 
 from ._jit import CACHE
-from .bridge import _LN4, bridge_volume, g_diff, ln_f_diff, ln_f_parts
+from .bridge import _LN4, bridge_volume, g_diff, ln_f_parts
 from .relative import _viscous_loss, reduced_mass, relative_body_force
 
 __all__ = ["relative_threshold", "threshold_from", "kernel_constants", "kernel_e_w",
@@ -235,10 +235,11 @@ def kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j)
     c = 1.5 * math.pi * mu_l * r * r
     kcap = 2.0 * math.pi * gamma * r * cos_t
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
-    d_app = -ln_f_diff(H0, Ha, a2)
+    k_ha, v_ha = ln_f_parts(Ha, a2)
+    k_h0, v_h0 = ln_f_parts(H0, a2)
+    d_app = -((v_ha - v_h0) + (k_h0 - k_ha) * _LN4)  # -ln_f_diff(H0, Ha), Ha's parts once
     g_app = g_diff(H0, Ha, a2)
     v13 = bridge_volume(r, a2) ** (1.0 / 3.0)
-    k_ha, v_ha = ln_f_parts(Ha, a2)
     s_ha = math.sqrt(Ha * Ha + a2)
     return m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha
 
