@@ -6,9 +6,11 @@ Two solvers:
   bound, a geometric scan of the last doubling, bisection), vectorised over collisions:
   every step evaluates a kernel on all still-unresolved elements at once;
 - :func:`critical_speeds`, compiled, per collision, for the fused tiers: mode "relative"
-  from its near-closed form (:mod:`.critical_relative`) checked with the kernel, mode
-  "paper" from the same value where it has no body forces; each falls back to the same
-  search compiled where the check fails.
+  from its near-closed form (:mod:`.critical_relative`) checked with the kernel (at two
+  speeds that share the kernel's speed-independent work with each other and with the
+  threshold: :func:`.critical_relative.kernel_e_w`, bitwise the kernel), mode "paper"
+  from the same value where it has no body forces (checked with its own kernel); each
+  falls back to the same search compiled where the check fails.
 """
 
 from __future__ import annotations
