@@ -38,7 +38,7 @@ def _state():
 #: share their temperatures and take each state once. Cleared when it holds
 #: :data:`_MEMO_SIZE` states.
 _MEMO: dict = {}
-_MEMO_SIZE = 1 << 16
+_MEMO_SIZE = 1 << 14
 
 
 def _liquid_states(T, P):
