@@ -22,7 +22,14 @@ from numba import njit, prange
 
 from ._jit import CACHE, parallel_launch
 from .bridge import ln_f_diff, ln_f_diff_array
-from .critical_relative import MAX_ITER, OK, kernel_constants, kernel_e_w, threshold_from
+from .critical_relative import (
+    EARLY_RTOL,
+    MAX_ITER,
+    OK,
+    kernel_constants,
+    kernel_e_w,
+    threshold_from,
+)
 from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one
 from .paper import paper_kernel
 from .relative import reduced_mass, relative_kernel
@@ -43,6 +50,9 @@ BRACKET = 1.02
 #: Rounds and tolerance of the candidate's drag update with ``drag_slip="particle"``.
 SLIP_ITER = 12
 SLIP_RTOL = 1e-12
+#: The Newton iteration's early-stop bound there (:data:`.critical_relative.EARLY_RTOL`
+#: elsewhere): far below :data:`SLIP_RTOL`, so that the rounds' candidates can settle.
+SLIP_EARLY_RTOL = 1e-14
 
 
 def viscous_lower_bound(m_i, m_j, r, H0, Ha, mu_l):
@@ -230,14 +240,17 @@ def _relative_candidate(kc, vals, raw, body, particle_slip, max_iter):
     mu_l = raw[8]
     gamma = raw[9]
     e = raw[17]
-    w, status = threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter)
-    if not (body and particle_slip) or status != OK:
+    slip = body and particle_slip
+    early = SLIP_EARLY_RTOL if slip else EARLY_RTOL
+    w, status = threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early)
+    if not slip or status != OK:
         return w, status == OK
     for _ in range(SLIP_ITER):
         pre = _prep(raw, w / w_per_u0, body, particle_slip)
         kc_w = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, pre[7],
                                 pre[8])
-        w_new, status = threshold_from(kc_w, H0, Ha, mu_l, gamma, theta, e, max_iter)
+        w_new, status = threshold_from(kc_w, H0, Ha, mu_l, gamma, theta, e, max_iter,
+                                       early)
         if status != OK:
             return math.nan, False
         if abs(w_new - w) <= SLIP_RTOL * w_new:

@@ -111,8 +111,10 @@ MAX_ITER = 60
 #: A Newton step at most this fraction of the previous one counts as quadratic convergence
 #: (:func:`_root_in_piece` may then stop one evaluation early).
 QUAD_RATIO = 1e-2
-#: The early stop's bound on the distance left to the crossing, relative to ``t``.
-EARLY_RTOL = 1e-14
+#: The early stop's bound on the distance left to the crossing, relative to ``t``: a
+#: tenth of the check's window above the candidate (``1e-3 rtol`` = 1e-9 at the default
+#: ``rtol``), on the side the check allows (the stop lands right of the crossing).
+EARLY_RTOL = 1e-10
 
 #: Status codes of :func:`relative_threshold`.
 OK, FAILED, NEVER = 0, 1, 2
@@ -150,25 +152,35 @@ def _sep(t, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha):
 
 
 @njit(cache=CACHE)
-def _root_in_piece(a, g_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha,
-                   s_ha, max_iter, early):
+def _root_in_piece(a, f_a, df_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha,
+                   s_ha, max_iter, early_rtol):
     """The crossing of ``F`` in the convex piece ``[a, b]`` (``b`` may be ``inf``), given
-    ``F(a) <= 0`` and ``F(b) > 0`` where ``b`` is finite; ``g_a = G(a)``. Returns
+    ``F(a) = f_a <= 0``, ``F'(a) = df_a`` and ``F(b) > 0`` where ``b`` is finite. Returns
     ``(t*, ok)``.
 
-    Safeguarded Newton: ``[lo, hi]`` always brackets the crossing (``F(lo) <= 0 < F(hi)``);
-    a step that leaves it is replaced by the bracket's midpoint (or a doubling while ``hi``
-    is infinite). Converged when a Newton step changes ``t`` by at most ``NEWTON_RTOL t``
-    while ``|F|`` is at rounding level (a small step next to the kink at ``t_E``, where
-    ``F'`` is unbounded, is no convergence), or when the bracket itself is that narrow.
+    Start: the quadratic model of ``F`` at ``a``, ``t^2/kappa`` exact and ``G = t^2/kappa - F``
+    replaced by its tangent; ``G`` is concave on the piece, so the tangent lies above it and
+    the start lies at or right of the crossing (where that start is not inside the piece,
+    one fixed-point step ``t <- sqrt(kappa G(a))`` instead, a lower bound where ``G``
+    rises). Then safeguarded Newton: ``[lo, hi]`` always brackets the crossing
+    (``F(lo) <= 0 < F(hi)``); a step that leaves it is replaced by the bracket's midpoint
+    (or a doubling while ``hi`` is infinite). Converged when a Newton step changes ``t`` by
+    at most ``NEWTON_RTOL t`` while ``|F|`` is at rounding level (a small step next to the
+    kink at ``t_E``, where ``F'`` is unbounded, is no convergence), when the bracket itself
+    is that narrow, or (``early_rtol > 0``) one evaluation early by the test in the loop.
     """
     lo, hi = a, b
-    # Start from one fixed-point step t <- sqrt(kappa G(a)) (a lower bound where G rises).
-    x = math.sqrt(kappa * g_a)
+    # d = t - a solves d^2/kappa + F'(a) d + F(a) = 0 (F(a) <= 0: a real root d >= 0),
+    # taken in the form without cancellation for either sign of F'(a).
+    root = math.sqrt(df_a * df_a - 4.0 * f_a / kappa)
+    d = -2.0 * f_a / (df_a + root) if df_a > 0.0 else 0.5 * kappa * (root - df_a)
+    x = a + d
+    last, df_last = d, df_a  # the last step's size and F' where it was taken (for the stop)
     if not (x > lo and x < hi):
-        x = 0.5 * (lo + hi) if hi < math.inf else max(2.0 * lo, 1e-300)
-    last = math.inf  # the previous Newton step's size (inf: none, or not a Newton step)
-    df_last = math.nan  # F' where that step was taken
+        x = math.sqrt(kappa * (a * a / kappa - f_a))
+        last = math.inf
+        if not (x > lo and x < hi):
+            x = 0.5 * (lo + hi) if hi < math.inf else max(2.0 * lo, 1e-300)
     for _ in range(max_iter):
         f, df = _sep(x, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
         step = math.nan
@@ -178,13 +190,13 @@ def _root_in_piece(a, g_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha
                 return x - step, True
             # Right of the crossing (F > 0) on a convex piece the step lands at or right of
             # it again, about F'' step^2 / (2 F') from it. Where F' changed by less than a
-            # factor 2 over the last Newton step (no kink nearby: the curvature estimate
-            # from the two slopes holds) and that distance is below EARLY_RTOL t, this step
-            # ends the iteration, one evaluation of F early.
-            if (early and f > 0.0 and step <= QUAD_RATIO * last
+            # factor 2 over the last step (no kink nearby: the curvature estimate from the
+            # two slopes holds) and that distance is below early_rtol t, this step ends
+            # the iteration, one evaluation of F early.
+            if (f > 0.0 and step <= QUAD_RATIO * last
                     and 0.5 * df_last < df < 2.0 * df_last):
                 curv = abs(df_last - df) / last  # F'' over the last step
-                if curv * step * step <= 2.0 * EARLY_RTOL * x * df:
+                if curv * step * step <= 2.0 * early_rtol * x * df:
                     return x - step, True
         if f > 0.0:
             hi = x
@@ -297,22 +309,23 @@ def kernel_e_w(kc, H0, Ha, mu_l, gamma, theta, e, w):
 
 @njit(cache=CACHE)
 def relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e,
-                       max_iter, early=True):
+                       max_iter, early_rtol=EARLY_RTOL):
     """Smallest relative impact speed ``w*`` [m/s] above which mode "relative" rebounds
     (module docstring), for one collision with a bridge (``H0 > Ha > 0``) and ``e > 0``.
 
     Returns ``(w*, status)``: status :data:`OK`; :data:`FAILED` where the iteration did not
     converge (``w*`` meaningless: search instead); :data:`NEVER` where no speed rebounds.
     The kernel sticks at ``w*`` itself and rebounds just above it (to rounding).
-    ``early=False``: no early stop of the Newton iteration (:data:`EARLY_RTOL`), the
-    reference the early stop is tested against.
+    ``early_rtol``: the largest distance [-, of ``t``] the Newton iteration may stop at
+    one evaluation early (:data:`EARLY_RTOL`); 0 never stops early (the reference the early
+    stop is tested against).
     """
     kc = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j)
-    return threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early)
+    return threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early_rtol)
 
 
 @njit(cache=CACHE)
-def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early=True):
+def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early_rtol=EARLY_RTOL):
     """:func:`relative_threshold` from the collision's :func:`kernel_constants` ``kc``."""
     m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
     c_m = c / m_r
@@ -329,7 +342,7 @@ def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early=True):
     t_min = math.sqrt(kappa * e * wc_min)
     if hb * (1.0 + t_min) <= Ha:
         return w_app, OK  # the bridge is broken at contact: every contact rebounds
-    f_a, _ = _sep(t_min, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+    f_a, df_a = _sep(t_min, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
     if f_a > 0.0:
         return w_app, OK
     # The piece [a, b] of F's convexity holding the first crossing.
@@ -341,15 +354,15 @@ def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early=True):
             return math.inf, FAILED
         t_e = h_e / hb - 1.0
         if t_e > a:
-            f_e, _ = _sep(t_e, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+            f_e, df_e = _sep(t_e, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
             if f_e > 0.0:
                 b = t_e
             else:
                 a = t_e
                 f_a = f_e
-    g_a = a * a / kappa - f_a
-    t, ok = _root_in_piece(a, g_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha,
-                           s_ha, max_iter, early)
+                df_a = df_e
+    t, ok = _root_in_piece(a, f_a, df_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha,
+                           v_ha, s_ha, max_iter, early_rtol)
     if not ok:
         return math.inf, FAILED
     # Back through contact and the approach.
