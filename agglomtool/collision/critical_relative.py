@@ -64,13 +64,16 @@ one upward crossing after a non-positive start. The first crossing is found by
    0))`` (the smallest speed that reaches contact with ``w_s > 0``);
 2. with ``F_b < 0``, ``h_E`` from Newton on the concave ``E_s`` started on its right
    (monotone), and ``F(t_E)`` deciding which convex piece holds the first crossing;
-3. in that piece, one fixed-point step ``t <- sqrt(kappa G(t))`` from its left end
-   (``G = t^2/kappa - F``: the post-contact speed the separation needs at the current
-   rupture distance, the quadratic's root above), then Newton on ``F`` safeguarded by a
-   bracket ``F(lo) <= 0 < F(hi)``: a step that leaves the bracket is replaced by its
-   midpoint, or by a doubling while no upper end is known. On a convex piece the first
-   Newton step from the left lands right of the root and the later ones decrease onto it
-   quadratically; four or five evaluations of ``F`` are typical.
+3. in that piece, Newton on ``F`` from the quadratic model of ``F`` at the piece's left end
+   ``a``: ``t^2/kappa`` exact and ``G = t^2/kappa - F`` (the post-contact speed the
+   separation needs at the current rupture distance, the quadratic's root above) replaced
+   by its tangent at ``a``. ``G`` is concave on the piece, so the tangent lies above it and
+   the start lies at or right of the crossing; from there Newton on the convex ``F``
+   decreases onto the crossing quadratically. (Where that start falls outside the piece,
+   one fixed-point step ``t <- sqrt(kappa G(a))`` starts instead, a lower bound where
+   ``G`` rises.) The iteration is safeguarded by a bracket ``F(lo) <= 0 < F(hi)``: a step
+   that leaves it is replaced by its midpoint, or by a doubling while no upper end is
+   known. Two or three evaluations of ``F`` after ``F(t_min)`` are typical.
 
 Convergence: the iteration stops when a Newton step changes ``t`` by at most
 :data:`NEWTON_RTOL` of ``t`` while ``|F|`` is below ``1e-9`` of the speed scale
@@ -78,12 +81,15 @@ Convergence: the iteration stops when a Newton step changes ``t`` by at most
 proves nothing), or when the bracket is that narrow; in the quadratic regime the error left
 after such a step is far below it. It also stops one evaluation earlier where the iterate
 lies right of the crossing (``F > 0``: on a convex piece the Newton step then lands at or
-right of it again), the step is at most :data:`QUAD_RATIO` of the previous one, ``F'``
-changed by less than a factor 2 over that previous step, and the distance the step leaves,
-about ``F'' step^2 / (2 F')`` with ``F''`` from the two slopes, is below :data:`EARLY_RTOL`
-of ``t`` (on the benchmark map: three evaluations of ``F`` instead of four). It gives up
-after ``max_iter`` evaluations (default :data:`MAX_ITER`) and reports failure: the caller
-then runs the bracketed search.
+right of it again), the step is at most :data:`QUAD_RATIO` of the previous one (the start
+counts as a step from ``a``), ``F'`` changed by less than a factor 2 over that previous
+step, and the distance the step leaves, about ``F'' step^2 / (2 F')`` with ``F''`` from
+the two slopes, is below ``early_rtol`` of ``t`` (:data:`EARLY_RTOL`, 1e-10, a tenth of the
+check's window above the candidate; the caller's rounds with a speed-dependent drag ask for
+1e-14). The answer then lies a little right of the crossing, the side the caller's check
+allows up to ``rtol``. On the benchmark map: ``F(t_min)`` and one more evaluation. It
+gives up after ``max_iter`` evaluations (default :data:`MAX_ITER`) and reports failure: the
+caller then runs the bracketed search.
 
 Accuracy: the stages are the kernel's formulas, so the threshold is exact up to the
 rounding of ``F`` and of the kernel (which forms ``K`` as ``K_start - losses``, cancelling
