@@ -38,6 +38,7 @@ from .inputs import Bed, Liquid, Particle
 from .pair import DRAG_SLIP_MODES, wet_mass
 from .plausibility import scene_findings, warn_findings
 from .properties import gas_properties, umf, umf_methods
+from .properties.fluidization import umf_coated
 from .units import to_si
 
 __all__ = ["Scene", "evaluate", "provenance", "assumed_inputs", "CATEGORICAL_FIELDS",
@@ -368,6 +369,13 @@ def _on_unique(func, *arrays):
     return tuple(np.asarray(o)[inverse].reshape(shape) for o in out)
 
 
+def _same_particle(p, q) -> bool:
+    """True where two particles have the same diameter, density and coating arrays (the
+    default ``solid_j``, ``d_j`` and ``h0_j`` of a scene: one ``U_mf`` serves both)."""
+    return all(a is b or (np.shape(a) == np.shape(b) and np.array_equal(a, b))
+               for a, b in ((p.d, q.d), (p.rho, q.rho), (p.h0, q.h0)))
+
+
 def _compact(a):
     """``a`` as an array whose size-1-everywhere-it-is-constant shape is kept."""
     return np.asarray(a, dtype=float)
@@ -510,14 +518,28 @@ class Resolved:
 
     @cached_property
     def Umf(self):
-        """The larger ``U_mf`` of the two wet particles [m/s]."""
-        out = []
-        for p in self.particles:
-            d_wet = p.d + 2.0 * p.h0
-            vol = (math.pi / 6.0) * d_wet**3
-            rho_p = wet_mass(p, self.liquid.rho) / vol
-            out.append(umf(d_wet, rho_p, self.gas, self.v["umf_method"]))
-        return np.maximum(out[0], out[1])
+        """The larger ``U_mf`` of the two wet particles [m/s]; computed once where the two
+        are the same particle (same diameter, density and coating)."""
+        p_i, p_j = self.particles
+        u_i = self._umf_of(p_i)
+        if _same_particle(p_i, p_j):
+            return u_i  # np.maximum(u_i, u_i) is u_i
+        return np.maximum(u_i, self._umf_of(p_j))
+
+    def _umf_of(self, p):
+        """``U_mf`` of one wet particle [m/s]: :func:`.properties.umf_coated` (one compiled
+        pass), or the numpy route :meth:`_umf_reference` where that does not apply."""
+        out = umf_coated(p.d, p.rho, p.h0, self.liquid.rho, self.gas.mu, self.gas.rho,
+                         self.v["umf_method"])
+        return self._umf_reference(p) if out is None else out
+
+    def _umf_reference(self, p):
+        """``U_mf`` of one wet particle by the numpy route [m/s]: :func:`.properties.umf`
+        of the wet diameter and the wet particle's mean density (:func:`.pair.wet_mass`)."""
+        d_wet = p.d + 2.0 * p.h0
+        vol = (math.pi / 6.0) * d_wet**3
+        rho_p = wet_mass(p, self.liquid.rho) / vol
+        return umf(d_wet, rho_p, self.gas, self.v["umf_method"])
 
     @cached_property
     def U_e(self):

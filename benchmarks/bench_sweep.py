@@ -1,7 +1,7 @@
 """Sweep benchmarks: the time of a 1e6-point map and the peak memory of a 1e7-point sweep.
 
     python benchmarks/bench_sweep.py             # both
-    python benchmarks/bench_sweep.py --map       # 1e6-point map, best of 3
+    python benchmarks/bench_sweep.py --map       # 1e6-point map, best and median of 5
     python benchmarks/bench_sweep.py --big DIR   # 1e7 points into a store in DIR, then
                                                  # again over the finished store
 
@@ -13,6 +13,7 @@ subprocess so that nothing else counts.
 """
 
 import argparse
+import os
 import resource
 import subprocess
 import sys
@@ -32,15 +33,18 @@ def grid(n_t, n_h, n_u):
                 U_Umf=np.linspace(1.5, 8.0, n_u))
 
 
-def bench_map() -> None:
+def bench_map(repeats: int = 5) -> None:
     sweep(SCENE, **grid(4, 4, 4))  # compile and warm the property tables
     times = []
-    for _ in range(3):
+    load = os.getloadavg()
+    for _ in range(repeats):
         t = time.perf_counter()
         ds = sweep(SCENE, **grid(100, 100, 100))
         times.append(time.perf_counter() - t)
     print(f"1e6-point map ({ds.propensity.size} points, {ds.u_star.size} u0* solves): "
-          f"best of 3 {min(times):.2f} s (all: {', '.join(f'{x:.2f}' for x in times)})")
+          f"best {min(times):.2f} s, median {np.median(times):.2f} s of {repeats} (all: "
+          f"{', '.join(f'{x:.2f}' for x in times)}); load average {load} at start, "
+          f"{os.getloadavg()} at end")
 
 
 def bench_big(store: str) -> None:

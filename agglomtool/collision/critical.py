@@ -6,9 +6,11 @@ Two solvers:
   bound, a geometric scan of the last doubling, bisection), vectorised over collisions:
   every step evaluates a kernel on all still-unresolved elements at once;
 - :func:`critical_speeds`, compiled, per collision, for the fused tiers: mode "relative"
-  from its near-closed form (:mod:`.critical_relative`) checked with the kernel, mode
-  "paper" from the same value where it has no body forces; each falls back to the same
-  search compiled where the check fails.
+  from its near-closed form (:mod:`.critical_relative`) checked with the kernel (at two
+  speeds that share the kernel's speed-independent work with each other and with the
+  threshold: :func:`.critical_relative.kernel_e_w`, bitwise the kernel), mode "paper"
+  from the same value where it has no body forces (checked with its own kernel); each
+  falls back to the same search compiled where the check fails.
 """
 
 from __future__ import annotations
@@ -20,7 +22,14 @@ from numba import njit, prange
 
 from ._jit import CACHE, parallel_launch
 from .bridge import ln_f_diff, ln_f_diff_array
-from .critical_relative import MAX_ITER, OK, relative_threshold
+from .critical_relative import (
+    EARLY_RTOL,
+    MAX_ITER,
+    OK,
+    kernel_constants,
+    kernel_e_w,
+    threshold_from,
+)
 from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one
 from .paper import paper_kernel
 from .relative import reduced_mass, relative_kernel
@@ -41,6 +50,9 @@ BRACKET = 1.02
 #: Rounds and tolerance of the candidate's drag update with ``drag_slip="particle"``.
 SLIP_ITER = 12
 SLIP_RTOL = 1e-12
+#: The Newton iteration's early-stop bound there (:data:`.critical_relative.EARLY_RTOL`
+#: elsewhere): far below :data:`SLIP_RTOL`, so that the rounds' candidates can settle.
+SLIP_EARLY_RTOL = 1e-14
 
 
 def viscous_lower_bound(m_i, m_j, r, H0, Ha, mu_l):
@@ -218,29 +230,44 @@ _FOUND, _ABOVE, _SEARCH, _BRACKETED = 0, 1, 2, 3
 
 
 @njit(cache=CACHE, inline="always")
-def _relative_candidate(vals, raw, body, particle_slip, max_iter):
-    """``(w*, ok)``: the near-closed-form threshold of mode "relative" [m/s]. Where the drag
-    depends on the particles' own speed (``drag_slip="particle"``) the body forces are
-    re-evaluated at the candidate until it moves by less than :data:`SLIP_RTOL`
-    (at most :data:`SLIP_ITER` rounds)."""
-    m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, w_per_u0 = vals
+def _relative_candidate(kc, vals, raw, body, particle_slip, max_iter):
+    """``(w*, ok)``: the near-closed-form threshold of mode "relative" [m/s] from the
+    collision's kernel constants ``kc`` at zero speed. Where the drag depends on the
+    particles' own speed (``drag_slip="particle"``) the body forces are re-evaluated at the
+    candidate until it moves by less than :data:`SLIP_RTOL` (at most :data:`SLIP_ITER`
+    rounds)."""
+    m_i, m_j, r, H0, Ha, cos_t, theta, _, _, _, w_per_u0 = vals
     mu_l = raw[8]
     gamma = raw[9]
     e = raw[17]
-    w, status = relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i,
-                                   fn_j, e, max_iter)
-    if not (body and particle_slip) or status != OK:
+    slip = body and particle_slip
+    early = SLIP_EARLY_RTOL if slip else EARLY_RTOL
+    w, status = threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early)
+    if not slip or status != OK:
         return w, status == OK
     for _ in range(SLIP_ITER):
         pre = _prep(raw, w / w_per_u0, body, particle_slip)
-        w_new, status = relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
-                                           pre[7], pre[8], e, max_iter)
+        kc_w = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, pre[7],
+                                pre[8])
+        w_new, status = threshold_from(kc_w, H0, Ha, mu_l, gamma, theta, e, max_iter,
+                                       early)
         if status != OK:
             return math.nan, False
         if abs(w_new - w) <= SLIP_RTOL * w_new:
             return w_new, True
         w = w_new
     return math.nan, False
+
+
+@njit(cache=CACHE, inline="always")
+def _check_sticks(own, kc, vals, raw, w_rel, tier, body, particle_slip, empty):
+    """:func:`_sticks` at ``w_rel`` [m/s]; with ``own`` (mode "relative", body forces that
+    do not depend on the speed) from the kernel's speed-independent numbers ``kc``
+    (:func:`.critical_relative.kernel_e_w`, bitwise the kernel's ``e_w``)."""
+    if own:
+        return kernel_e_w(kc, vals[3], vals[4], raw[8], raw[9], vals[6], raw[17],
+                          w_rel) == 0.0
+    return _sticks(vals, raw, w_rel, tier, body, particle_slip, empty)
 
 
 @njit(cache=CACHE)
@@ -255,7 +282,10 @@ def _from_candidate(vals, raw, tier, body, particle_slip, rtol, w_max, max_iter,
 
     - ``relative``: ``hi = w* (1 + delta)``, ``delta`` = :data:`NUDGE` ``rtol`` (then
       ``rtol / 4``, should rounding in the kernel put its switch a little above ``w*``);
-      anything else goes to the search.
+      anything else goes to the search. Where the body forces do not depend on the speed
+      the two kernel evaluations share its speed-independent work with each other and
+      with the threshold (:func:`.critical_relative.kernel_e_w`, the kernel's arithmetic
+      bitwise);
     - ``paper``: with body forces, ``_SEARCH`` at once (see the code); without, the same
       check first (the tiers then agree to rounding); else a bracket around ``w*`` widened
       geometrically (factor :data:`BRACKET`, squared at
@@ -268,15 +298,18 @@ def _from_candidate(vals, raw, tier, body, particle_slip, rtol, w_max, max_iter,
         # 20 on the benchmark's mixed set); a bracket around the relative one was measured
         # 10-15 % slower than the plain search there, so the search runs directly.
         return math.nan, _SEARCH
-    w, ok = _relative_candidate(vals, raw, body, particle_slip, max_iter)
+    kc = kernel_constants(vals[0], vals[1], vals[2], vals[3], vals[4], raw[8], raw[9],
+                          vals[5], vals[6], vals[7], vals[8])
+    w, ok = _relative_candidate(kc, vals, raw, body, particle_slip, max_iter)
     if not ok or not w > 0.0 or math.isinf(w):
         return math.nan, _SEARCH
+    own = tier != TIER_PAPER and not (body and particle_slip)
     delta = NUDGE * rtol
     for _ in range(2):
         hi = w * (1.0 + delta)
-        if not _sticks(vals, raw, hi, tier, body, particle_slip, empty):
+        if not _check_sticks(own, kc, vals, raw, hi, tier, body, particle_slip, empty):
             lo = hi * (1.0 - rtol)
-            if _sticks(vals, raw, lo, tier, body, particle_slip, empty):
+            if _check_sticks(own, kc, vals, raw, lo, tier, body, particle_slip, empty):
                 return hi, _FOUND
             break
         if tier == TIER_PAPER:

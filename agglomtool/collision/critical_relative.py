@@ -64,20 +64,32 @@ one upward crossing after a non-positive start. The first crossing is found by
    0))`` (the smallest speed that reaches contact with ``w_s > 0``);
 2. with ``F_b < 0``, ``h_E`` from Newton on the concave ``E_s`` started on its right
    (monotone), and ``F(t_E)`` deciding which convex piece holds the first crossing;
-3. in that piece, one fixed-point step ``t <- sqrt(kappa G(t))`` from its left end
-   (``G = t^2/kappa - F``: the post-contact speed the separation needs at the current
-   rupture distance, the quadratic's root above), then Newton on ``F`` safeguarded by a
-   bracket ``F(lo) <= 0 < F(hi)``: a step that leaves the bracket is replaced by its
-   midpoint, or by a doubling while no upper end is known. On a convex piece the first
-   Newton step from the left lands right of the root and the later ones decrease onto it
-   quadratically; four or five evaluations of ``F`` are typical.
+3. in that piece, Newton on ``F`` from the quadratic model of ``F`` at the piece's left end
+   ``a``: ``t^2/kappa`` exact and ``G = t^2/kappa - F`` (the post-contact speed the
+   separation needs at the current rupture distance, the quadratic's root above) replaced
+   by its tangent at ``a``. ``G`` is concave on the piece, so the tangent lies above it and
+   the start lies at or right of the crossing; from there Newton on the convex ``F``
+   decreases onto the crossing quadratically. (Where that start falls outside the piece,
+   one fixed-point step ``t <- sqrt(kappa G(a))`` starts instead, a lower bound where
+   ``G`` rises.) The iteration is safeguarded by a bracket ``F(lo) <= 0 < F(hi)``: a step
+   that leaves it is replaced by its midpoint, or by a doubling while no upper end is
+   known. Two or three evaluations of ``F`` after ``F(t_min)`` are typical.
 
 Convergence: the iteration stops when a Newton step changes ``t`` by at most
 :data:`NEWTON_RTOL` of ``t`` while ``|F|`` is below ``1e-9`` of the speed scale
 ``t^2/kappa`` (next to the kink at ``t_E``, where ``F'`` is unbounded, a small step alone
 proves nothing), or when the bracket is that narrow; in the quadratic regime the error left
-after such a step is far below it. It gives up after ``max_iter`` evaluations (default
-:data:`MAX_ITER`) and reports failure: the caller then runs the bracketed search.
+after such a step is far below it. It also stops one evaluation earlier where the iterate
+lies right of the crossing (``F > 0``: on a convex piece the Newton step then lands at or
+right of it again), the step is at most :data:`QUAD_RATIO` of the previous one (the start
+counts as a step from ``a``), ``F'`` changed by less than a factor 2 over that previous
+step, and the distance the step leaves, about ``F'' step^2 / (2 F')`` with ``F''`` from
+the two slopes, is below ``early_rtol`` of ``t`` (:data:`EARLY_RTOL`, 1e-10, a tenth of the
+check's window above the candidate; the caller's rounds with a speed-dependent drag ask for
+1e-14). The answer then lies a little right of the crossing, the side the caller's check
+allows up to ``rtol``. On the benchmark map: ``F(t_min)`` and one more evaluation. It
+gives up after ``max_iter`` evaluations (default :data:`MAX_ITER`) and reports failure: the
+caller then runs the bracketed search.
 
 Accuracy: the stages are the kernel's formulas, so the threshold is exact up to the
 rounding of ``F`` and of the kernel (which forms ``K`` as ``K_start - losses``, cancelling
@@ -92,15 +104,23 @@ import math
 from numba import njit
 
 from ._jit import CACHE
-from .bridge import _LN4, bridge_volume, g_diff, ln_f_diff, ln_f_parts
-from .relative import reduced_mass, relative_body_force
+from .bridge import _LN4, bridge_volume, g_diff, ln_f_parts
+from .relative import _viscous_loss, reduced_mass, relative_body_force
 
-__all__ = ["relative_threshold", "NEWTON_RTOL", "MAX_ITER", "OK", "FAILED", "NEVER"]
+__all__ = ["relative_threshold", "threshold_from", "kernel_constants", "kernel_e_w",
+           "NEWTON_RTOL", "EARLY_RTOL", "QUAD_RATIO", "MAX_ITER", "OK", "FAILED", "NEVER"]
 
 #: Newton stops when a step changes ``t = sqrt(Ca)`` by at most this fraction of ``t``.
 NEWTON_RTOL = 1e-10
 #: Newton (and bracketing) steps allowed before the closed form gives up.
 MAX_ITER = 60
+#: A Newton step at most this fraction of the previous one counts as quadratic convergence
+#: (:func:`_root_in_piece` may then stop one evaluation early).
+QUAD_RATIO = 1e-2
+#: The early stop's bound on the distance left to the crossing, relative to ``t``: a
+#: tenth of the check's window above the candidate (``1e-3 rtol`` = 1e-9 at the default
+#: ``rtol``), on the side the check allows (the stop lands right of the crossing).
+EARLY_RTOL = 1e-10
 
 #: Status codes of :func:`relative_threshold`.
 OK, FAILED, NEVER = 0, 1, 2
@@ -138,38 +158,63 @@ def _sep(t, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha):
 
 
 @njit(cache=CACHE)
-def _root_in_piece(a, g_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha,
-                   s_ha, max_iter):
+def _root_in_piece(a, f_a, df_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha,
+                   s_ha, max_iter, early_rtol):
     """The crossing of ``F`` in the convex piece ``[a, b]`` (``b`` may be ``inf``), given
-    ``F(a) <= 0`` and ``F(b) > 0`` where ``b`` is finite; ``g_a = G(a)``. Returns
+    ``F(a) = f_a <= 0``, ``F'(a) = df_a`` and ``F(b) > 0`` where ``b`` is finite. Returns
     ``(t*, ok)``.
 
-    Safeguarded Newton: ``[lo, hi]`` always brackets the crossing (``F(lo) <= 0 < F(hi)``);
-    a step that leaves it is replaced by the bracket's midpoint (or a doubling while ``hi``
-    is infinite). Converged when a Newton step changes ``t`` by at most ``NEWTON_RTOL t``
-    while ``|F|`` is at rounding level (a small step next to the kink at ``t_E``, where
-    ``F'`` is unbounded, is no convergence), or when the bracket itself is that narrow.
+    Start: the quadratic model of ``F`` at ``a``, ``t^2/kappa`` exact and ``G = t^2/kappa - F``
+    replaced by its tangent; ``G`` is concave on the piece, so the tangent lies above it and
+    the start lies at or right of the crossing (where that start is not inside the piece,
+    one fixed-point step ``t <- sqrt(kappa G(a))`` instead, a lower bound where ``G``
+    rises). Then safeguarded Newton: ``[lo, hi]`` always brackets the crossing
+    (``F(lo) <= 0 < F(hi)``); a step that leaves it is replaced by the bracket's midpoint
+    (or a doubling while ``hi`` is infinite). Converged when a Newton step changes ``t`` by
+    at most ``NEWTON_RTOL t`` while ``|F|`` is at rounding level (a small step next to the
+    kink at ``t_E``, where ``F'`` is unbounded, is no convergence), when the bracket itself
+    is that narrow, or (``early_rtol > 0``) one evaluation early by the test in the loop.
     """
     lo, hi = a, b
-    # Start from one fixed-point step t <- sqrt(kappa G(a)) (a lower bound where G rises).
-    x = math.sqrt(kappa * g_a)
+    # d = t - a solves d^2/kappa + F'(a) d + F(a) = 0 (F(a) <= 0: a real root d >= 0),
+    # taken in the form without cancellation for either sign of F'(a).
+    root = math.sqrt(df_a * df_a - 4.0 * f_a / kappa)
+    d = -2.0 * f_a / (df_a + root) if df_a > 0.0 else 0.5 * kappa * (root - df_a)
+    x = a + d
+    last, df_last = d, df_a  # the last step's size and F' where it was taken (for the stop)
     if not (x > lo and x < hi):
-        x = 0.5 * (lo + hi) if hi < math.inf else max(2.0 * lo, 1e-300)
+        x = math.sqrt(kappa * (a * a / kappa - f_a))
+        last = math.inf
+        if not (x > lo and x < hi):
+            x = 0.5 * (lo + hi) if hi < math.inf else max(2.0 * lo, 1e-300)
     for _ in range(max_iter):
         f, df = _sep(x, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        step = math.nan
         if df > 0.0:
             step = f / df
             if abs(step) <= NEWTON_RTOL * x and abs(f) <= 1e-9 * (x * x / kappa):
                 return x - step, True
+            # Right of the crossing (F > 0) on a convex piece the step lands at or right of
+            # it again, about F'' step^2 / (2 F') from it. Where F' changed by less than a
+            # factor 2 over the last step (no kink nearby: the curvature estimate from the
+            # two slopes holds) and that distance is below early_rtol t, this step ends
+            # the iteration, one evaluation of F early.
+            if (f > 0.0 and step <= QUAD_RATIO * last
+                    and 0.5 * df_last < df < 2.0 * df_last):
+                curv = abs(df_last - df) / last  # F'' over the last step
+                if curv * step * step <= 2.0 * early_rtol * x * df:
+                    return x - step, True
         if f > 0.0:
             hi = x
         else:
             lo = x
         if hi < math.inf and hi - lo <= NEWTON_RTOL * hi:
             return hi, True
-        xn = x - f / df if df > 0.0 else math.nan
+        xn = x - step if df > 0.0 else math.nan
+        last, df_last = abs(step), df
         if not (xn > lo and xn < hi):
             xn = 0.5 * (lo + hi) if hi < math.inf else 2.0 * x
+            last = math.inf
         x = xn
     return x, False
 
@@ -196,37 +241,114 @@ def _e_zero(Ha, a2, kcap, f_b, max_iter):
 
 
 @njit(cache=CACHE)
+def kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j):
+    """The numbers of :func:`.relative.relative_kernel` that do not depend on the speed, for
+    one collision with a bridge (``H0 > Ha > 0``), each formed by the same operations as
+    there: ``(m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha)`` with
+    ``d_app = -Delta(H0, Ha)``, ``g_app = g(Ha) - g(H0)``, ``v13 = V_b^(1/3)``,
+    ``(k_ha, v_ha) = ln_f_parts(Ha)`` and ``s_ha = sqrt(Ha^2 + a^2)``. The threshold and
+    the check of its candidate (:func:`kernel_e_w`) share them."""
+    m_r, _, _ = reduced_mass(m_i, m_j)
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * mu_l * r * r
+    kcap = 2.0 * math.pi * gamma * r * cos_t
+    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    k_ha, v_ha = ln_f_parts(Ha, a2)
+    k_h0, v_h0 = ln_f_parts(H0, a2)
+    d_app = -((v_ha - v_h0) + (k_h0 - k_ha) * _LN4)  # -ln_f_diff(H0, Ha), Ha's parts once
+    g_app = g_diff(H0, Ha, a2)
+    v13 = bridge_volume(r, a2) ** (1.0 / 3.0)
+    s_ha = math.sqrt(Ha * Ha + a2)
+    return m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha
+
+
+@njit(cache=CACHE, inline="always")
+def kernel_e_w(kc, H0, Ha, mu_l, gamma, theta, e, w):
+    """``e_w`` of :func:`.relative.relative_kernel` at relative speed ``w`` [m/s] from its
+    speed-independent numbers ``kc`` (:func:`kernel_constants`): the kernel's own
+    operations in its own order (bitwise its ``e_w``; a test holds it to that), without
+    the details and with the work that does not depend on ``w`` done once. 0 where the
+    pair sticks. The gap ``sqrt(h^2 + a^2)`` at rupture is taken once for the distance
+    function and the capillary difference (each of :func:`.bridge.ln_f_parts` and
+    :func:`.bridge.g_diff` takes the same square root)."""
+    m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
+    # ---- approach, H0 -> Ha
+    k0 = 0.5 * m_r * w * w
+    c_delta = c * d_app
+    if not c_delta < m_r * w:
+        return 0.0
+    l_vis = _viscous_loss(w, m_r, c_delta)
+    l_bdw = -f_b * (H0 - Ha)
+    k_app = k0 - kcap * g_app - l_vis - l_bdw
+    if not k_app > 0.0:
+        return 0.0
+    # ---- contact
+    w_s = e * math.sqrt(2.0 * k_app / m_r)
+    if not w_s > 0.0:
+        return 0.0
+    # ---- separation, Ha -> h_rupt
+    k_s = 0.5 * m_r * w_s * w_s
+    ca = mu_l * w_s / gamma
+    h = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * v13
+    if not h > Ha:
+        k_end = k_s
+    else:
+        s = math.sqrt(h * h + a2)
+        q = a2 / ((h + s) * (h + s))
+        if q < 0.5:
+            k_h, v_h = 1, math.log1p(-q * q)
+        else:
+            k_h, v_h = 0, math.log(h) + math.log(s) - 2.0 * math.log(h + s)
+        c_delta = c * ((v_h - v_ha) + (k_ha - k_h) * _LN4)
+        l_cap = kcap * (a2 * (h - Ha) * (1.0 + (Ha + h) / (s_ha + s))
+                        / ((Ha + s_ha) * (h + s)))
+        l_bdw = f_b * (h - Ha)
+        if not c_delta < m_r * w_s:
+            return 0.0
+        l_vis = _viscous_loss(w_s, m_r, c_delta)
+        k_end = k_s - l_cap - l_vis - l_bdw
+        if not k_end > 0.0:
+            return 0.0
+    e_w = math.sqrt(k_end / k0)
+    return e_w if e_w > 0.0 else 0.0
+
+
+@njit(cache=CACHE)
 def relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e,
-                       max_iter):
+                       max_iter, early_rtol=EARLY_RTOL):
     """Smallest relative impact speed ``w*`` [m/s] above which mode "relative" rebounds
     (module docstring), for one collision with a bridge (``H0 > Ha > 0``) and ``e > 0``.
 
     Returns ``(w*, status)``: status :data:`OK`; :data:`FAILED` where the iteration did not
     converge (``w*`` meaningless: search instead); :data:`NEVER` where no speed rebounds.
     The kernel sticks at ``w*`` itself and rebounds just above it (to rounding).
+    ``early_rtol``: the largest distance [-, of ``t``] the Newton iteration may stop at
+    one evaluation early (:data:`EARLY_RTOL`); 0 never stops early (the reference the early
+    stop is tested against).
     """
-    m_r, _, _ = reduced_mass(m_i, m_j)
-    a2 = (H0 - Ha) * (H0 + Ha)
-    c = 1.5 * math.pi * mu_l * r * r
-    kcap = 2.0 * math.pi * gamma * r * cos_t
-    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
+    kc = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j)
+    return threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early_rtol)
+
+
+@njit(cache=CACHE)
+def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early_rtol=EARLY_RTOL):
+    """:func:`relative_threshold` from the collision's :func:`kernel_constants` ``kc``."""
+    m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
     c_m = c / m_r
     # Approach: contact speed w_c = sqrt((w - w_v)^2 - 2 E_a / m_r) for w > w_v.
-    w_v = c_m * -ln_f_diff(H0, Ha, a2)
-    e_a = kcap * g_diff(H0, Ha, a2) - f_b * (H0 - Ha)
+    w_v = c_m * d_app
+    e_a = kcap * g_app - f_b * (H0 - Ha)
     wc_min = math.sqrt(-2.0 * e_a / m_r) if e_a < 0.0 else 0.0
     w_app = w_v + (0.0 if e_a < 0.0 else math.sqrt(2.0 * e_a / m_r))
     if math.isinf(w_app) or math.isnan(w_app):
         return math.inf, NEVER if math.isinf(w_app) else FAILED
     # Separation in t = sqrt(Ca): h(t) = hb (1 + t).
     kappa = mu_l / gamma
-    hb = (1.0 + 0.5 * theta) * bridge_volume(r, a2) ** (1.0 / 3.0)
+    hb = (1.0 + 0.5 * theta) * v13
     t_min = math.sqrt(kappa * e * wc_min)
-    k_ha, v_ha = ln_f_parts(Ha, a2)
-    s_ha = math.sqrt(Ha * Ha + a2)
     if hb * (1.0 + t_min) <= Ha:
         return w_app, OK  # the bridge is broken at contact: every contact rebounds
-    f_a, _ = _sep(t_min, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+    f_a, df_a = _sep(t_min, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
     if f_a > 0.0:
         return w_app, OK
     # The piece [a, b] of F's convexity holding the first crossing.
@@ -238,15 +360,15 @@ def relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_
             return math.inf, FAILED
         t_e = h_e / hb - 1.0
         if t_e > a:
-            f_e, _ = _sep(t_e, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+            f_e, df_e = _sep(t_e, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
             if f_e > 0.0:
                 b = t_e
             else:
                 a = t_e
                 f_a = f_e
-    g_a = a * a / kappa - f_a
-    t, ok = _root_in_piece(a, g_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha,
-                           s_ha, max_iter)
+                df_a = df_e
+    t, ok = _root_in_piece(a, f_a, df_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha,
+                           v_ha, s_ha, max_iter, early_rtol)
     if not ok:
         return math.inf, FAILED
     # Back through contact and the approach.

@@ -7,12 +7,17 @@ The Ergun route (:func:`umf_ergun`) takes its pressure drop from ``fluids.packed
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from fluids.packed_bed import Ergun
+from numba import vectorize
 
 from .._validate import check_range
+from ..collision._jit import CACHE
 
-__all__ = ["umf_wen_yu", "umf_ergun", "umf", "umf_methods", "UMF_C1_C2", "GRAVITY"]
+__all__ = ["umf_wen_yu", "umf_ergun", "umf", "umf_methods", "umf_coated", "UMF_C1_C2",
+           "GRAVITY"]
 
 #: Standard gravity [m/s2].
 GRAVITY = 9.80665
@@ -153,3 +158,56 @@ def umf(d, rho_p, gas, method="wen-yu", *, eps_mf=None, phi=1.0):
         raise ValueError("rho_p must exceed the gas density for a bed to fluidize")
     c1, c2, _ = UMF_C1_C2[method]
     return umf_wen_yu(d, rho_p, gas.mu, gas.rho, c1=c1, c2=c2)
+
+
+_FOUR_THIRDS_PI = (4.0 / 3.0) * math.pi
+
+
+@vectorize(["float64(float64, float64, float64, float64, float64, float64, float64, "
+            "float64, float64, float64, float64)"], cache=CACHE)
+def _coated_kernel(solid, geo, h0, rho_l, vol, d3, d_wet, mu_g, rho_g, c1, c2):
+    """:func:`umf_coated`'s one compiled pass: the wet mass, the wet density and
+    :func:`umf_wen_yu`, each operation as in the numpy forms (``solid = rho_s r^3``,
+    ``geo = 3 r^2 + 3 r h0 + h0^2``, ``vol`` and ``d3 = d_wet^3`` given); NaN where the wet
+    density does not exceed the gas's (or is NaN)."""
+    rho_p = _FOUR_THIRDS_PI * (solid + rho_l * h0 * geo) / vol
+    if not rho_p > rho_g:
+        return math.nan
+    ar = d3 * rho_g * (rho_p - rho_g) * GRAVITY / (mu_g * mu_g)
+    re_mf = c2 * ar / (math.sqrt(c1 * c1 + c2 * ar) + c1)
+    return re_mf * mu_g / (rho_g * d_wet)
+
+
+def umf_coated(d, rho_s, h0, rho_l, mu_g, rho_g, method="wen-yu"):
+    """``U_mf`` [m/s] of a sphere (diameter ``d`` [m], density ``rho_s`` [kg/m3]) coated
+    with ``h0`` [m] of a liquid of density ``rho_l`` [kg/m3], fluidized by a gas of
+    ``mu_g`` [Pa s] and ``rho_g`` [kg/m3]: :func:`umf` of the wet diameter ``d + 2 h0`` and
+    the wet particle's mean density (coating volume ``(4/3) pi h0 (3 r^2 + 3 r h0 + h0^2)``,
+    no cancellation for thin coatings), by a correlation of :data:`UMF_C1_C2`.
+
+    The same numbers as that numpy route (the powers taken by numpy on the inputs' own
+    shapes, every other operation in one compiled pass over the broadcast result, in the
+    same order), without its temporaries. Returns ``None`` where it does not apply (a plate,
+    a method outside :data:`UMF_C1_C2`, a wet density not above the gas's): the caller then
+    takes the numpy route, which answers or raises there.
+    """
+    if method not in UMF_C1_C2:
+        return None
+    d, h0 = np.asarray(d, dtype=float), np.asarray(h0, dtype=float)
+    d_wet = d + 2.0 * h0
+    if not np.all(np.isfinite(d_wet)) or not np.all(d_wet > 0.0):
+        return None
+    # The powers exactly as the numpy route takes them: numpy's power of a scalar can
+    # differ in the last bit from its power of an array (a 0-d one included), so each is
+    # taken on the same kind of operand as there.
+    vol = (math.pi / 6.0) * d_wet**3
+    d3 = np.asarray(d_wet, dtype=float) ** 3
+    r = 0.5 * d
+    r_f = np.where(np.isinf(r), 1.0, r)
+    solid = np.asarray(rho_s, dtype=float) * r_f**3
+    geo = 3.0 * r_f * r_f + 3.0 * r_f * h0 + h0 * h0
+    c1, c2, _ = UMF_C1_C2[method]
+    out = _coated_kernel(solid, geo, h0, rho_l, vol, d3, d_wet, mu_g, rho_g, c1, c2)
+    if np.isnan(out).any():
+        return None
+    return out

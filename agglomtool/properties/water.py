@@ -32,21 +32,39 @@ def _state():
     return CP.AbstractState("HEOS", "Water")
 
 
+#: ``(P, T) -> (mu, rho)`` of the liquid states evaluated so far. A state depends on its
+#: ``(P, T)`` alone (not on the states evaluated before it: CoolProp's PT update starts
+#: afresh), so a remembered one is bitwise the one evaluated again; the blocks of a map
+#: share their temperatures and take each state once. Cleared when it holds
+#: :data:`_MEMO_SIZE` states.
+_MEMO: dict = {}
+_MEMO_SIZE = 1 << 14
+
+
 def _liquid_states(T, P):
     T = check_range("T", T, 273.16, _T_CRIT, lo_open=False, hi_open=True, unit="K")
     P = check_range("P", P, 0.0, 1e9, lo_open=True, unit="Pa")
     T, P = np.broadcast_arrays(T, P)
     mu = np.empty(T.shape)
     rho = np.empty(T.shape)
-    st = _state()
+    st = None
     for k in np.ndindex(T.shape):
-        st.update(CP.PT_INPUTS, float(P[k]), float(T[k]))
-        if st.phase() not in _LIQUID:
-            raise ValueError(
-                f"water at T = {T[k]:g} K, p = {P[k]:g} Pa is not a liquid (it boils at "
-                f"{CP.PropsSI('T', 'P', float(P[k]), 'Q', 0, 'Water'):.2f} K at that pressure)"
-            )
-        mu[k], rho[k] = st.viscosity(), st.rhomass()
+        key = (float(P[k]), float(T[k]))
+        got = _MEMO.get(key)
+        if got is None:
+            st = _state() if st is None else st
+            st.update(CP.PT_INPUTS, key[0], key[1])
+            if st.phase() not in _LIQUID:
+                raise ValueError(
+                    f"water at T = {T[k]:g} K, p = {P[k]:g} Pa is not a liquid (it boils at "
+                    f"{CP.PropsSI('T', 'P', key[0], 'Q', 0, 'Water'):.2f} K at that "
+                    "pressure)"
+                )
+            got = (st.viscosity(), st.rhomass())
+            if len(_MEMO) >= _MEMO_SIZE:
+                _MEMO.clear()
+            _MEMO[key] = got
+        mu[k], rho[k] = got
     return mu, rho
 
 
