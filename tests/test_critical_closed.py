@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import agglomtool as at
@@ -56,6 +56,21 @@ def _agree(a, b, rtol=RTOL):
     gap = np.abs(a[fin] - b[fin]) / np.maximum(a[fin], b[fin])
     assert np.all(gap <= rtol * (1 + 1e-9)), (np.flatnonzero(fin)[gap > rtol], gap.max())
     return int(fin.sum())
+
+
+def _agree_or_earlier(a, b, rtol=RTOL):
+    """:func:`_agree`, except that the closed form ``a`` may find an earlier switch than the
+    search ``b``: the search steps up in speed and can step over a rebound window narrower
+    than its steps (its documented limit), the closed form solves for the first crossing.
+    Such an ``a`` must be finite, positive and below ``b``; the caller then checks it with
+    the kernel (:func:`_contract`), so it is a real switch from stick to rebound."""
+    a, b = np.atleast_1d(a), np.atleast_1d(b)
+    both = np.isfinite(a) & (a > 0.0) & np.isfinite(b) & (b > 0.0)
+    gap = np.zeros(a.shape)
+    gap[both] = np.abs(a[both] - b[both]) / np.maximum(a[both], b[both])
+    earlier = np.isfinite(a) & (a > 0.0) & (a < b) & ~(both & (gap <= rtol * (1 + 1e-9)))
+    keep = ~earlier
+    return _agree(a[keep], b[keep], rtol), int(earlier.sum())
 
 
 def _contract(kw, u, mode="relative", slip=False, body=True, rtol=RTOL):
@@ -151,6 +166,13 @@ _pos = dict(allow_nan=False, allow_infinity=False)
     theta=st.floats(0.0, 85.0, **_pos), beta=st.floats(0.0, 360.0, **_pos),
     e=st.floats(0.05, 1.0, **_pos), body=st.booleans(), slip=st.booleans(),
 )
+# Found by hypothesis: a 3.9 mm bead on a plate through a 1e6 Pa s film barely thicker than
+# the asperities, at 3 deg with body forces. The kernel rebounds in a window 1e-5 wide
+# (relative) from 1.68e-5 m/s, sticks above it again and rebounds for good only from
+# 4.9e-3 m/s; the search steps over the window, the closed form finds it.
+@example(d_i=0.00390625, d_j=math.inf, rho_i=1162.0, rho_j=900.0, ha=1.5855946375724058e-06,
+         ratio=1.0001000000000002, log_mu=6.0, gamma=0.5, theta=0.0, beta=3.0, e=1.0,
+         body=True, slip=False)
 def test_closed_form_equals_the_search_hypothesis(d_i, d_j, rho_i, rho_j, ha, ratio, log_mu,
                                                   gamma, theta, beta, e, body, slip):
     kw = dict(
@@ -162,7 +184,7 @@ def test_closed_form_equals_the_search_hypothesis(d_i, d_j, rho_i, rho_j, ha, ra
     )
     got = _solve(kw, slip=slip, body=body)
     ref = _solve(kw, slip=slip, body=body, closed_form=False)
-    _agree(got, ref)
+    _agree_or_earlier(got, ref)
     _contract(kw, got, slip=slip, body=body)
 
 
