@@ -326,11 +326,11 @@ def collide(
     check_inputs(p_i, p_j, liquid, gas, bed)
     _check_flags(body_forces, drag_slip, details)
     _check_tol_mode(tol, mode)
-    fused = mode in _FUSED
+    in_kernel = mode in _FUSED or (mode == "auto" and not details)  # checks speeds itself
     shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j,
-                                         check=not fused)
+                                         check=not in_kernel)
     particle = drag_slip == "particle"
-    if fused:
+    if mode in _FUSED:
         # The speed rules are checked in the kernel's own pass (no separate scan).
         e_w, stage, path, w, det, (code, index) = fused_batch(
             ins, steps, n, _FUSED[mode], body_forces, particle, details=details, check=True
@@ -338,8 +338,11 @@ def collide(
         if code:
             raise _speed_error(code, index, ins, steps)
     elif mode == "auto" and not details:
-        e_w, stage, path, w = auto_fused(ins, steps, n, body_forces, particle,
-                                         DEFAULT_TOL if tol is None else tol)
+        e_w, stage, path, w, (code, index) = auto_fused(
+            ins, steps, n, body_forces, particle, DEFAULT_TOL if tol is None else tol,
+            check=True)
+        if code:
+            raise _speed_error(code, index, ins, steps)
         det = None
     else:
         k = prepare_flat(ins, steps, n, body_forces, particle)

@@ -67,10 +67,11 @@ def test_all_good_and_broadcast_inputs():
 @pytest.mark.parametrize("seed", range(4))
 def test_the_kernels_own_pass_names_the_same_offender(n, given, seed):
     """``fused_batch(check=True)`` (what ``collide`` uses for modes paper and relative)
-    applies the rules inside the kernel's loop: the same rule and first offender as the
-    reference, and the collisions that obey every rule get the same outcomes as without
-    the check."""
+    applies the rules inside the kernel's loop, and so does ``auto_fused(check=True)``
+    (mode auto): the same rule and first offender as the reference, and the collisions that
+    obey every rule get the same outcomes as without the check."""
     from agglomtool.api import _fused_inputs
+    from agglomtool.collision.auto import auto_fused
     from agglomtool.collision.fused import TIER_PAPER, TIER_RELATIVE, fused_batch
     from agglomtool.inputs import Bed, Gas, Liquid, Particle
 
@@ -109,3 +110,9 @@ def test_the_kernels_own_pass_names_the_same_offender(n, given, seed):
             good = (w > 0.0) & np.isfinite(w)
         for a, b in zip(out[:4], plain[:4], strict=True):
             np.testing.assert_array_equal(a[good], b[good])
+    *out, first = auto_fused(ins, steps, n, True, False, check=True)
+    assert first == expect
+    if not expect[0]:
+        plain = auto_fused(ins, steps, n, True, False)
+        for a, b in zip(out, plain, strict=True):
+            np.testing.assert_array_equal(a, b)

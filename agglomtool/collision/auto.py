@@ -142,7 +142,7 @@ from ._codes import (
 )
 from ._jit import CACHE, parallel_launch
 from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts
-from .fused import _one
+from .fused import _first_rule, _one, _speed_rules
 from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
 from .paper import _viscous_loss
@@ -673,9 +673,30 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
 
 @njit(parallel=True, cache=CACHE)
 def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max, first_change,
-                  stick_margin, e_w, stage, path, w_out, pieces):
+                  stick_margin, check, e_w, stage, path, w_out, pieces):
     empty = np.empty(0)
-    for q in prange(e_w.shape[0]):
+    n = e_w.shape[0]
+    # Each speed rule's first offender as a min-reduction (as fused._fused_parallel).
+    f1 = n
+    f2 = n
+    f3 = n
+    f4 = n
+    for q in prange(n):
+        if check:
+            r1, r2, r3, r4 = _speed_rules(ins[0], ins[4], ins[18], ins[19],
+                                          not math.isnan(ins[19][q * st[19]]), st[0], st[4],
+                                          st[18], st[19], q)
+            f1 = min(f1, q if r1 else n)
+            f2 = min(f2, q if r2 else n)
+            f3 = min(f3, q if r3 else n)
+            f4 = min(f4, q if r4 else n)
+            if r3 or r4:  # no approach, or an infinite speed: nothing to compute
+                e_w[q] = math.nan
+                stage[q] = -1
+                path[q] = 0
+                w_out[q] = math.nan
+                pieces[q] = 0
+                continue
         m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, q, body,
                                                                    particle_slip)
         mu_l = ins[8][q * st[8]]
@@ -696,14 +717,19 @@ def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
         path[q] = pa
         w_out[q] = w
         pieces[q] = nq
+    return f1, f2, f3, f4
 
 
-def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_pieces=False):
+def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_pieces=False,
+               check=False):
     """Mode "auto" without details from the fused kernels' inputs (:mod:`.fused`): the
     preparation, the choice and "ode" where it is chosen in one compiled loop (no details
     rows, no second pass). Returns ``(e_w, stage, path, w)``, bitwise what
     :func:`auto_batch` gives on the prepared arrays (tested); with ``return_pieces`` also
-    the form used per collision (``pieces`` of :func:`auto_batch`)."""
+    the form used per collision (``pieces`` of :func:`auto_batch`). With ``check`` the lab
+    speeds are validated in the same pass and ``(code, index)`` is appended, as by
+    :func:`~.fused.fused_batch`; a caller must raise on a nonzero code (the collisions
+    that break rule 3 or 4 are not computed)."""
     tol = _check_tol(tol)
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
@@ -711,18 +737,22 @@ def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_piece
     w = np.empty(n)
     pieces = np.empty(n, dtype=np.int8)
     o = ode_options(ode_rtol(tol))
-    parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol,
-                    o["rtol"], o["atol"], o["first_step"], o["max_step"], o["first_change"],
-                    o["stick_margin"], e_w, stage, path, w, pieces)
+    first = parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol,
+                            o["rtol"], o["atol"], o["first_step"], o["max_step"],
+                            o["first_change"], o["stick_margin"], bool(check), e_w, stage,
+                            path, w, pieces)
+    rule = _first_rule(first, n)
+    if check and rule[0]:
+        out = (e_w, stage, path, w) + ((pieces,) if return_pieces else ())
+        return out + (rule,)
     if pieces.min() < 0:
         bad = int(np.flatnonzero(pieces < 0)[0])
         raise RuntimeError(
             f"ode: collision {bad} needed more than {MAX_STEPS} steps in one stage "
             f"(w = {w[bad]!r} m/s); loosen tol = {tol!r}"
         )
-    if return_pieces:
-        return e_w, stage, path, w, pieces
-    return e_w, stage, path, w
+    out = (e_w, stage, path, w) + ((pieces,) if return_pieces else ())
+    return out + ((rule,) if check else ())
 
 
 def ode_rtol(tol):
