@@ -207,12 +207,18 @@ def _check_flags(body_forces, drag_slip, details) -> None:
         raise ValueError(f"drag_slip = {drag_slip!r} is not one of {DRAG_SLIP_MODES}")
 
 
-def _speed_error(code, index, ins, steps):
-    """The ``ValueError`` of :func:`_lab_speeds` for the rule ``code`` failing at ``index``."""
+def _speed_error(code, index, ins, steps, shape=()):
+    """The ``ValueError`` of :func:`_lab_speeds` for the rule ``code`` failing at the flat
+    ``index`` of the broadcast ``shape`` (named in the message when there is more than one
+    collision)."""
+    at = ""
+    if int(np.prod(shape)) > 1:
+        at = f" at index {tuple(int(i) for i in np.unravel_index(index, shape))}"
     if code == 1:
-        return ValueError("u0_j must be 0 (or None) when p_j is a plate: a plate is fixed")
+        return ValueError(f"u0_j must be 0 (or None) when p_j is a plate{at}: a plate is fixed")
     if code == 2:
-        return ValueError("u0 must be 0 when p_i is a plate and u0_j is given: a plate is fixed")
+        return ValueError(
+            f"u0 must be 0 when p_i is a plate and u0_j is given{at}: a plate is fixed")
 
     def val(name):
         q = INPUT_NAMES.index(name)
@@ -223,10 +229,11 @@ def _speed_error(code, index, ins, steps):
     u_j = (0.0 if np.isinf(val("p_j.d")) else val("u0")) if np.isnan(u0_j) else u0_j
     if code == 3:
         return ValueError(
-            f"the particles are not approaching: u0 + u0_j = {u_i + u_j!r} m/s is outside the "
-            "allowed range (0, inf); e_w is defined for approaching pairs only"
+            f"the particles are not approaching: u0 + u0_j = {u_i + u_j!r} m/s{at} is outside "
+            "the allowed range (0, inf); e_w is defined for approaching pairs only"
         )
-    return ValueError("u0 = inf (or u0_j = inf) is outside the allowed range: finite speeds [m/s]")
+    return ValueError(
+        f"u0 = inf (or u0_j = inf){at} is outside the allowed range: finite speeds [m/s]")
 
 
 def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True,
@@ -257,7 +264,7 @@ def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True
         ins[0], ins[4], ins[18], ins[19][:0] if u0_j is np.nan else ins[19], n
     )
     if code:
-        raise _speed_error(code, index, ins, steps)
+        raise _speed_error(code, index, ins, steps, shape)
     return shape, ins, steps, n
 
 
@@ -336,13 +343,13 @@ def collide(
             ins, steps, n, _FUSED[mode], body_forces, particle, details=details, check=True
         )
         if code:
-            raise _speed_error(code, index, ins, steps)
+            raise _speed_error(code, index, ins, steps, shape)
     elif mode == "auto" and not details:
         e_w, stage, path, w, (code, index) = auto_fused(
             ins, steps, n, body_forces, particle, DEFAULT_TOL if tol is None else tol,
             check=True)
         if code:
-            raise _speed_error(code, index, ins, steps)
+            raise _speed_error(code, index, ins, steps, shape)
         det = None
     else:
         k = prepare_flat(ins, steps, n, body_forces, particle)

@@ -163,6 +163,20 @@ def test_particles_not_approaching(kwargs, relative):
     with pytest.raises(ValueError) as exc:
         at.collide(P, P, liquid=WATER, gas=AIR, **kwargs)
     _assert_message(exc, "u0", relative, "(0, inf)")
+    if np.ndim(kwargs["u0"]):  # in a batch, the message says which collision
+        assert "at index (1,)" in str(exc.value), str(exc.value)
+
+
+@pytest.mark.parametrize("mode", ["paper", "relative", "auto"])
+def test_a_bad_speed_in_a_grid_is_located(mode):
+    """Every tier names the first offending collision of a 2-D batch by its index."""
+    u0 = np.full((3, 4), 0.2)
+    u0[1, 2] = np.inf
+    u0[2, 0] = np.inf
+    with pytest.raises(ValueError) as exc:
+        at.collide(P, P, liquid=WATER, gas=AIR, u0=u0, mode=mode, details=False)
+    msg = str(exc.value)
+    assert "u0 = inf" in msg and "at index (1, 2)" in msg, msg
 
 
 @pytest.mark.parametrize("u0", [0.0, -0.1])
