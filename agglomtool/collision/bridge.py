@@ -34,6 +34,23 @@ __all__ = [
 
 
 @njit(cache=CACHE)
+def gap_parts(D, a2):
+    """``(s, kind, value)`` of the gap ``D`` [m]: ``s = sqrt(D^2 + a^2)`` [m] and the parts
+    of :func:`ln_f_parts` (which returns the last two), so that a kernel that needs both
+    ``ln f`` and :func:`g_diff_s` at a gap takes its square root once."""
+    s = math.sqrt(D * D + a2)
+    if D <= 0.0:
+        return s, 0, -math.inf
+    # With q = a^2 / (D + s)^2, exactly f = (1 - q^2) / 4. Where D >> a the three logs
+    # below all approach constants and a difference of two ln f values would lose every
+    # digit; log1p keeps them.
+    q = a2 / ((D + s) * (D + s))
+    if q < 0.5:
+        return s, 1, math.log1p(-q * q)
+    return s, 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+
+
+@njit(cache=CACHE)
 def ln_f(D, a2):
     """``ln f(D)`` of the distance function of Eq. 76 [-].
 
@@ -44,49 +61,22 @@ def ln_f(D, a2):
     which makes the viscous work a difference of ``ln f``. ``D <= 0`` gives ``-inf``
     (the lubrication singularity: an infinite viscous loss).
     """
-    if D <= 0.0:
-        return -math.inf
-    s = math.sqrt(D * D + a2)
-    # With q = a^2 / (D + s)^2, exactly f = (1 - q^2) / 4. Where D >> a the three logs
-    # below all approach constants and a difference of two ln f values would lose every
-    # digit; log1p keeps them.
-    q = a2 / ((D + s) * (D + s))
-    if q < 0.5:
-        return math.log1p(-q * q) - _LN4
-    return math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+    _, kind, value = gap_parts(D, a2)
+    return value - _LN4 if kind else value
 
 
 @njit(cache=CACHE)
 def ln_f_parts(D, a2):
     """``(kind, value)``: kind 1 when ``ln f = value - ln 4`` (the log1p form), else 0 and
     ``ln f = value``."""
-    if D <= 0.0:
-        return 0, -math.inf
-    s = math.sqrt(D * D + a2)
-    q = a2 / ((D + s) * (D + s))
-    if q < 0.5:
-        return 1, math.log1p(-q * q)
-    return 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
-
-
-@njit(cache=CACHE)
-def gap_parts(D, a2):
-    """``(s, kind, value)`` of the gap ``D`` [m]: ``s = sqrt(D^2 + a^2)`` [m] and
-    :func:`ln_f_parts`, bitwise as there, with the square root taken once for both ``ln f``
-    and :func:`g_diff_s` (a kernel needs both at each gap)."""
-    s = math.sqrt(D * D + a2)
-    if D <= 0.0:
-        return s, 0, -math.inf
-    q = a2 / ((D + s) * (D + s))
-    if q < 0.5:
-        return s, 1, math.log1p(-q * q)
-    return s, 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+    _, kind, value = gap_parts(D, a2)
+    return kind, value
 
 
 @njit(cache=CACHE)
 def g_diff_s(D1, s1, D2, s2, a2):
-    """:func:`g_diff` from the square roots ``s_k = sqrt(D_k^2 + a^2)`` of
-    :func:`gap_parts`, bitwise as there."""
+    """:func:`g_diff` from the square roots ``s_k = sqrt(D_k^2 + a^2)`` (of
+    :func:`gap_parts`); :func:`g_diff` takes them and calls it."""
     return a2 * (D2 - D1) * (1.0 + (D1 + D2) / (s1 + s2)) / ((D1 + s1) * (D2 + s2))
 
 
@@ -121,9 +111,7 @@ def g_diff(D1, D2, a2):
     ``a^2 (D2 - D1) (1 + (D1 + D2) / (s1 + s2)) / ((D1 + s1) (D2 + s2))``.
     Positive when ``D2 > D1`` (separating costs energy for a wetting liquid).
     """
-    s1 = math.sqrt(D1 * D1 + a2)
-    s2 = math.sqrt(D2 * D2 + a2)
-    return a2 * (D2 - D1) * (1.0 + (D1 + D2) / (s1 + s2)) / ((D1 + s1) * (D2 + s2))
+    return g_diff_s(D1, math.sqrt(D1 * D1 + a2), D2, math.sqrt(D2 * D2 + a2), a2)
 
 
 @njit(cache=CACHE)

@@ -124,17 +124,8 @@ def _cap_vis(D, d_start, s_start, start_kind, start_val, share, v, m, c, kcap, a
     """The capillary and viscous terms of :func:`_running_energy` at ``D`` [J], bitwise as
     there, with ``s_start = sqrt(d_start^2 + a^2)`` given and ``sqrt(D^2 + a^2)`` taken once
     for both (:func:`~.bridge.g_diff` and :func:`~.bridge.ln_f_parts` each take it)."""
-    s = math.sqrt(D * D + a2)
-    g = a2 * (D - d_start) * (1.0 + (d_start + D) / (s_start + s)) / ((d_start + s_start)
-                                                                       * (D + s))
-    if D <= 0.0:
-        kind, val = 0, -math.inf
-    else:
-        q = a2 / ((D + s) * (D + s))
-        if q < 0.5:
-            kind, val = 1, math.log1p(-q * q)
-        else:
-            kind, val = 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+    s, kind, val = gap_parts(D, a2)
+    g = g_diff_s(d_start, s_start, D, s, a2)
     delta = (val - start_val) + (start_kind - kind) * _LN4
     return share * kcap * g, _viscous_loss(v, m, c * abs(delta))
 
@@ -270,14 +261,8 @@ def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c,
 def _stop_residual(D, d_start, s_start, start_kind, start_val, p, two_p_vs, force, c, kcap,
                    a2):
     """:func:`_stop_gap` 's residual ``G`` at the gap ``D`` [kg m/s] and ``dG / d ln D``."""
-    s = math.sqrt(D * D + a2)
-    g = a2 * (D - d_start) * (1.0 + (d_start + D) / (s_start + s)) / ((d_start + s_start)
-                                                                       * (D + s))
-    q = a2 / ((D + s) * (D + s))
-    if q < 0.5:
-        kind, val = 1, math.log1p(-q * q)
-    else:
-        kind, val = 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+    s, kind, val = gap_parts(D, a2)
+    g = g_diff_s(d_start, s_start, D, s, a2)
     c_delta = c * abs((val - start_val) + (start_kind - kind) * _LN4)
     gp = a2 / (s * (D + s))
     qq = two_p_vs * (kcap * g - force * (D - d_start))
