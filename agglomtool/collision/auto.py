@@ -142,7 +142,7 @@ from ._codes import (
 )
 from ._jit import CACHE, parallel_launch
 from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts
-from .fused import _first_rule, _one, _speed_rules
+from .fused import _first_rule, _one, _speed_rules_at
 from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
 from .paper import _viscous_loss
@@ -683,9 +683,7 @@ def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
     f4 = n
     for q in prange(n):
         if check:
-            r1, r2, r3, r4 = _speed_rules(ins[0], ins[4], ins[18], ins[19],
-                                          not math.isnan(ins[19][q * st[19]]), st[0], st[4],
-                                          st[18], st[19], q)
+            r1, r2, r3, r4 = _speed_rules_at(ins, st, q)
             f1 = min(f1, q if r1 else n)
             f2 = min(f2, q if r2 else n)
             f3 = min(f3, q if r3 else n)

@@ -217,9 +217,7 @@ def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path,
     f4 = n
     for k in prange(n):
         if check:
-            r1, r2, r3, r4 = _speed_rules(ins[0], ins[4], ins[18], ins[19],
-                                          not math.isnan(ins[19][k * st[19]]), st[0], st[4],
-                                          st[18], st[19], k)
+            r1, r2, r3, r4 = _speed_rules_at(ins, st, k)
             f1 = min(f1, k if r1 else n)
             f2 = min(f2, k if r2 else n)
             f3 = min(f3, k if r3 else n)
@@ -260,9 +258,7 @@ def _fused_serial(ins, st, body, particle_slip, tier, check, e_w, stage, path, w
     f4 = n
     for k in range(n):
         if check:
-            r1, r2, r3, r4 = _speed_rules(ins[0], ins[4], ins[18], ins[19],
-                                          not math.isnan(ins[19][k * st[19]]), st[0], st[4],
-                                          st[18], st[19], k)
+            r1, r2, r3, r4 = _speed_rules_at(ins, st, k)
             if r1 and k < f1:
                 f1 = k
             if r2 and k < f2:
@@ -366,6 +362,13 @@ def prepare_at(ins, steps, idx, body, particle_slip):
     out = np.empty((14, idx.shape[0]))
     parallel_launch(_prepare_at, ins, steps, idx, bool(body), bool(particle_slip), out)
     return out
+
+
+@njit(cache=CACHE, inline="always")
+def _speed_rules_at(ins, st, k):
+    """:func:`_speed_rules` of collision ``k`` of the fused inputs (``u0_j`` NaN: None)."""
+    return _speed_rules(ins[0], ins[4], ins[18], ins[19], not math.isnan(ins[19][k * st[19]]),
+                        st[0], st[4], st[18], st[19], k)
 
 
 @njit(cache=CACHE, inline="always")
