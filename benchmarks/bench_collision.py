@@ -52,22 +52,23 @@ def timings(fn, repeats=REPEATS):
     return min(ts), float(np.median(ts))
 
 
-def paired(fn, floor_fn, repeats=REPEATS):
-    """Timings of ``fn`` interleaved with the floor ``floor_fn`` (so both see the same load):
-    ``(best, median, floor median, median of the per-pair ratios)``."""
+def paired(fn, ref_fn, repeats=REPEATS):
+    """``fn`` and a reference ``ref_fn`` (the floor, say) timed in alternation, so that both
+    see the same load: ``((best, median) of fn, (best, median) of ref_fn, median of the
+    per-pair ratios fn / ref_fn)``."""
     fn()
-    floor_fn()
-    ts, fs = [], []
+    ref_fn()
+    ts, rs = [], []
     for _ in range(repeats):
         t0 = time.perf_counter()
-        floor_fn()
-        t1 = time.perf_counter()
         fn()
+        t1 = time.perf_counter()
+        ref_fn()
         t2 = time.perf_counter()
-        fs.append(t1 - t0)
-        ts.append(t2 - t1)
-    ratio = float(np.median(np.array(ts) / np.array(fs)))
-    return min(ts), float(np.median(ts)), float(np.median(fs)), ratio
+        ts.append(t1 - t0)
+        rs.append(t2 - t1)
+    ratio = float(np.median(np.array(ts) / np.array(rs)))
+    return (min(ts), float(np.median(ts))), (min(rs), float(np.median(rs))), ratio
 
 
 def scenes(rng, n):
@@ -136,7 +137,7 @@ def main(n=1_000_000, n_pool=20_000, n_crit=10_000):
         return floor_batch(ins, steps, n)
 
     for mode, goal in goals.items():
-        best, med, f_med, ratio = paired(
+        (best, med), (_, f_med), ratio = paired(
             lambda m=mode: at.collide(**kw, u0=u0, mode=m, details=False), floor_fn)
         line(f"collide mode={mode}, 1e6 mixed, details off", n / med / 1e6, "M coll/s", best,
              med, f_med, f"goal >= 10 M/s idle, ratio <= {goal}", ratio)
@@ -149,7 +150,7 @@ def main(n=1_000_000, n_pool=20_000, n_crit=10_000):
     special = (r.path & 0b1111) != 0
     print(f"    (mixed batch, mode paper: {r.agglomerated.mean():.1%} stick, "
           f"{special.mean():.1%} take a one-particle-stops path)")
-    best, med, f_med, ratio = paired(
+    (best, med), (_, f_med), ratio = paired(
         lambda: at.collide(**kw, u0=u0, mode="paper", details=True), floor_fn, 5)
     line("collide mode=paper, 1e6 mixed, details on", n / med / 1e6, "M coll/s", best, med,
          f_med, ratio=ratio)

@@ -22,7 +22,6 @@ from __future__ import annotations
 import os
 import platform
 import sys
-import time
 from pathlib import Path
 
 import numba
@@ -30,7 +29,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_collision import timings  # noqa: E402  (best and median of REPEATS = 7 runs)
+from bench_collision import paired, timings  # noqa: E402  (best and median of 7 runs)
 
 import agglomtool as at  # noqa: E402
 from agglomtool.uncertainty import DEFAULT_QUANTILES, monte_carlo, table4_case
@@ -40,24 +39,6 @@ from agglomtool.uncertainty.monte_carlo import _summary, draw_inputs
 N = 1_000_000
 REPEATS = 7
 GOAL = 0.3  # [s] for a 1e6-sample run on an idle machine
-
-
-def paired(fn, ref_fn, repeats=REPEATS):
-    """``fn`` and ``ref_fn`` timed in alternation: (best, median) of each and the median
-    of the per-pair ratios ``fn / ref_fn``."""
-    fn()
-    ref_fn()
-    ts, rs = [], []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        t1 = time.perf_counter()
-        ref_fn()
-        t2 = time.perf_counter()
-        ts.append(t1 - t0)
-        rs.append(t2 - t1)
-    ratio = float(np.median(np.array(ts) / np.array(rs)))
-    return (min(ts), float(np.median(ts))), (min(rs), float(np.median(rs))), ratio
 
 
 def load() -> str:
