@@ -166,8 +166,10 @@ def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c,
     (:func:`_next_step`), and single points are evaluated exactly. The result is bitwise
     that of the plain scan (:func:`_first_zero_scan`, kept as the tests' reference): the
     same points, made by the same repeated products, evaluated by the same arithmetic, and
-    the same regula falsi. On the mixed benchmark batch a search costs 12 evaluations of the
-    capillary and viscous terms, regula falsi included, instead of 32; a dip below zero
+    the same regula falsi. On the mixed benchmark batch, when it also served the
+    separations of wetting liquids (now :func:`_stop_gap`'s), a search cost 12 evaluations
+    of the capillary and viscous terms, regula falsi included, instead of 32. It serves the
+    approach and non-wetting liquids, where the energy need not be convex; a dip below zero
     narrower than the spacing of the points can still be missed, exactly as by the plain
     scan.
     """
