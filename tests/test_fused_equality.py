@@ -181,6 +181,49 @@ def test_broadcast_shapes_and_scalars():
     assert r.e_w.shape == ()
 
 
+@pytest.mark.parametrize("body", [True, False])
+@pytest.mark.parametrize("slip", [False, True])
+def test_repeated_angles(body, slip):
+    """The loops reuse the previous collision's cosine and sine where its angle repeats
+    (``fused._angles``): with angles in runs of random lengths, changing within and across
+    the parallel loops' blocks, the loops' numbers are bitwise those of ``prepare_one``
+    called on each collision alone, and so are the kernels' outcomes."""
+    rng = np.random.default_rng(7)
+    n = 2 * fused.BLOCK + 37
+    p_i, p_j, liq, gas, bed, beta, e, u0 = _random_scene(rng, n, plates=False)
+
+    def runs(values):
+        return np.resize(np.repeat(values, rng.integers(1, 80, values.size)), n)
+
+    liq = at.Liquid(mu=liq.mu, gamma=liq.gamma, rho=liq.rho,
+                    theta_deg=runs(rng.choice([0.0, 10.0, 40.0, 85.0], 200)))
+    beta = runs(rng.choice([0.0, 45.0, 90.0, 180.0, 300.0, -90.0], 200))
+    assert (np.diff(liq.theta_deg) != 0).sum() > 40 and (np.diff(beta) != 0).sum() > 40
+    _, ins, steps, n = _fused_inputs(p_i, p_j, liq, gas, bed, beta, e, u0, None)
+    alone = np.array([fused.prepare_one(*[a[q * s] for a, s in zip(ins, steps, strict=True)],
+                                        body, slip) for q in range(n)]).T
+    m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, wpu = alone
+    alone = np.array([m_i, m_j, r, H0, Ha, np.broadcast_to(ins[8], (n,)),  # prepare_flat's
+                      np.broadcast_to(ins[9], (n,)), cos_t, theta, w, fn_i, fn_j,  # rows
+                      np.broadcast_to(ins[17], (n,)), wpu])
+    idx = rng.permutation(n)[: n // 2]
+    for n_serial in (0, n + 1):
+        old = fused.SERIAL_BELOW
+        fused.SERIAL_BELOW = n_serial
+        try:
+            np.testing.assert_array_equal(fused.prepare_flat(ins, steps, n, body, slip), alone)
+            for tier, runner in ((fused.TIER_PAPER, run_paper),
+                                 (fused.TIER_RELATIVE, run_relative)):
+                e_f, st_f, pa_f, _, _ = fused.fused_batch(ins, steps, n, tier, body, slip)
+                e_k, st_k, pa_k, _ = runner(*alone[:13])
+                np.testing.assert_array_equal(e_f, e_k)
+                np.testing.assert_array_equal(st_f, st_k)
+                np.testing.assert_array_equal(pa_f, pa_k)
+        finally:
+            fused.SERIAL_BELOW = old
+    np.testing.assert_array_equal(fused.prepare_at(ins, steps, idx, body, slip), alone[:, idx])
+
+
 @settings(max_examples=60, deadline=None)
 @given(
     d_i=st.floats(1e-5, 1e-2), ratio=st.floats(1e-2, 1e2), rho=st.floats(500.0, 8000.0),

@@ -142,7 +142,7 @@ from ._codes import (
 )
 from ._jit import CACHE, parallel_launch
 from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts
-from .fused import _first_rule, _one, _speed_rules_at
+from .fused import BLOCK, NO_ANGLES, _first_rule, _one, _speed_rules_at
 from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
 from .paper import _viscous_loss
@@ -676,45 +676,61 @@ def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
                   stick_margin, check, e_w, stage, path, w_out, pieces):
     empty = np.empty(0)
     n = e_w.shape[0]
-    # Each speed rule's first offender as a min-reduction (as fused._fused_parallel).
+    # Each speed rule's first offender as a min-reduction (as fused._fused_parallel), over
+    # blocks that carry the angles' memo.
     f1 = n
     f2 = n
     f3 = n
     f4 = n
-    for q in prange(n):
-        if check:
-            r1, r2, r3, r4 = _speed_rules_at(ins, st, q)
-            f1 = min(f1, q if r1 else n)
-            f2 = min(f2, q if r2 else n)
-            f3 = min(f3, q if r3 else n)
-            f4 = min(f4, q if r4 else n)
-            if r3 or r4:  # no approach, or an infinite speed: nothing to compute
-                e_w[q] = math.nan
-                stage[q] = -1
-                path[q] = 0
-                w_out[q] = math.nan
-                pieces[q] = 0
-                continue
-        m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _ = _one(ins, st, q, body,
-                                                                   particle_slip)
-        mu_l = ins[8][q * st[8]]
-        gamma = ins[9][q * st[9]]
-        e = ins[17][q * st[17]]
-        ew, sg, pa, nq, _ = _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
-                                    fn_j, e, tol, empty)
-        if nq == 0:
-            # "ode" here, on the numbers just prepared (what ode_batch does with them).
-            ew, sg, pa, _, status = ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
-                                               w, fn_i, fn_j, e, empty, rtol, atol, False,
-                                               True, h_first, h_max, first_change,
-                                               stick_margin)
-            if status != 0:
-                nq = -1
-        e_w[q] = ew
-        stage[q] = sg
-        path[q] = pa
-        w_out[q] = w
-        pieces[q] = nq
+    for b in prange((n + BLOCK - 1) // BLOCK):
+        g1 = n
+        g2 = n
+        g3 = n
+        g4 = n
+        last = NO_ANGLES
+        for q in range(b * BLOCK, min(n, (b + 1) * BLOCK)):
+            if check:
+                r1, r2, r3, r4 = _speed_rules_at(ins, st, q)
+                if r1 and q < g1:
+                    g1 = q
+                if r2 and q < g2:
+                    g2 = q
+                if r3 and q < g3:
+                    g3 = q
+                if r4 and q < g4:
+                    g4 = q
+                if r3 or r4:  # no approach, or an infinite speed: nothing to compute
+                    e_w[q] = math.nan
+                    stage[q] = -1
+                    path[q] = 0
+                    w_out[q] = math.nan
+                    pieces[q] = 0
+                    continue
+            (m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _, a_t, a_c, a_b,
+             a_s) = _one(ins, st, q, body, particle_slip, last)
+            last = (a_t, a_c, a_b, a_s)
+            mu_l = ins[8][q * st[8]]
+            gamma = ins[9][q * st[9]]
+            e = ins[17][q * st[17]]
+            ew, sg, pa, nq, _ = _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
+                                        fn_i, fn_j, e, tol, empty)
+            if nq == 0:
+                # "ode" here, on the numbers just prepared (what ode_batch does with them).
+                ew, sg, pa, _, status = ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
+                                                   theta, w, fn_i, fn_j, e, empty, rtol, atol,
+                                                   False, True, h_first, h_max, first_change,
+                                                   stick_margin)
+                if status != 0:
+                    nq = -1
+            e_w[q] = ew
+            stage[q] = sg
+            path[q] = pa
+            w_out[q] = w
+            pieces[q] = nq
+        f1 = min(f1, g1)
+        f2 = min(f2, g2)
+        f3 = min(f3, g3)
+        f4 = min(f4, g4)
     return f1, f2, f3, f4
 
 
