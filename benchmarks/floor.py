@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit, prange
 
 from agglomtool.collision.bridge import _LN4, g_diff_s, gap_parts, rupture_distance
-from agglomtool.collision.fused import BLOCK, NO_ANGLES, _one
+from agglomtool.collision.fused import BLOCK, NO_ANGLES, _one, slip_flag
 
 __all__ = ["floor_batch"]
 
@@ -62,5 +62,5 @@ def floor_batch(ins, steps, n, body=True, particle_slip=False):
     numbers, computed so that nothing is optimised away)."""
     e_w = np.empty(n)
     w = np.empty(n)
-    _floor(ins, steps, body, particle_slip, e_w, w)
+    _floor(ins, steps, bool(body), slip_flag(particle_slip), e_w, w)
     return e_w, w
