@@ -84,7 +84,6 @@ from .bridge import (
     g_diff_s,
     gap_parts,
     ln_f_diff_from,
-    ln_f_parts,
     rupture_distance,
 )
 
@@ -480,10 +479,11 @@ def _stage(d_start, s_start, start_kind, start_val, d_end, s_end, end_kind, end_
     dist_1 = abs(d_stop - d_start)
     dist_2 = abs(d_end - d_stop)
     # Eqs. 39-42, 140-142 (Eq. 142 read as Eq. 140: particle j's own share and force).
-    stop_kind, stop_val = ln_f_parts(d_stop, a2)
+    s_stop, stop_kind, stop_val = gap_parts(d_stop, a2)
     k_mid = (
         k_y
-        - (share_y * kcap * g_diff(d_start, d_stop, a2) + kcap * g_diff(d_stop, d_end, a2))
+        - (share_y * kcap * g_diff_s(d_start, s_start, d_stop, s_stop, a2)
+           + kcap * g_diff_s(d_stop, s_stop, d_end, s_end, a2))
         - _viscous_loss(v_y, m_y, c * abs((stop_val - start_val) + (start_kind - stop_kind)
                                           * _LN4))
         + f_y * (share_y * dist_1 + dist_2)
