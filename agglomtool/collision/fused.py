@@ -259,89 +259,31 @@ def _one(ins, st, k, body, particle_slip, last):
     ) + ang
 
 
-# The loop bodies are written out in both loops: an inlined helper taking the output arrays
-# made the serial loop twice as slow.
-
-
-@njit(parallel=True, cache=CACHE)
-def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det):
-    want = det.shape[1] > 0
-    empty = np.empty(0)
-    n = e_w.shape[0]
-    # Each speed rule's first offender as a min-reduction (check_speeds' rules and answer).
-    f1 = n
-    f2 = n
-    f3 = n
-    f4 = n
-    # Blocks of collisions, each a serial loop that carries the angles' memo (_angles).
-    for b in prange((n + BLOCK - 1) // BLOCK):
-        g1 = n
-        g2 = n
-        g3 = n
-        g4 = n
-        last = NO_ANGLES
-        for k in range(b * BLOCK, min(n, (b + 1) * BLOCK)):
-            if check:
-                r1, r2, r3, r4 = _speed_rules_at(ins, st, k)
-                if r1 and k < g1:
-                    g1 = k
-                if r2 and k < g2:
-                    g2 = k
-                if r3 and k < g3:
-                    g3 = k
-                if r4 and k < g4:
-                    g4 = k
-                if r3 or r4:  # no approach, or an infinite speed: nothing to compute
-                    e_w[k] = math.nan
-                    stage[k] = -1
-                    path[k] = 0
-                    w_out[k] = math.nan
-                    continue
-            row = det[k] if want else empty
-            (m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _, a_t, a_c, a_b,
-             a_s) = _one(ins, st, k, body, particle_slip, last)
-            last = (a_t, a_c, a_b, a_s)
-            mu_l = ins[8][k * st[8]]
-            gamma = ins[9][k * st[9]]
-            e = ins[17][k * st[17]]
-            if tier == TIER_PAPER:
-                ew, sg, pa = paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
-                                          fn_i, fn_j, e, row)
-            else:
-                ew, sg, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                                theta, w, fn_i, fn_j, e, row)
-            e_w[k] = ew
-            stage[k] = sg
-            path[k] = pa
-            w_out[k] = w
-        f1 = min(f1, g1)
-        f2 = min(f2, g2)
-        f3 = min(f3, g3)
-        f4 = min(f4, g4)
-    return f1, f2, f3, f4
-
-
 @njit(cache=CACHE)
-def _fused_serial(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det):
+def _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det, k0,
+                 k1):
+    """The fused loop over collisions ``k0 <= k < k1`` (one thread, carrying the angles'
+    memo). Returns each speed rule's first offender among them (``n``: none); with
+    ``check`` a collision that breaks rule 3 or 4 is not computed (NaN, stage -1)."""
     want = det.shape[1] > 0
     empty = np.empty(0)
     n = e_w.shape[0]
-    f1 = n
-    f2 = n
-    f3 = n
-    f4 = n
+    g1 = n
+    g2 = n
+    g3 = n
+    g4 = n
     last = NO_ANGLES
-    for k in range(n):
+    for k in range(k0, k1):
         if check:
             r1, r2, r3, r4 = _speed_rules_at(ins, st, k)
-            if r1 and k < f1:
-                f1 = k
-            if r2 and k < f2:
-                f2 = k
-            if r3 and k < f3:
-                f3 = k
-            if r4 and k < f4:
-                f4 = k
+            if r1 and k < g1:
+                g1 = k
+            if r2 and k < g2:
+                g2 = k
+            if r3 and k < g3:
+                g3 = k
+            if r4 and k < g4:
+                g4 = k
             if r3 or r4:  # no approach, or an infinite speed: nothing to compute
                 e_w[k] = math.nan
                 stage[k] = -1
@@ -365,64 +307,99 @@ def _fused_serial(ins, st, body, particle_slip, tier, check, e_w, stage, path, w
         stage[k] = sg
         path[k] = pa
         w_out[k] = w
+    return g1, g2, g3, g4
+
+
+# The serial and the parallel loop run the same compiled block function: numba's cache does
+# not tell a function compiled with parallel=True from one without, so the two entry points
+# are two functions, but the loop body is written once.
+
+
+@njit(cache=CACHE)
+def _fused_serial(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det):
+    return _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out,
+                        det, 0, e_w.shape[0])
+
+
+@njit(parallel=True, cache=CACHE)
+def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det):
+    n = e_w.shape[0]
+    # Each speed rule's first offender as a min-reduction over the blocks (check_speeds'
+    # rules and answer, whatever order the threads take).
+    f1 = n
+    f2 = n
+    f3 = n
+    f4 = n
+    for b in prange((n + BLOCK - 1) // BLOCK):
+        g1, g2, g3, g4 = _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage,
+                                      path, w_out, det, b * BLOCK, min(n, (b + 1) * BLOCK))
+        f1 = min(f1, g1)
+        f2 = min(f2, g2)
+        f3 = min(f3, g3)
+        f4 = min(f4, g4)
     return f1, f2, f3, f4
 
 
 @njit(cache=CACHE)
-def _prepare_into(ins, st, k, j, body, particle_slip, last, out):
-    """Column ``j`` of :func:`prepare_flat`'s array from collision ``k``; returns the
-    angles' memo."""
-    (m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, wpu, a_t, a_c, a_b,
-     a_s) = _one(ins, st, k, body, particle_slip, last)
-    last = (a_t, a_c, a_b, a_s)
-    out[0, j] = m_i
-    out[1, j] = m_j
-    out[2, j] = r
-    out[3, j] = H0
-    out[4, j] = Ha
-    out[5, j] = ins[8][k * st[8]]
-    out[6, j] = ins[9][k * st[9]]
-    out[7, j] = cos_t
-    out[8, j] = theta
-    out[9, j] = w
-    out[10, j] = fn_i
-    out[11, j] = fn_j
-    out[12, j] = ins[17][k * st[17]]
-    out[13, j] = wpu
-    return last
+def _prepare_block(ins, st, idx, body, particle_slip, out, j0, j1):
+    """Columns ``j0 <= j < j1`` of :func:`prepare_flat`'s array, from the collisions
+    ``idx[j]`` (all collisions in order where ``idx`` is empty)."""
+    last = NO_ANGLES
+    every = idx.shape[0] == 0
+    for j in range(j0, j1):
+        k = j if every else idx[j]
+        (m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, wpu, a_t, a_c, a_b,
+         a_s) = _one(ins, st, k, body, particle_slip, last)
+        last = (a_t, a_c, a_b, a_s)
+        out[0, j] = m_i
+        out[1, j] = m_j
+        out[2, j] = r
+        out[3, j] = H0
+        out[4, j] = Ha
+        out[5, j] = ins[8][k * st[8]]
+        out[6, j] = ins[9][k * st[9]]
+        out[7, j] = cos_t
+        out[8, j] = theta
+        out[9, j] = w
+        out[10, j] = fn_i
+        out[11, j] = fn_j
+        out[12, j] = ins[17][k * st[17]]
+        out[13, j] = wpu
 
 
 @njit(cache=CACHE)
-def _prepare_serial(ins, st, body, particle_slip, out):
-    last = NO_ANGLES
-    for k in range(out.shape[1]):
-        last = _prepare_into(ins, st, k, k, body, particle_slip, last, out)
+def _prepare_serial(ins, st, idx, body, particle_slip, out):
+    _prepare_block(ins, st, idx, body, particle_slip, out, 0, out.shape[1])
 
 
 @njit(parallel=True, cache=CACHE)
-def _prepare_parallel(ins, st, body, particle_slip, out):
+def _prepare_parallel(ins, st, idx, body, particle_slip, out):
     n = out.shape[1]
     for b in prange((n + BLOCK - 1) // BLOCK):
-        last = NO_ANGLES
-        for k in range(b * BLOCK, min(n, (b + 1) * BLOCK)):
-            last = _prepare_into(ins, st, k, k, body, particle_slip, last, out)
+        _prepare_block(ins, st, idx, body, particle_slip, out, b * BLOCK,
+                       min(n, (b + 1) * BLOCK))
 
 
-@njit(parallel=True, cache=CACHE)
-def _prepare_at(ins, st, idx, body, particle_slip, out):
-    n = idx.shape[0]
-    for b in prange((n + BLOCK - 1) // BLOCK):
-        last = NO_ANGLES
-        for j in range(b * BLOCK, min(n, (b + 1) * BLOCK)):
-            last = _prepare_into(ins, st, idx[j], j, body, particle_slip, last, out)
+#: ``idx`` of :func:`_prepare_block` for every collision in order.
+_EVERY = np.empty(0, dtype=np.int64)
+
+
+def _prepare_columns(ins, steps, idx, n, body, particle_slip):
+    out = np.empty((14, n))
+    args = (ins, steps, idx, bool(body), slip_flag(particle_slip), out)
+    if n < SERIAL_BELOW:
+        _prepare_serial(*args)
+    else:
+        parallel_launch(_prepare_parallel, *args)
+    return out
 
 
 def prepare_at(ins, steps, idx, body, particle_slip):
     """:func:`prepare_flat` of the collisions ``idx`` only (an int64 index array)."""
     idx = np.ascontiguousarray(idx, dtype=np.int64)
-    out = np.empty((14, idx.shape[0]))
-    parallel_launch(_prepare_at, ins, steps, idx, bool(body), slip_flag(particle_slip), out)
-    return out
+    if idx.shape[0] == 0:
+        return np.empty((14, 0))
+    return _prepare_columns(ins, steps, idx, idx.shape[0], body, particle_slip)
 
 
 @njit(cache=CACHE, inline="always")
@@ -591,9 +568,4 @@ def prepare_flat(ins, steps, n, body, particle_slip):
     """The kernel arrays of ``n`` collisions, compiled: a ``(14, n)`` float64 array whose
     rows are ``m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, w_per_u0``
     (the reference: :func:`agglomtool.pair.prepare_pair`)."""
-    out = np.empty((14, n))
-    if n < SERIAL_BELOW:
-        _prepare_serial(ins, steps, bool(body), slip_flag(particle_slip), out)
-    else:
-        parallel_launch(_prepare_parallel, ins, steps, bool(body), slip_flag(particle_slip), out)
-    return out
+    return _prepare_columns(ins, steps, _EVERY, n, body, particle_slip)
