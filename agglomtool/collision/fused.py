@@ -265,8 +265,6 @@ def _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_
     """The fused loop over collisions ``k0 <= k < k1`` (one thread, carrying the angles'
     memo). Returns each speed rule's first offender among them (``n``: none); with
     ``check`` a collision that breaks rule 3 or 4 is not computed (NaN, stage -1)."""
-    want = det.shape[1] > 0
-    empty = np.empty(0)
     n = e_w.shape[0]
     g1 = n
     g2 = n
@@ -290,7 +288,7 @@ def _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_
                 path[k] = 0
                 w_out[k] = math.nan
                 continue
-        row = det[k] if want else empty
+        row = det[k]  # of length 0 without details (cheaper than choosing an empty array)
         (m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _, a_t, a_c, a_b,
          a_s) = _one(ins, st, k, body, particle_slip, last)
         last = (a_t, a_c, a_b, a_s)
