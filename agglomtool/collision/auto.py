@@ -142,7 +142,7 @@ from ._codes import (
 )
 from ._jit import CACHE, parallel_launch
 from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts
-from .fused import BLOCK, NO_ANGLES, _first_rule, _one, _speed_rules_at
+from .fused import BLOCK, NO_ANGLES, _first_rule, _one, _speed_rules_at, slip_flag
 from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
 from .paper import _viscous_loss
@@ -751,7 +751,7 @@ def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_piece
     w = np.empty(n)
     pieces = np.empty(n, dtype=np.int8)
     o = ode_options(ode_rtol(tol))
-    first = parallel_launch(_choose_fused, ins, steps, bool(body), bool(particle_slip), tol,
+    first = parallel_launch(_choose_fused, ins, steps, bool(body), slip_flag(particle_slip), tol,
                             o["rtol"], o["atol"], o["first_step"], o["max_step"],
                             o["first_change"], o["stick_margin"], bool(check), e_w, stage,
                             path, w, pieces)
