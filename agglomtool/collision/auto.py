@@ -141,7 +141,7 @@ from ._codes import (
     W_VOLCORR,
 )
 from ._jit import CACHE, parallel_launch
-from .bridge import bridge_volume, g_diff, ln_f_diff, ln_f_parts
+from .bridge import bridge_volume, g_diff, g_diff_s, gap_parts, ln_f_diff
 from .fused import BLOCK, NO_ANGLES, _first_rule, _one, _speed_rules_at, slip_flag
 from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
@@ -254,29 +254,31 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
 @njit(cache=CACHE, inline="always")
 def _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
     """What :func:`closed_form_indicator_lean` computes independently of the speed, for a
-    collision with ``H0 > Ha``: the reduced mass, ``a^2``, the force constants, the parts of
-    ``ln f(Ha)`` (:func:`~.bridge.ln_f_parts`), the approach's ``c Delta``, capillary and
-    body losses (:func:`_decide` evaluates the closed forms at two speeds)."""
+    collision with ``H0 > Ha``: the reduced mass, ``a^2``, the force constants, the square
+    roots and ``ln f`` parts of ``H0`` and ``Ha`` (:func:`~.bridge.gap_parts`), the
+    approach's ``c Delta``, capillary and body losses (:func:`_decide` evaluates the closed
+    forms at two speeds, and the piecewise forms start from these, :func:`_pieces_parts`)."""
     m_r, _, _ = reduced_mass(m_i, m_j)
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
     kcap = 2.0 * math.pi * gamma * r * cos_t
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
-    k_h0, v_h0 = ln_f_parts(H0, a2)
-    k_ha, v_ha = ln_f_parts(Ha, a2)
+    s_h0, k_h0, v_h0 = gap_parts(H0, a2)
+    s_ha, k_ha, v_ha = gap_parts(Ha, a2)
     # c * -ln_f_diff(H0, Ha, a2), as ln_f_diff_from forms it
     c_delta = c * -((v_ha - v_h0) + (k_h0 - k_ha) * _LN4)
-    l_cap = kcap * g_diff(H0, Ha, a2)
+    l_cap = kcap * g_diff_s(H0, s_h0, Ha, s_ha, a2)  # as g_diff(H0, Ha, a2), bitwise
     l_bdw = -f_b * (H0 - Ha)
     vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)
-    return m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw
+    return (m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw, s_ha,
+            k_h0, v_h0, s_h0)
 
 
 @njit(cache=CACHE, inline="always")
 def _whole_at(w, e, theta, mu_l, gamma, parts):
     """:func:`closed_form_indicator_lean` at the speed ``w`` from the collision's ``parts``
     (:func:`_whole_parts`)."""
-    m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw = parts
+    m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw, s_ha = parts[:14]
     k0 = 0.5 * m_r * w * w
     if not c_delta < m_r * w:
         return 0.0, APP_VIS, 0, math.inf
@@ -297,9 +299,9 @@ def _whole_at(w, e, theta, mu_l, gamma, parts):
         path |= P_BROKEN
         k_end = k_s
     else:
-        k_hr, v_hr = ln_f_parts(h_rupt, a2)
+        s_hr, k_hr, v_hr = gap_parts(h_rupt, a2)
         c_delta_s = c * ((v_hr - v_ha) + (k_ha - k_hr) * _LN4)  # c * ln_f_diff(Ha, h_rupt)
-        l_cap_s = kcap * g_diff(Ha, h_rupt, a2)
+        l_cap_s = kcap * g_diff_s(Ha, s_ha, h_rupt, s_hr, a2)
         if not c_delta_s < m_r * w_s:
             return 0.0, SEP_VIS, path, math.inf
         k_end = k_s - l_cap_s - _viscous_loss(w_s, m_r, c_delta_s) - f_b * (h_rupt - Ha)
@@ -319,32 +321,33 @@ def _whole_at(w, e, theta, mu_l, gamma, parts):
 _LN4 = math.log(4.0)
 
 
-@njit(cache=CACHE)
-def _gap_parts(d, a2):
-    """What a stage needs of a gap ``d`` that is an end of it: ``(kind, value)`` of
-    :func:`~.bridge.ln_f_parts`, ``s = sqrt(d^2 + a^2)`` and ``1 - 4 f = -expm1(v4)``
+@njit(cache=CACHE, inline="always")
+def _one_minus_4f(kind, value):
+    """``1 - 4 f = -expm1(ln(4 f))`` of a gap from its :func:`~.bridge.ln_f_parts`
     (:func:`_stage_pieces`)."""
-    kd, vd = ln_f_parts(d, a2)
-    return kd, vd, math.sqrt(d * d + a2), -math.expm1(vd if kd == 1 else vd + _LN4)
+    return -math.expm1(value if kind == 1 else value + _LN4)
+
+
+@njit(cache=CACHE, inline="always")
+def _pieces_parts(m_i, m_j, whole):
+    """The quantities of one collision the piecewise closed forms need at every speed and
+    piece count, from its whole-stage parts (:func:`_whole_parts`), computed once
+    (:func:`_decide` tries up to four of them): the masses, the force constants, ``a``, the
+    parts of ``H0`` and ``Ha`` (``ln f`` parts, square root, ``1 - 4 f``) and the cube root of
+    the bridge volume (the rupture gap of Eq. 94 is that times factors of ``theta`` and
+    ``Ca``, as in :func:`~.bridge.rupture_distance`, bitwise). ``H0 > Ha``."""
+    (m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, _, _, _, s_ha, k_h0, v_h0,
+     s_h0) = whole
+    _, frac_i, frac_j = reduced_mass(m_i, m_j)
+    return (m_r, frac_i, frac_j, a2, c, kcap, f_b, math.sqrt(a2), k_h0, v_h0, s_h0,
+            _one_minus_4f(k_h0, v_h0), k_ha, v_ha, s_ha, _one_minus_4f(k_ha, v_ha), vol3)
 
 
 @njit(cache=CACHE)
 def _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
-    """The quantities of one collision the piecewise closed forms need at every speed and
-    piece count, computed once (:func:`_decide` tries up to four of them): the masses, the
-    force constants, ``a``, the parts of ``H0`` and ``Ha`` (:func:`_gap_parts`) and the cube
-    root of the bridge volume (the rupture gap of Eq. 94 is that times factors of ``theta``
-    and ``Ca``, as in :func:`~.bridge.rupture_distance`, bitwise). ``H0 > Ha``."""
-    m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
-    a2 = (H0 - Ha) * (H0 + Ha)
-    c = 1.5 * math.pi * mu_l * r * r
-    kcap = 2.0 * math.pi * gamma * r * cos_t
-    f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
-    k_h0, v_h0, s_h0, om_h0 = _gap_parts(H0, a2)
-    k_ha, v_ha, s_ha, om_ha = _gap_parts(Ha, a2)
-    vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)
-    return (m_r, frac_i, frac_j, a2, c, kcap, f_b, math.sqrt(a2), k_h0, v_h0, s_h0, om_h0,
-            k_ha, v_ha, s_ha, om_ha, vol3)
+    """:func:`_pieces_parts` of one collision from its kernel numbers (``H0 > Ha``)."""
+    return _pieces_parts(m_i, m_j, _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
+                                                fn_i, fn_j))
 
 
 @njit(cache=CACHE, error_model="numpy")
@@ -371,7 +374,7 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s,
     the form of :func:`~.bridge.g_diff`.
 
     The parts of the ends (``(k1, val1, s_s, om_s)`` of ``d_s`` and ``(k2, val2)``,
-    ``s_e`` of ``d_e``, see :func:`_gap_parts`) and ``a = sqrt(a2)`` are computed by the
+    ``s_e`` of ``d_e``, see :func:`_pieces_parts`) and ``a = sqrt(a2)`` are computed by the
     caller, once per collision where they do not depend on the speed. ``indicator`` False
     skips ``eta`` and ``clear`` (returned as 0 and True) where only the outcome is wanted.
     """
@@ -546,10 +549,10 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
                 path |= P_BROKEN
                 k_end = k_s
             else:
-                k_hr, v_hr = ln_f_parts(h_rupt, a2)
+                s_hr, k_hr, v_hr = gap_parts(h_rupt, a2)
                 k_end, code, l_cap, l_vis, l_bdw, eta_s, clear_s = _stage_pieces(
                     k_s, w_s, Ha, h_rupt, a2, m_r, c, kcap, f_b, n, k_ha, v_ha, s_ha, om_ha,
-                    k_hr, v_hr, math.sqrt(h_rupt * h_rupt + a2), a, indicator)
+                    k_hr, v_hr, s_hr, a, indicator)
                 eta = eta + eta_s
                 clear = clear and clear_s
                 if want:
@@ -634,7 +637,7 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
         if not ew2 > 0.0:
             return ew, st, pa, 1, 0.0
     rebound = ew > 0.0
-    parts = _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j)
+    parts = _pieces_parts(m_i, m_j, whole)
     assisted = parts[6] < 0.0  # the relative body force pulls the pair apart
     for i in range(len(PIECES)):
         n = PIECES[i]
