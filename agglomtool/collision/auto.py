@@ -619,6 +619,15 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
     bound)`` with ``pieces`` 1 (the closed forms on whole stages), one of :data:`PIECES`
     (the piecewise closed forms) or 0 ("ode": the outcome returned is then the closed
     forms', to be replaced). ``empty`` is any array of length 0."""
+    return _decide_inline(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+                          tol, empty)
+
+
+@njit(cache=CACHE, inline="always")
+def _decide_inline(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol,
+                   empty):
+    """:func:`_decide` with the whole-stage forms written into the caller and the rest
+    (:func:`_decide_beyond`, 15 % of the collisions on the benchmark batch) called."""
     if not H0 > Ha:
         if e > 0.0:
             return e, REBOUND, P_NO_BRIDGE, 1, 0.0
@@ -630,7 +639,15 @@ def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
         b = CLOSED_FORM_BOUND * g
         if g <= G_MAX and b <= tol:
             return ew, st, pa, 1, b
-    else:
+    return _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole,
+                          ew, st, pa, g)
+
+
+@njit(cache=CACHE)
+def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole, ew, st,
+                   pa, g):
+    """:func:`_decide` where the whole-stage forms' bound did not pass at once."""
+    if not ew > 0.0:
         # Stick: trust it if the closed forms still stick at STICK_MARGIN x the speed (the
         # same closed forms as relative_kernel, bitwise, tested, without a details array).
         ew2, _, _, _ = _whole_at(w * STICK_MARGIN, e, theta, mu_l, gamma, whole)
@@ -715,8 +732,8 @@ def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
             mu_l = ins[8][q * st[8]]
             gamma = ins[9][q * st[9]]
             e = ins[17][q * st[17]]
-            ew, sg, pa, nq, _ = _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
-                                        fn_i, fn_j, e, tol, empty)
+            ew, sg, pa, nq, _ = _decide_inline(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
+                                               w, fn_i, fn_j, e, tol, empty)
             if nq == 0:
                 # "ode" here, on the numbers just prepared (what ode_batch does with them).
                 ew, sg, pa, _, status = ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
