@@ -350,7 +350,7 @@ def _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
                                                 fn_i, fn_j))
 
 
-@njit(cache=CACHE, error_model="numpy")
+@njit(cache=CACHE, error_model="numpy", inline="always")
 def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s, k2, val2,
                   s_e, a, indicator=True):
     """One liquid stage from gap ``d_s`` to ``d_e`` in ``n`` pieces of equal ``ln f``
@@ -491,7 +491,7 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
                       _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, error_model="numpy")
 def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
     """:func:`piecewise_kernel` with ``H0 > Ha`` from the collision's ``parts``
     (:func:`_collision_parts`); ``indicator`` False: the outcome only (``g`` and ``clear``
