@@ -218,3 +218,15 @@ def test_bad_fields_are_named_alike_for_python_and_numpy_numbers(value, message,
     with pytest.raises(ValueError) as err:
         at.Particle(d=kind(value), rho=2500.0)
     assert str(err.value) == message
+
+
+@pytest.mark.parametrize("kind", [float, np.float64, np.array, lambda x: [x, x]])
+def test_infinite_density_only_for_a_plate_whatever_the_kind(kind):
+    assert np.all(at.Particle(d=kind(math.inf), rho=kind(math.inf)).is_plate)
+    with pytest.raises(ValueError, match=r"^Particle.rho = inf is allowed only for a plate"):
+        at.Particle(d=kind(1e-3), rho=kind(math.inf))
+    # Broadcast against an array of diameters: the finite one has an infinite density.
+    with pytest.raises(ValueError, match=r"^Particle.rho = inf is allowed only for a plate"):
+        at.Particle(d=[math.inf, 1e-3], rho=kind(math.inf))
+    mixed = at.Particle(d=[1e-3, math.inf], rho=[2500.0, math.inf], h0=kind(1e-6))
+    assert list(mixed.is_plate) == [False, True]
