@@ -6,6 +6,9 @@ value and the allowed range. Nothing downstream has to guard against NaN.
 
 from __future__ import annotations
 
+import functools
+import math
+
 import numpy as np
 
 
@@ -42,24 +45,46 @@ def as_float_array(name: str, value, allowed: str = "finite numbers") -> np.ndar
         if value != value:
             raise ValueError(f"{name} = nan is not a number; allowed: {allowed}")
         return np.array(value, dtype=np.float64)
+    arr = _float_array(name, value, allowed)
+    # One reduction, no mask: the minimum is NaN exactly when some element is.
+    if arr.size and math.isnan(arr.min()):
+        _raise_nan(name, arr, allowed)
+    return arr
+
+
+def _float_array(name: str, value, allowed: str) -> np.ndarray:
+    """:func:`as_float_array` without the NaN check."""
+    if type(value) is np.ndarray and value.dtype == np.float64:
+        return value  # what np.asarray below would return
     if hasattr(value, "magnitude") and hasattr(value, "units") and hasattr(value, "to"):
         value = _from_quantity(name, value)
     if isinstance(value, (bool, np.bool_)) or getattr(value, "dtype", None) == np.bool_:
         raise ValueError(f"{name} = {value!r} is a boolean, not a number; allowed: {allowed}")
     try:
-        arr = np.asarray(value, dtype=np.float64)
+        return np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ValueError(
             f"{name} = {value!r} is not a number or an array of numbers; allowed: {allowed}"
         ) from exc
-    # One reduction, no mask: the minimum is NaN exactly when some element is.
-    if arr.size == 0 or not np.isnan(arr.min()):
-        return arr
-    nan = np.isnan(arr)
-    if nan.any():
-        where = "" if arr.ndim == 0 else f" at index {tuple(int(i) for i in np.argwhere(nan)[0])}"
-        raise ValueError(f"{name} = nan{where} is not a number; allowed: {allowed}")
-    return arr
+
+
+def _raise_nan(name: str, arr: np.ndarray, allowed: str):
+    """The ``ValueError`` for ``arr``, which holds a NaN, naming the first one's index."""
+    where = ""
+    if arr.ndim:
+        where = f" at index {tuple(int(i) for i in np.argwhere(np.isnan(arr))[0])}"
+    raise ValueError(f"{name} = nan{where} is not a number; allowed: {allowed}")
+
+
+@functools.lru_cache(maxsize=256)
+def _range_text(lo, hi, lo_open, hi_open, unit) -> str:
+    """The allowed range as messages state it: ``"(0, inf) m"``, ``"[0, 1]"``."""
+    lo_s = "-inf" if lo is None else f"{lo:g}"
+    hi_s = "inf" if hi is None else f"{hi:g}"
+    rng = f"{'(' if lo_open else '['}{lo_s}, {hi_s}{')' if hi_open or hi is None else ']'}"
+    if unit and unit not in ("-", "dimensionless"):
+        rng += f" {unit}"
+    return rng
 
 
 def check_range(
@@ -78,16 +103,22 @@ def check_range(
     ``lo_open`` / ``hi_open`` make the bound strict. ``+inf`` is refused unless
     ``allow_inf`` (a plate's diameter, say); ``-inf`` is always refused.
     """
-    lo_s = "-inf" if lo is None else f"{lo:g}"
-    hi_s = "inf" if hi is None else f"{hi:g}"
-    rng = f"{'(' if lo_open else '['}{lo_s}, {hi_s}{')' if hi_open or hi is None else ']'}"
-    if unit and unit not in ("-", "dimensionless"):
-        rng += f" {unit}"
-    arr = as_float_array(name, value, rng)
+    if type(value) is float or type(value) is int:  # the common scalar, without numpy
+        # Python's comparisons decide it; a value they refuse (NaN included) takes the
+        # general path below, which names it.
+        if (value == value and (lo is None or (value > lo if lo_open else value >= lo))
+                and (hi is None or (value < hi if hi_open else value <= hi))
+                and value != -math.inf and (allow_inf or value != math.inf)):
+            return np.array(value, dtype=np.float64)
+    rng = _range_text(lo, hi, lo_open, hi_open, unit)
+    arr = _float_array(name, value, rng)
     if arr.size:
         # Two reductions decide the common case (every value allowed) without a mask; the
-        # masks below only run to name the first bad value.
+        # masks below only run to name the first bad value. The minimum is NaN exactly
+        # when some element is.
         mn, mx = arr.min(), arr.max()
+        if math.isnan(mn):
+            _raise_nan(name, arr, rng)
         if ((lo is None or (mn > lo if lo_open else mn >= lo))
                 and (hi is None or (mx < hi if hi_open else mx <= hi))
                 and mn != -np.inf and (allow_inf or mx != np.inf)):

@@ -49,8 +49,11 @@ class Particle:
         )
         h0 = check_range("Particle.h0", self.h0, 0.0, None, unit="m")
         ha = check_range("Particle.ha", self.ha, 0.0, None, unit="m")
-        bad = np.isinf(rho) & ~np.isinf(d)
-        if bad.any():
+        if rho.ndim == 0 and d.ndim == 0:  # the common scalar, without numpy
+            bad = math.isinf(rho) and not math.isinf(d)
+        else:
+            bad = (np.isinf(rho) & ~np.isinf(d)).any()
+        if bad:
             raise ValueError(
                 "Particle.rho = inf is allowed only for a plate (d = inf); "
                 "a finite particle needs a finite density in (0, inf) kg/m3"

@@ -137,12 +137,14 @@ def check_inputs(p_i, p_j, liquid, gas, bed) -> None:
 def broadcast_shape(names, values) -> tuple:
     """The common shape of ``values``; a ``ValueError`` naming the fields (``names``) and
     their shapes when they do not broadcast together."""
-    shapes = [v.shape if isinstance(v, np.ndarray) else np.shape(v) for v in values]
+    shapes = [() if type(v) is float else v.shape if isinstance(v, np.ndarray) else np.shape(v)
+              for v in values]
     arrays = [s for s in shapes if s != ()]
     if not arrays:
         return ()
-    if len(arrays) == 1:
-        return arrays[0]
+    first = arrays[0]
+    if arrays.count(first) == len(arrays):  # the common case: one shape (or one array)
+        return first
     try:
         return np.broadcast_shapes(*arrays)
     except ValueError:

@@ -498,41 +498,43 @@ def slip_flag(particle_slip):
 
 
 def _flat_input(a, shape, n):
-    """``a`` as a writable C-contiguous float64 1-D array of length 1 or ``n``, and its
-    step (0 or 1)."""
-    a = np.asarray(a, dtype=np.float64)
+    """``a`` (an array broadcasting to ``shape`` of ``n`` elements) as a writable
+    C-contiguous float64 1-D array of length 1 or ``n``, and its step (0 or 1)."""
+    if type(a) is not np.ndarray or a.dtype != np.float64:
+        a = np.asarray(a, dtype=np.float64)
     if a.size == 1:
         return np.array(a, dtype=np.float64).reshape(1), 0
     if a.size != n:
         a = np.broadcast_to(a, shape)
-    a = np.require(a, dtype=np.float64, requirements=("C", "W")).reshape(-1)
-    return a, 1
-
-
-def _is_scalar(v) -> bool:
-    return type(v) is float or v.ndim == 0
+    elif a.flags.c_contiguous and a.flags.writeable:
+        # Already as required (np.require would return ``a`` itself): no copy, and no new
+        # view of a 1-D array. Its elements are in the broadcast order: ``a`` has the
+        # shape's ``n`` elements, so its axes longer than 1 are the shape's, in order.
+        return (a if a.ndim == 1 else a.reshape(-1)), 1
+    return np.require(a, dtype=np.float64, requirements=("C", "W")).reshape(-1), 1
 
 
 def flat_inputs(values, shape):
     """The tuple of flat input arrays and the array of their steps for :data:`INPUT_NAMES`
-    ``values`` broadcasting to ``shape``. Scalars share one small array (one allocation:
-    a call with scalar inputs costs microseconds, not tens of them)."""
-    n = 1
-    for s in shape:
-        n *= s
-    arrays = [None] * len(values)
+    ``values`` (float64 arrays, or Python floats) broadcasting to ``shape``. Scalars share
+    one small array (one allocation: a call with scalar inputs costs microseconds, not tens
+    of them)."""
+    n = math.prod(shape)
+    arrays = list(values)
     steps = np.zeros(len(values), dtype=np.int64)
-    scalar_at, scalars = [], []
+    scalar_at = []
     for q, v in enumerate(values):
-        if _is_scalar(v):
+        if type(v) is float or v.ndim == 0:
             scalar_at.append(q)
-            scalars.append(float(v))
         else:
             arrays[q], steps[q] = _flat_input(v, shape, n)
-    if scalars:
-        packed = np.array(scalars)
-        for j, q in enumerate(scalar_at):
-            arrays[q] = packed[j:j + 1]
+    if scalar_at:
+        # Each scalar is a row of one (k, 1) array: a C-contiguous 1-D array of length 1.
+        # (Equal lengths by construction; strict=True would cost a microsecond more, as the
+        # array's iterator ends by an IndexError.)
+        packed = np.array([float(values[q]) for q in scalar_at]).reshape(-1, 1)
+        for q, row in zip(scalar_at, packed, strict=False):
+            arrays[q] = row
     return tuple(arrays), steps
 
 
