@@ -142,7 +142,15 @@ from ._codes import (
 )
 from ._jit import CACHE, parallel_launch
 from .bridge import bridge_volume, g_diff, g_diff_s, gap_parts, ln_f_diff
-from .fused import BLOCK, NO_ANGLES, _first_rule, _one, _speed_rules_at, slip_flag
+from .fused import (
+    BLOCK,
+    NO_ANGLES,
+    SERIAL_BELOW,
+    _first_rule,
+    _one,
+    _rules_update,
+    slip_flag,
+)
 from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
 from .paper import _viscous_loss
@@ -697,62 +705,78 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
     return ew, st, pa, 0, 0.0
 
 
-@njit(parallel=True, cache=CACHE)
-def _choose_fused(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max, first_change,
-                  stick_margin, check, e_w, stage, path, w_out, pieces):
+@njit(cache=CACHE, inline="always")
+def _choose_block(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max, first_change,
+                  stick_margin, check, e_w, stage, path, w_out, pieces, k0, k1):
+    """The fused loop of "auto" over collisions ``k0 <= k < k1`` (one thread, carrying the
+    angles' memo), as :func:`~.fused._fused_block`: each speed rule's first offender among
+    them (``n``: none) is returned."""
     empty = np.empty(0)
     n = e_w.shape[0]
-    # Each speed rule's first offender as a min-reduction (as fused._fused_parallel), over
-    # blocks that carry the angles' memo.
+    g1 = n
+    g2 = n
+    g3 = n
+    g4 = n
+    last = NO_ANGLES
+    for q in range(k0, k1):
+        if check:
+            g1, g2, g3, g4, skip = _rules_update(ins, st, q, g1, g2, g3, g4)
+            if skip:  # no approach, or an infinite speed: nothing to compute
+                e_w[q] = math.nan
+                stage[q] = -1
+                path[q] = 0
+                w_out[q] = math.nan
+                pieces[q] = 0
+                continue
+        (m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _, a_t, a_c, a_b,
+         a_s) = _one(ins, st, q, body, particle_slip, last)
+        last = (a_t, a_c, a_b, a_s)
+        mu_l = ins[8][q * st[8]]
+        gamma = ins[9][q * st[9]]
+        e = ins[17][q * st[17]]
+        ew, sg, pa, nq, _ = _decide_inline(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
+                                           w, fn_i, fn_j, e, tol, empty)
+        if nq == 0:
+            # "ode" here, on the numbers just prepared (what ode_batch does with them).
+            ew, sg, pa, _, status = ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
+                                               theta, w, fn_i, fn_j, e, empty, rtol, atol,
+                                               False, True, h_first, h_max, first_change,
+                                               stick_margin)
+            if status != 0:
+                nq = -1
+        e_w[q] = ew
+        stage[q] = sg
+        path[q] = pa
+        w_out[q] = w
+        pieces[q] = nq
+    return g1, g2, g3, g4
+
+
+# The serial and the parallel entry run the same block function (as in .fused).
+
+
+@njit(cache=CACHE)
+def _choose_serial(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
+                   first_change, stick_margin, check, e_w, stage, path, w_out, pieces):
+    return _choose_block(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
+                         first_change, stick_margin, check, e_w, stage, path, w_out, pieces,
+                         0, e_w.shape[0])
+
+
+@njit(parallel=True, cache=CACHE)
+def _choose_parallel(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
+                     first_change, stick_margin, check, e_w, stage, path, w_out, pieces):
+    n = e_w.shape[0]
+    # Each speed rule's first offender as a min-reduction over the blocks.
     f1 = n
     f2 = n
     f3 = n
     f4 = n
     for b in prange((n + BLOCK - 1) // BLOCK):
-        g1 = n
-        g2 = n
-        g3 = n
-        g4 = n
-        last = NO_ANGLES
-        for q in range(b * BLOCK, min(n, (b + 1) * BLOCK)):
-            if check:
-                r1, r2, r3, r4 = _speed_rules_at(ins, st, q)
-                if r1 and q < g1:
-                    g1 = q
-                if r2 and q < g2:
-                    g2 = q
-                if r3 and q < g3:
-                    g3 = q
-                if r4 and q < g4:
-                    g4 = q
-                if r3 or r4:  # no approach, or an infinite speed: nothing to compute
-                    e_w[q] = math.nan
-                    stage[q] = -1
-                    path[q] = 0
-                    w_out[q] = math.nan
-                    pieces[q] = 0
-                    continue
-            (m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, _, a_t, a_c, a_b,
-             a_s) = _one(ins, st, q, body, particle_slip, last)
-            last = (a_t, a_c, a_b, a_s)
-            mu_l = ins[8][q * st[8]]
-            gamma = ins[9][q * st[9]]
-            e = ins[17][q * st[17]]
-            ew, sg, pa, nq, _ = _decide_inline(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
-                                               w, fn_i, fn_j, e, tol, empty)
-            if nq == 0:
-                # "ode" here, on the numbers just prepared (what ode_batch does with them).
-                ew, sg, pa, _, status = ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                                   theta, w, fn_i, fn_j, e, empty, rtol, atol,
-                                                   False, True, h_first, h_max, first_change,
-                                                   stick_margin)
-                if status != 0:
-                    nq = -1
-            e_w[q] = ew
-            stage[q] = sg
-            path[q] = pa
-            w_out[q] = w
-            pieces[q] = nq
+        g1, g2, g3, g4 = _choose_block(ins, st, body, particle_slip, tol, rtol, atol, h_first,
+                                       h_max, first_change, stick_margin, check, e_w, stage,
+                                       path, w_out, pieces, b * BLOCK,
+                                       min(n, (b + 1) * BLOCK))
         f1 = min(f1, g1)
         f2 = min(f2, g2)
         f3 = min(f3, g3)
@@ -777,10 +801,13 @@ def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_piece
     w = np.empty(n)
     pieces = np.empty(n, dtype=np.int8)
     o = ode_options(ode_rtol(tol))
-    first = parallel_launch(_choose_fused, ins, steps, bool(body), slip_flag(particle_slip), tol,
-                            o["rtol"], o["atol"], o["first_step"], o["max_step"],
-                            o["first_change"], o["stick_margin"], bool(check), e_w, stage,
-                            path, w, pieces)
+    args = (ins, steps, bool(body), slip_flag(particle_slip), tol, o["rtol"], o["atol"],
+            o["first_step"], o["max_step"], o["first_change"], o["stick_margin"], bool(check),
+            e_w, stage, path, w, pieces)
+    if n < SERIAL_BELOW:
+        first = _choose_serial(*args)
+    else:
+        first = parallel_launch(_choose_parallel, *args)
     rule = _first_rule(first, n)
     if check and rule[0]:
         out = (e_w, stage, path, w) + ((pieces,) if return_pieces else ())

@@ -273,16 +273,8 @@ def _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_
     last = NO_ANGLES
     for k in range(k0, k1):
         if check:
-            r1, r2, r3, r4 = _speed_rules_at(ins, st, k)
-            if r1 and k < g1:
-                g1 = k
-            if r2 and k < g2:
-                g2 = k
-            if r3 and k < g3:
-                g3 = k
-            if r4 and k < g4:
-                g4 = k
-            if r3 or r4:  # no approach, or an infinite speed: nothing to compute
+            g1, g2, g3, g4, skip = _rules_update(ins, st, k, g1, g2, g3, g4)
+            if skip:  # no approach, or an infinite speed: nothing to compute
                 e_w[k] = math.nan
                 stage[k] = -1
                 path[k] = 0
@@ -405,6 +397,24 @@ def _speed_rules_at(ins, st, k):
     """:func:`_speed_rules` of collision ``k`` of the fused inputs (``u0_j`` NaN: None)."""
     return _speed_rules(ins[0], ins[4], ins[18], ins[19], not math.isnan(ins[19][k * st[19]]),
                         st[0], st[4], st[18], st[19], k)
+
+
+@njit(cache=CACHE, inline="always")
+def _rules_update(ins, st, k, g1, g2, g3, g4):
+    """Collision ``k``'s speed rules (:func:`_speed_rules_at`) folded into ``g1 .. g4``,
+    each rule's first offender so far: ``(g1, g2, g3, g4, skip)``, ``skip`` True where the
+    collision breaks rule 3 or 4 (then it is not computed). A flat tuple: a parallel loop's
+    body cannot unpack a nested one."""
+    r1, r2, r3, r4 = _speed_rules_at(ins, st, k)
+    if r1 and k < g1:
+        g1 = k
+    if r2 and k < g2:
+        g2 = k
+    if r3 and k < g3:
+        g3 = k
+    if r4 and k < g4:
+        g4 = k
+    return g1, g2, g3, g4, (r3 or r4)
 
 
 @njit(cache=CACHE, inline="always")
