@@ -158,36 +158,56 @@ def _dp_step(y, d, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
     x3 = _vc(d3, a2, volcorr)
     x4 = _vc(d4, a2, volcorr)
     x5 = _vc(d5, a2, volcorr)
-    f2 = _rhs_at(d2, x2, k + h * (f1 / 5.0), sigma, kc, fb, vis)
-    f3 = _rhs_at(d3, x3, k + h * (3.0 / 40.0 * f1 + 9.0 / 40.0 * f2), sigma, kc, fb, vis)
-    f4 = _rhs_at(d4, x4, k + h * (44.0 / 45.0 * f1 - 56.0 / 15.0 * f2 + 32.0 / 9.0 * f3),
-                 sigma, kc, fb, vis)
-    f5 = _rhs_at(
-        d5, x5,
-        k + h * (19372.0 / 6561.0 * f1 - 25360.0 / 2187.0 * f2 + 64448.0 / 6561.0 * f3
-                 - 212.0 / 729.0 * f4),
-        sigma, kc, fb, vis,
-    )
     s_new = 0.0
     x_new = 1.0
     if volcorr:
         # volume_correction(d_new, a2), keeping its square root
         s_new = math.sqrt(d_new * d_new + a2)
         x_new = a2 / (s_new * (s_new + d_new))
-    f6 = _rhs_at(
-        d_new, x_new,
-        k + h * (9017.0 / 3168.0 * f1 - 355.0 / 33.0 * f2 + 46732.0 / 5247.0 * f3
-                 + 49.0 / 176.0 * f4 - 5103.0 / 18656.0 * f5),
-        sigma, kc, fb, vis,
-    )
-    k5 = k + h * (35.0 / 384.0 * f1 + 500.0 / 1113.0 * f3 + 125.0 / 192.0 * f4
-                  - 2187.0 / 6784.0 * f5 + 11.0 / 84.0 * f6)
+    # Each stage's dk/dy is p + q sqrt(k_stage) (_rhs_at): p of the bridge and body forces
+    # and q of viscosity do not depend on k. The next stage's k adds the last stage's term
+    # last, as h a p + (h a q) sqrt(k_stage), so that only a product and a sum separate one
+    # stage's square root from the next.
+    vs = sigma * vis
+    p2 = -d2 * (kc * x2 + fb)
+    q2 = vs * x2 * x2
+    p3 = -d3 * (kc * x3 + fb)
+    q3 = vs * x3 * x3
+    p4 = -d4 * (kc * x4 + fb)
+    q4 = vs * x4 * x4
+    p5 = -d5 * (kc * x5 + fb)
+    q5 = vs * x5 * x5
+    p6 = -d_new * (kc * x_new + fb)
+    q6 = vs * x_new * x_new
+    c2 = h * (1.0 / 5.0)
+    r2 = math.sqrt(max(k + c2 * f1, 0.0))
+    f2 = p2 + q2 * r2
+    c3 = h * (9.0 / 40.0)
+    r3 = math.sqrt(max((k + h * (3.0 / 40.0 * f1) + c3 * p2) + (c3 * q2) * r2, 0.0))
+    f3 = p3 + q3 * r3
+    c4 = h * (32.0 / 9.0)
+    r4 = math.sqrt(max((k + h * (44.0 / 45.0 * f1 - 56.0 / 15.0 * f2) + c4 * p3)
+                       + (c4 * q3) * r3, 0.0))
+    f4 = p4 + q4 * r4
+    c5 = h * (-212.0 / 729.0)
+    r5 = math.sqrt(max((k + h * (19372.0 / 6561.0 * f1 - 25360.0 / 2187.0 * f2
+                                 + 64448.0 / 6561.0 * f3) + c5 * p4) + (c5 * q4) * r4, 0.0))
+    f5 = p5 + q5 * r5
+    c6 = h * (-5103.0 / 18656.0)
+    r6 = math.sqrt(max((k + h * (9017.0 / 3168.0 * f1 - 355.0 / 33.0 * f2
+                                 + 46732.0 / 5247.0 * f3 + 49.0 / 176.0 * f4) + c6 * p5)
+                       + (c6 * q5) * r5, 0.0))
+    f6 = p6 + q6 * r6
+    c7 = h * (11.0 / 84.0)
+    k5 = (k + h * (35.0 / 384.0 * f1 + 500.0 / 1113.0 * f3 + 125.0 / 192.0 * f4
+                   - 2187.0 / 6784.0 * f5) + c7 * p6) + (c7 * q6) * r6
     sk5 = math.sqrt(max(k5, 0.0))
-    # _rhs_at(d_new, x_new, k5, ...) with its square root kept
-    f7 = -d_new * (kc * x_new + fb) + sigma * vis * x_new * x_new * sk5
+    # the new point's dk/dy (the next step's f1): the last two stages share its gap
+    f7 = p6 + q6 * sk5
     # b5 - b4 of the embedded pair
-    err = h * (71.0 / 57600.0 * f1 - 71.0 / 16695.0 * f3 + 71.0 / 1920.0 * f4
-               - 17253.0 / 339200.0 * f5 + 22.0 / 525.0 * f6 - 1.0 / 40.0 * f7)
+    c8 = h * (-1.0 / 40.0)
+    err = (h * (71.0 / 57600.0 * f1 - 71.0 / 16695.0 * f3 + 71.0 / 1920.0 * f4
+                - 17253.0 / 339200.0 * f5 + 22.0 / 525.0 * f6) + c8 * p6) + (c8 * q6) * sk5
     return k5, err, f7, d_new, s_new, x_new, sk5
 
 
