@@ -292,10 +292,10 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
     if stick_margin >= 0.0:
         h_end = math.exp(y1)
         s_end = math.sqrt(h_end * h_end + a2)
-        lnf_end = ln_f(h_end, a2)
+        lnf_end = _ln_f_s(h_end, s_end, a2)
         # kc X_v + fb keeps its sign between its values at the ends (X_v is monotonic).
         pulls = min(kc * volume_correction(math.exp(y0), a2),
-                    kc * volume_correction(h_end, a2)) + fb >= 0.0
+                    kc * (a2 / (s_end * (s_end + h_end)))) + fb >= 0.0
     d = math.exp(y)
     f1 = _rhs_at(d, _vc(d, a2, volcorr), k, sigma, kc, fb, vis)
     h = direction * min(abs(y1 - y0), h_first,
@@ -391,6 +391,9 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     fb = f_b / k0
     vis = 2.0 * c / (m_r * w)
     vol = bridge_volume(r, a2)
+    # rupture_distance(theta, ca, vol) is (1 + theta/2) (1 + sqrt(ca)) vol^(1/3): the
+    # cube root is taken once for both gaps below (the same operations, the same numbers)
+    vol3 = vol ** (1.0 / 3.0)
     e2 = e * e
     if want:
         det[K_INI_I] = frac_j * k0
@@ -406,7 +409,7 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     # stretched to h_min = h_rupt(Ca = 0). Capillary and (if F_b >= 0) body forces and
     # viscosity all slow the opening; with F_b >= 0 the viscous-only speed loss alone is a
     # bound, and in any case the potential barrier at h_min.
-    h_min = rupture_distance(theta, 0.0, vol)
+    h_min = (1.0 + 0.5 * theta) * vol3  # Ca = 0
     need = -1.0
     if h_min > Ha:
         barrier = kc * g_diff(Ha, h_min, a2) + fb * (h_min - Ha)
@@ -440,7 +443,7 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     k_s = e2 * k_c
     w_s = e * w_c
     ca = mu_l * w_s / gamma
-    h_rupt = rupture_distance(theta, ca, vol)
+    h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * vol3
     path = 0
     if not h_rupt > Ha:
         path |= P_BROKEN
