@@ -81,7 +81,7 @@ from ._codes import (
     W_VOLCORR,
 )
 from ._jit import CACHE, parallel_launch
-from .bridge import bridge_volume, g_diff, ln_f, rupture_distance
+from .bridge import _LN4, bridge_volume, g_diff, g_diff_s, ln_f, rupture_distance
 from .relative import reduced_mass, relative_body_force, term_work_fractions
 
 __all__ = [
@@ -118,59 +118,103 @@ def volume_correction(D, a2):
     return a2 / (s * (s + D))
 
 
-@njit(cache=CACHE)
-def _rhs(y, k, sigma, a2, kc, fb, vis, volcorr):
-    """``dk/dy`` (module docstring); ``kc = kcap/K0``, ``fb = F_b/K0`` [1/m],
-    ``vis = 2 c / (m_r w)`` [-]."""
-    D = math.exp(y)
-    x = volume_correction(D, a2) if volcorr else 1.0
-    return _rhs_at(D, x, k, sigma, kc, fb, vis)
-
-
-@njit(cache=CACHE)
+@njit(cache=CACHE, error_model="numpy")
 def _rhs_at(D, x, k, sigma, kc, fb, vis):
-    """:func:`_rhs` at the gap ``D`` with its volume correction ``x``."""
+    """``dk/dy`` (module docstring) at the gap ``D = exp(y)`` with its volume correction
+    ``x``; ``kc = kcap/K0``, ``fb = F_b/K0`` [1/m], ``vis = 2 c / (m_r w)`` [-]."""
     return -D * (kc * x + fb) + sigma * vis * x * x * math.sqrt(max(k, 0.0))
 
 
-@njit(cache=CACHE)
-def _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
-    """One Dormand-Prince 5(4) step from ``(y, k)`` of size ``h`` with ``f1 = dk/dy`` there.
+@njit(cache=CACHE, error_model="numpy")
+def _vc(D, a2, volcorr):
+    """``X_v(D)`` (:func:`volume_correction`) with ``volcorr``, else 1."""
+    if volcorr:
+        s = math.sqrt(D * D + a2)
+        return a2 / (s * (s + D))
+    return 1.0
 
-    Returns ``(k5, k5 - k4, dk/dy at the new point, the gap there)`` (the third is the
-    next step's ``f1``; the last two stages share the new point's gap).
+
+@njit(cache=CACHE, error_model="numpy")
+def _dp_step(y, d, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
+    """One Dormand-Prince 5(4) step from ``(y, k)`` (gap ``d = exp(y)``) of size ``h``
+    with ``f1 = dk/dy`` there.
+
+    Returns ``(k5, k5 - k4, dk/dy at the new point, the gap there, sqrt(D^2 + a^2) there
+    (0 without the volume correction), X_v there, sqrt(max(k5, 0)))``: the third is the
+    next step's ``f1``; the last two stages share the new point's gap, and the early stops
+    of :func:`_integrate` reuse its square roots and ``X_v``. The stage gaps
+    ``exp(y + c h)`` are ``d`` times powers of ``exp(h / 10)`` (``c`` = 1/5, 3/10, 4/5)
+    and the new point's gap over ``exp(h / 9)`` (``c`` = 8/9): three exponentials a step.
     """
-    f2 = _rhs(y + h / 5.0, k + h * (f1 / 5.0), sigma, a2, kc, fb, vis, volcorr)
-    f3 = _rhs(y + 0.3 * h, k + h * (3.0 / 40.0 * f1 + 9.0 / 40.0 * f2),
-              sigma, a2, kc, fb, vis, volcorr)
-    f4 = _rhs(y + 0.8 * h, k + h * (44.0 / 45.0 * f1 - 56.0 / 15.0 * f2 + 32.0 / 9.0 * f3),
-              sigma, a2, kc, fb, vis, volcorr)
-    f5 = _rhs(
-        y + 8.0 / 9.0 * h,
-        k + h * (19372.0 / 6561.0 * f1 - 25360.0 / 2187.0 * f2 + 64448.0 / 6561.0 * f3
-                 - 212.0 / 729.0 * f4),
-        sigma, a2, kc, fb, vis, volcorr,
-    )
+    e1 = math.exp(0.1 * h)
+    e2 = e1 * e1
+    e4 = e2 * e2
+    d2 = d * e2
+    d3 = d * (e2 * e1)
+    d4 = d * (e4 * e4)
     d_new = math.exp(y + h)
-    x_new = volume_correction(d_new, a2) if volcorr else 1.0
-    f6 = _rhs_at(
-        d_new, x_new,
-        k + h * (9017.0 / 3168.0 * f1 - 355.0 / 33.0 * f2 + 46732.0 / 5247.0 * f3
-                 + 49.0 / 176.0 * f4 - 5103.0 / 18656.0 * f5),
-        sigma, kc, fb, vis,
-    )
-    k5 = k + h * (35.0 / 384.0 * f1 + 500.0 / 1113.0 * f3 + 125.0 / 192.0 * f4
-                  - 2187.0 / 6784.0 * f5 + 11.0 / 84.0 * f6)
-    f7 = _rhs_at(d_new, x_new, k5, sigma, kc, fb, vis)
+    d5 = d_new * math.exp(h * (-1.0 / 9.0))
+    x2 = _vc(d2, a2, volcorr)
+    x3 = _vc(d3, a2, volcorr)
+    x4 = _vc(d4, a2, volcorr)
+    x5 = _vc(d5, a2, volcorr)
+    s_new = 0.0
+    x_new = 1.0
+    if volcorr:
+        # volume_correction(d_new, a2), keeping its square root
+        s_new = math.sqrt(d_new * d_new + a2)
+        x_new = a2 / (s_new * (s_new + d_new))
+    # Each stage's dk/dy is p + q sqrt(k_stage) (_rhs_at): p of the bridge and body forces
+    # and q of viscosity do not depend on k. The next stage's k adds the last stage's term
+    # last, as h a p + (h a q) sqrt(k_stage), so that only a product and a sum separate one
+    # stage's square root from the next.
+    vs = sigma * vis
+    p2 = -d2 * (kc * x2 + fb)
+    q2 = vs * x2 * x2
+    p3 = -d3 * (kc * x3 + fb)
+    q3 = vs * x3 * x3
+    p4 = -d4 * (kc * x4 + fb)
+    q4 = vs * x4 * x4
+    p5 = -d5 * (kc * x5 + fb)
+    q5 = vs * x5 * x5
+    p6 = -d_new * (kc * x_new + fb)
+    q6 = vs * x_new * x_new
+    c2 = h * (1.0 / 5.0)
+    r2 = math.sqrt(max(k + c2 * f1, 0.0))
+    f2 = p2 + q2 * r2
+    c3 = h * (9.0 / 40.0)
+    r3 = math.sqrt(max((k + h * (3.0 / 40.0 * f1) + c3 * p2) + (c3 * q2) * r2, 0.0))
+    f3 = p3 + q3 * r3
+    c4 = h * (32.0 / 9.0)
+    r4 = math.sqrt(max((k + h * (44.0 / 45.0 * f1 - 56.0 / 15.0 * f2) + c4 * p3)
+                       + (c4 * q3) * r3, 0.0))
+    f4 = p4 + q4 * r4
+    c5 = h * (-212.0 / 729.0)
+    r5 = math.sqrt(max((k + h * (19372.0 / 6561.0 * f1 - 25360.0 / 2187.0 * f2
+                                 + 64448.0 / 6561.0 * f3) + c5 * p4) + (c5 * q4) * r4, 0.0))
+    f5 = p5 + q5 * r5
+    c6 = h * (-5103.0 / 18656.0)
+    r6 = math.sqrt(max((k + h * (9017.0 / 3168.0 * f1 - 355.0 / 33.0 * f2
+                                 + 46732.0 / 5247.0 * f3 + 49.0 / 176.0 * f4) + c6 * p5)
+                       + (c6 * q5) * r5, 0.0))
+    f6 = p6 + q6 * r6
+    c7 = h * (11.0 / 84.0)
+    k5 = (k + h * (35.0 / 384.0 * f1 + 500.0 / 1113.0 * f3 + 125.0 / 192.0 * f4
+                   - 2187.0 / 6784.0 * f5) + c7 * p6) + (c7 * q6) * r6
+    sk5 = math.sqrt(max(k5, 0.0))
+    # the new point's dk/dy (the next step's f1): the last two stages share its gap
+    f7 = p6 + q6 * sk5
     # b5 - b4 of the embedded pair
-    err = h * (71.0 / 57600.0 * f1 - 71.0 / 16695.0 * f3 + 71.0 / 1920.0 * f4
-               - 17253.0 / 339200.0 * f5 + 22.0 / 525.0 * f6 - 1.0 / 40.0 * f7)
-    return k5, err, f7, d_new
+    c8 = h * (-1.0 / 40.0)
+    err = (h * (71.0 / 57600.0 * f1 - 71.0 / 16695.0 * f3 + 71.0 / 1920.0 * f4
+                - 17253.0 / 339200.0 * f5 + 22.0 / 525.0 * f6) + c8 * p6) + (c8 * q6) * sk5
+    return k5, err, f7, d_new, s_new, x_new, sk5
 
 
-@njit(cache=CACHE)
-def _cannot_rebound(D, k, a2, kc, fb, vis, e2, need):
-    """True when the approach, now at gap ``D`` with ``k``, cannot end in a rebound.
+@njit(cache=CACHE, error_model="numpy")
+def _cannot_rebound(D, x, sk, kc, fb, vis, e2, need):
+    """True when the approach, now at gap ``D`` with ``k``, cannot end in a rebound; ``x``
+    is ``X_v(D)`` and ``sk = sqrt(max(k, 0))``.
 
     On the approach the closing speed cannot rise above ``M = max(v, sup v_term)``, where
     ``v_term(D') = D' (kcap X_v + F_b) / (c X_v^2)`` is the speed at which the bridge forces
@@ -179,16 +223,26 @@ def _cannot_rebound(D, k, a2, kc, fb, vis, e2, need):
     ``D``. So ``k_s <= e^2 M^2`` (in units of the initial energy). ``need`` is a lower bound
     of the ``k_s`` any rebound requires (see :func:`ode_kernel`).
     """
-    x = volume_correction(D, a2)
     m_term = D * (kc * x + max(fb, 0.0)) / (vis * x * x)
-    m = max(math.sqrt(max(k, 0.0)), m_term)
+    m = max(sk, m_term)
     return e2 * m * m <= need
 
 
-@njit(cache=CACHE)
-def _must_stick(D, k, h_end, a2, kc, fb, vis, lnf_end, pulls):
-    """True when the separation, now at gap ``D`` with ``k``, cannot reach the rupture gap
-    ``h_end`` with energy left (normalised as in :func:`_rhs`).
+@njit(cache=CACHE, error_model="numpy")
+def _ln_f_s(D, s, a2):
+    """:func:`~.bridge.ln_f` at ``D > 0`` from ``s = sqrt(D^2 + a^2)`` (the same
+    operations as :func:`~.bridge.gap_parts`, so the same number)."""
+    q = a2 / ((D + s) * (D + s))
+    if q < 0.5:
+        return math.log1p(-q * q) - _LN4
+    return math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+
+
+@njit(cache=CACHE, error_model="numpy")
+def _must_stick(D, s, k, h_end, s_end, a2, kc, fb, vis, lnf_end, pulls):
+    """True when the separation, now at gap ``D`` (``s = sqrt(D^2 + a^2)``) with ``k``,
+    cannot reach the rupture gap ``h_end`` (``s_end`` its ``s``) with energy left
+    (normalised as in :func:`_rhs_at`).
 
     Two bounds, each exact for the equation of motion: (1) the energy at ``h_end`` is ``k``
     less the work ``W`` of the capillary and body forces from ``D`` to ``h_end`` less the
@@ -198,22 +252,22 @@ def _must_stick(D, k, h_end, a2, kc, fb, vis, lnf_end, pulls):
     vis X_v^2 / 2``, ``v(h_end) <= v - W / (2 v) - (vis / 2) (ln f(h_end) - ln f(D))``;
     that at most 0 sticks too.
     """
-    w_rest = kc * g_diff(D, h_end, a2) + fb * (h_end - D)
+    w_rest = kc * g_diff_s(D, s, h_end, s_end, a2) + fb * (h_end - D)
     if k <= w_rest:
         return True
     if pulls:
         v = math.sqrt(k)
-        return v - 0.5 * w_rest / v - 0.5 * vis * (lnf_end - ln_f(D, a2)) <= 0.0
+        return v - 0.5 * w_rest / v - 0.5 * vis * (lnf_end - _ln_f_s(D, s, a2)) <= 0.0
     return False
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, error_model="numpy")
 def _rupture_gap_log(theta, ca_per_sqrtk, vol, k):
     """``ln h_rupt`` (Eq. 94) at the opening speed ``w sqrt(k)``."""
     return math.log(rupture_distance(theta, ca_per_sqrtk * math.sqrt(max(k, 0.0)), vol))
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, error_model="numpy")
 def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
                e2, need, event, theta, ca_per_sqrtk, vol, h_first=1e-2, h_max=math.inf,
                first_change=math.inf, stick_margin=-1.0):
@@ -232,22 +286,26 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
     direction = 1.0 if y1 > y0 else -1.0
     y, k = y0, k0
     h_end = 0.0
+    s_end = 0.0
     lnf_end = 0.0
     pulls = False
     if stick_margin >= 0.0:
         h_end = math.exp(y1)
-        lnf_end = ln_f(h_end, a2)
+        s_end = math.sqrt(h_end * h_end + a2)
+        lnf_end = _ln_f_s(h_end, s_end, a2)
         # kc X_v + fb keeps its sign between its values at the ends (X_v is monotonic).
         pulls = min(kc * volume_correction(math.exp(y0), a2),
-                    kc * volume_correction(h_end, a2)) + fb >= 0.0
-    f1 = _rhs(y, k, sigma, a2, kc, fb, vis, volcorr)
+                    kc * (a2 / (s_end * (s_end + h_end)))) + fb >= 0.0
+    d = math.exp(y)
+    f1 = _rhs_at(d, _vc(d, a2, volcorr), k, sigma, kc, fb, vis)
     h = direction * min(abs(y1 - y0), h_first,
                         first_change * max(abs(k), 1e-3) / max(abs(f1), 1e-300))
     steps = 0
     while steps < MAX_STEPS:
         if direction * (y + h - y1) > 0.0:
             h = y1 - y
-        k_new, err, f_new, d_new = _dp_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr)
+        k_new, err, f_new, d_new, s_new, x_new, sk_new = _dp_step(y, d, k, h, f1, sigma, a2, kc,
+                                                                  fb, vis, volcorr)
         scale = atol + rtol * max(abs(k), abs(k_new))
         ratio = abs(err) / scale
         if ratio > 1.0:
@@ -260,8 +318,7 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
             k_hi = k_new
             for _ in range(60):
                 mid = 0.5 * (lo + hi)
-                k_mid, _, _, _ = _dp_step(y, k, mid * h, f1, sigma, a2, kc, fb, vis,
-                                          volcorr)
+                k_mid = _dp_step(y, d, k, mid * h, f1, sigma, a2, kc, fb, vis, volcorr)[0]
                 if k_mid > 0.0 and y + mid * h >= _rupture_gap_log(
                     theta, ca_per_sqrtk, vol, k_mid
                 ):
@@ -274,6 +331,7 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
                 return 0.0, y + hi * h, _STOPPED, steps
             return k_hi, y + hi * h, _EVENT, steps
         y += h
+        d = d_new
         k = k_new
         f1 = f_new
         if not k > 0.0:
@@ -281,10 +339,13 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
         if direction * (y - y1) >= 0.0:
             return k, y1, _REACHED, steps
         # d_new = exp(y) here (y advanced by h: the same sum as in the step)
-        if need >= 0.0 and _cannot_rebound(d_new, k, a2, kc, fb, vis, e2, need):
+        if not volcorr and (need >= 0.0 or stick_margin >= 0.0):
+            s_new = math.sqrt(d_new * d_new + a2)
+            x_new = a2 / (s_new * (s_new + d_new))
+        if need >= 0.0 and _cannot_rebound(d_new, x_new, sk_new, kc, fb, vis, e2, need):
             return k, y, _CANNOT, steps
-        if stick_margin >= 0.0 and _must_stick(d_new, k + stick_margin, h_end, a2, kc, fb,
-                                               vis, lnf_end, pulls):
+        if stick_margin >= 0.0 and _must_stick(d_new, s_new, k + stick_margin, h_end, s_end,
+                                               a2, kc, fb, vis, lnf_end, pulls):
             return 0.0, y, _STOPPED, steps
         # 0.9 ratio^-0.2 exceeds 5 below ratio = 1.8e-4 (5.05 there): no power needed.
         factor = 5.0 if ratio <= 1.8e-4 else min(5.0, max(0.2, 0.9 * ratio ** -0.2))
@@ -330,6 +391,9 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     fb = f_b / k0
     vis = 2.0 * c / (m_r * w)
     vol = bridge_volume(r, a2)
+    # rupture_distance(theta, ca, vol) is (1 + theta/2) (1 + sqrt(ca)) vol^(1/3): the
+    # cube root is taken once for both gaps below (the same operations, the same numbers)
+    vol3 = vol ** (1.0 / 3.0)
     e2 = e * e
     if want:
         det[K_INI_I] = frac_j * k0
@@ -345,7 +409,7 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     # stretched to h_min = h_rupt(Ca = 0). Capillary and (if F_b >= 0) body forces and
     # viscosity all slow the opening; with F_b >= 0 the viscous-only speed loss alone is a
     # bound, and in any case the potential barrier at h_min.
-    h_min = rupture_distance(theta, 0.0, vol)
+    h_min = (1.0 + 0.5 * theta) * vol3  # Ca = 0
     need = -1.0
     if h_min > Ha:
         barrier = kc * g_diff(Ha, h_min, a2) + fb * (h_min - Ha)
@@ -379,7 +443,7 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     k_s = e2 * k_c
     w_s = e * w_c
     ca = mu_l * w_s / gamma
-    h_rupt = rupture_distance(theta, ca, vol)
+    h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * vol3
     path = 0
     if not h_rupt > Ha:
         path |= P_BROKEN
