@@ -92,6 +92,18 @@ class SpeedModel:
             return ndtr(z)
         return -np.expm1(-(u * u) / self.theta)
 
+    def at(self, mask, shape) -> SpeedModel:
+        """The same law at the elements ``mask`` (a boolean array of ``shape``) only: each
+        parameter that varies becomes the 1-D array of its values there (a scalar stays)."""
+
+        def pick(a):
+            if a is None or a.ndim == 0:
+                return a
+            return np.broadcast_to(a, shape)[mask]
+
+        return SpeedModel(self.family, u0=pick(self.u0), sigma_ln=pick(self.sigma_ln),
+                          granular_temperature=pick(self.theta))
+
     def quantile(self, q) -> np.ndarray:
         """``Q(q)`` [m/s] for ``q`` in [0, 1)."""
         q = np.asarray(q, dtype=float)
@@ -155,11 +167,10 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
                 return np.broadcast_to(collide(u).agglomerated, shape)[open_]
 
         f_o, r_o = f_star[open_], rest[open_]
+        speeds_o = speeds.at(open_, shape)  # the quantiles of the open elements only
         stuck_o = np.zeros(f_o.shape)
         for k in range(n):  # a loop over quadrature nodes, each vectorised over the grid
-            q_full = np.full(shape, 0.5)
-            q_full[open_] = f_o + r_o * ((k + 0.5) / n)
-            u = np.broadcast_to(speeds.quantile(q_full), shape)[open_]
+            u = np.broadcast_to(speeds_o.quantile(f_o + r_o * ((k + 0.5) / n)), f_o.shape)
             positive = u > 0.0  # a node speed of 0 (degenerate law) cannot collide: sticks
             stuck_o += sticks(np.where(positive, u, 1.0)) | ~positive
         stuck[open_] = stuck_o
