@@ -163,10 +163,12 @@ def test_auto_uses_every_form_and_stays_within_tol(spread, tol):
     np.testing.assert_array_equal(tier, np.where(pieces == 0, TIER_ODE, TIER_RELATIVE))
 
 
-def test_fused_auto_chooses_as_auto_batch():
+@pytest.mark.parametrize("size", [3000, 700])
+def test_fused_auto_chooses_as_auto_batch(size):
     """The fused path (preparation and choice in one loop) takes the same form per
-    collision as ``auto_batch`` on the prepared arrays, and the same outcome, bitwise."""
-    kw = mixed_scenes(3000, 23)
+    collision as ``auto_batch`` on the prepared arrays, and the same outcome, bitwise;
+    above and below ``SERIAL_BELOW`` (the parallel and the serial loop)."""
+    kw = mixed_scenes(size, 23)
     rng = np.random.default_rng(4)
     u_star = at.critical_impact_speed(**kw)
     u0 = u_star * rng.uniform(0.5, 3.0, u_star.shape)
