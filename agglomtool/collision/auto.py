@@ -718,7 +718,8 @@ def _choose_block(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
                   stick_margin, check, e_w, stage, path, w_out, pieces, k0, k1):
     """The fused loop of "auto" over collisions ``k0 <= k < k1`` (one thread, carrying the
     angles' memo), as :func:`~.fused._fused_block`: each speed rule's first offender among
-    them (``n``: none) is returned."""
+    them (``n``: none) is returned. Written into both entries (inline): called as a
+    function it cost about 1 % more on the benchmark batch."""
     empty = np.empty(0)
     n = e_w.shape[0]
     g1 = n
