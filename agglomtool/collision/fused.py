@@ -406,6 +406,14 @@ def _rules_update(ins, st, k, g1, g2, g3, g4):
     collision breaks rule 3 or 4 (then it is not computed). A flat tuple: a parallel loop's
     body cannot unpack a nested one."""
     r1, r2, r3, r4 = _speed_rules_at(ins, st, k)
+    g1, g2, g3, g4 = _fold_rules(k, r1, r2, r3, r4, g1, g2, g3, g4)
+    return g1, g2, g3, g4, (r3 or r4)
+
+
+@njit(cache=CACHE, inline="always")
+def _fold_rules(k, r1, r2, r3, r4, g1, g2, g3, g4):
+    """Each rule's first offender so far, ``g1 .. g4``, after collision ``k`` broke the
+    rules ``r1 .. r4`` (a serial scan in order of ``k``)."""
     if r1 and k < g1:
         g1 = k
     if r2 and k < g2:
@@ -414,7 +422,7 @@ def _rules_update(ins, st, k, g1, g2, g3, g4):
         g3 = k
     if r4 and k < g4:
         g4 = k
-    return g1, g2, g3, g4, (r3 or r4)
+    return g1, g2, g3, g4
 
 
 @njit(cache=CACHE, inline="always")
@@ -443,14 +451,7 @@ def _check_speeds_serial(d_i, d_j, u0, u0_j, given, si, sj, su, sv, n):
     f4 = n
     for k in range(n):
         r1, r2, r3, r4 = _speed_rules(d_i, d_j, u0, u0_j, given, si, sj, su, sv, k)
-        if r1 and k < f1:
-            f1 = k
-        if r2 and k < f2:
-            f2 = k
-        if r3 and k < f3:
-            f3 = k
-        if r4 and k < f4:
-            f4 = k
+        f1, f2, f3, f4 = _fold_rules(k, r1, r2, r3, r4, f1, f2, f3, f4)
     return f1, f2, f3, f4
 
 
