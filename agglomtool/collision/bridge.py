@@ -23,6 +23,7 @@ __all__ = [
     "ln_f_diff",
     "ln_f_diff_from",
     "ln_f_parts",
+    "ln_f_parts_s",
     "ln_f_array",
     "ln_f_diff_array",
     "g_diff",
@@ -39,15 +40,23 @@ def gap_parts(D, a2):
     of :func:`ln_f_parts` (which returns the last two), so that a kernel that needs both
     ``ln f`` and :func:`g_diff_s` at a gap takes its square root once."""
     s = math.sqrt(D * D + a2)
+    kind, value = ln_f_parts_s(D, s, a2)
+    return s, kind, value
+
+
+@njit(cache=CACHE)
+def ln_f_parts_s(D, s, a2):
+    """:func:`ln_f_parts` from ``s = sqrt(D^2 + a^2)`` already taken (:func:`gap_parts`
+    takes it and calls this)."""
     if D <= 0.0:
-        return s, 0, -math.inf
+        return 0, -math.inf
     # With q = a^2 / (D + s)^2, exactly f = (1 - q^2) / 4. Where D >> a the three logs
     # below all approach constants and a difference of two ln f values would lose every
     # digit; log1p keeps them.
     q = a2 / ((D + s) * (D + s))
     if q < 0.5:
-        return s, 1, math.log1p(-q * q)
-    return s, 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+        return 1, math.log1p(-q * q)
+    return 0, math.log(D) + math.log(s) - 2.0 * math.log(D + s)
 
 
 @njit(cache=CACHE)

@@ -81,7 +81,7 @@ from ._codes import (
     W_VOLCORR,
 )
 from ._jit import CACHE, parallel_launch
-from .bridge import _LN4, bridge_volume, g_diff, g_diff_s, ln_f, rupture_distance
+from .bridge import _LN4, bridge_volume, g_diff, g_diff_s, ln_f, ln_f_parts_s, rupture_distance
 from .relative import reduced_mass, relative_body_force, term_work_fractions
 
 __all__ = [
@@ -126,11 +126,17 @@ def _rhs_at(D, x, k, sigma, kc, fb, vis):
 
 
 @njit(cache=CACHE, error_model="numpy")
+def _x_v_s(D, s, a2):
+    """:func:`volume_correction` from ``s = sqrt(D^2 + a^2)`` already taken (the same
+    operations, so the same number)."""
+    return a2 / (s * (s + D))
+
+
+@njit(cache=CACHE, error_model="numpy")
 def _vc(D, a2, volcorr):
     """``X_v(D)`` (:func:`volume_correction`) with ``volcorr``, else 1."""
     if volcorr:
-        s = math.sqrt(D * D + a2)
-        return a2 / (s * (s + D))
+        return _x_v_s(D, math.sqrt(D * D + a2), a2)
     return 1.0
 
 
@@ -161,9 +167,8 @@ def _dp_step(y, d, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
     s_new = 0.0
     x_new = 1.0
     if volcorr:
-        # volume_correction(d_new, a2), keeping its square root
         s_new = math.sqrt(d_new * d_new + a2)
-        x_new = a2 / (s_new * (s_new + d_new))
+        x_new = _x_v_s(d_new, s_new, a2)
     # Each stage's dk/dy is p + q sqrt(k_stage) (_rhs_at): p of the bridge and body forces
     # and q of viscosity do not depend on k. The next stage's k adds the last stage's term
     # last, as h a p + (h a q) sqrt(k_stage), so that only a product and a sum separate one
@@ -230,12 +235,10 @@ def _cannot_rebound(D, x, sk, kc, fb, vis, e2, need):
 
 @njit(cache=CACHE, error_model="numpy")
 def _ln_f_s(D, s, a2):
-    """:func:`~.bridge.ln_f` at ``D > 0`` from ``s = sqrt(D^2 + a^2)`` (the same
-    operations as :func:`~.bridge.gap_parts`, so the same number)."""
-    q = a2 / ((D + s) * (D + s))
-    if q < 0.5:
-        return math.log1p(-q * q) - _LN4
-    return math.log(D) + math.log(s) - 2.0 * math.log(D + s)
+    """:func:`~.bridge.ln_f` at ``D`` from ``s = sqrt(D^2 + a^2)`` already taken
+    (:func:`~.bridge.ln_f_parts_s`, so the same number)."""
+    kind, value = ln_f_parts_s(D, s, a2)
+    return value - _LN4 if kind else value
 
 
 @njit(cache=CACHE, error_model="numpy")
@@ -295,7 +298,7 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
         lnf_end = _ln_f_s(h_end, s_end, a2)
         # kc X_v + fb keeps its sign between its values at the ends (X_v is monotonic).
         pulls = min(kc * volume_correction(math.exp(y0), a2),
-                    kc * (a2 / (s_end * (s_end + h_end)))) + fb >= 0.0
+                    kc * _x_v_s(h_end, s_end, a2)) + fb >= 0.0
     d = math.exp(y)
     f1 = _rhs_at(d, _vc(d, a2, volcorr), k, sigma, kc, fb, vis)
     h = direction * min(abs(y1 - y0), h_first,
@@ -341,7 +344,7 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
         # d_new = exp(y) here (y advanced by h: the same sum as in the step)
         if not volcorr and (need >= 0.0 or stick_margin >= 0.0):
             s_new = math.sqrt(d_new * d_new + a2)
-            x_new = a2 / (s_new * (s_new + d_new))
+            x_new = _x_v_s(d_new, s_new, a2)
         if need >= 0.0 and _cannot_rebound(d_new, x_new, sk_new, kc, fb, vis, e2, need):
             return k, y, _CANNOT, steps
         if stick_margin >= 0.0 and _must_stick(d_new, s_new, k + stick_margin, h_end, s_end,
