@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._validate import as_float_array, check_range
+from .constants import GRAVITY
 from .inputs import Bed, Gas, Liquid, Particle
 from .properties import drag_force_gidaspow, umf_wen_yu
-from .properties.fluidization import GRAVITY
 
 __all__ = [
     "PairState",

@@ -115,6 +115,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from .._jit import CACHE, parallel_launch
 from ._codes import (
     APP_EN,
     APP_VIS,
@@ -148,7 +149,6 @@ from ._codes import (
     W_CONTACT,
     W_VOLCORR,
 )
-from ._jit import CACHE, parallel_launch
 from .bridge import bridge_volume, g_diff, g_diff_s, gap_parts, ln_f_diff
 from .fused import (
     BLOCK,

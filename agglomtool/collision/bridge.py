@@ -14,7 +14,7 @@ import math
 
 from numba import njit, vectorize
 
-from ._jit import CACHE
+from .._jit import CACHE
 
 _LN4 = math.log(4.0)
 

@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ._jit import CACHE, parallel_launch
+from .._jit import CACHE, parallel_launch
 from .bridge import ln_f_diff, ln_f_diff_array
 from .critical_relative import (
     EARLY_RTOL,

@@ -103,7 +103,7 @@ import math
 
 from numba import njit
 
-from ._jit import CACHE
+from .._jit import CACHE
 from .bridge import _LN4, bridge_volume, g_diff, ln_f_parts
 from .relative import _viscous_loss, reduced_mass, relative_body_force
 

@@ -48,9 +48,9 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..properties.fluidization import GRAVITY
+from .._jit import CACHE, parallel_launch
+from ..constants import GRAVITY
 from ._codes import N_DETAILS
-from ._jit import CACHE, parallel_launch
 from .paper import paper_kernel
 from .relative import relative_kernel
 

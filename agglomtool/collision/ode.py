@@ -47,6 +47,7 @@ from functools import partial
 import numpy as np
 from numba import njit, prange
 
+from .._jit import CACHE, parallel_launch
 from ._codes import (
     APP_EN,
     APP_VIS,
@@ -80,7 +81,6 @@ from ._codes import (
     W_CONTACT,
     W_VOLCORR,
 )
-from ._jit import CACHE, parallel_launch
 from .bridge import _LN4, bridge_volume, g_diff, g_diff_s, ln_f, ln_f_parts_s, rupture_distance
 from .relative import reduced_mass, relative_body_force, term_work_fractions
 

@@ -40,6 +40,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from .._jit import CACHE, parallel_launch
 from ._codes import (
     CA,
     CONTACT,
@@ -76,7 +77,6 @@ from ._codes import (
     ST_APP,
     W_CONTACT,
 )
-from ._jit import CACHE, parallel_launch
 from .bridge import (
     _LN4,
     bridge_volume,

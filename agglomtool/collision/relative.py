@@ -41,6 +41,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from .._jit import CACHE, parallel_launch
 from ._codes import (
     APP_EN,
     APP_VIS,
@@ -75,7 +76,6 @@ from ._codes import (
     W_CONTACT,
     W_VOLCORR,
 )
-from ._jit import CACHE, parallel_launch
 from .bridge import (
     _LN4,
     bridge_volume,

@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ._jit import CACHE, parallel_launch
+from .._jit import CACHE, parallel_launch
 from .outcome import DETAIL_NAMES, Path, Stage
 from .relative import reduced_mass
 

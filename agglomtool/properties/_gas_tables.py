@@ -33,11 +33,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..constants import R_GAS
+
 __all__ = ["SPECIES_FORMULAS", "CondensedPhaseError", "OutOfRangeError", "check_species",
            "species_state", "species_info"]
-
-#: Molar gas constant [J/(mol K)], as used by CoolProp 8.
-R_GAS = 8.314462618
 
 #: Maximum accepted relative bilinear error at a cell centre (mu and rho) [-].
 CELL_TOL = 2e-4

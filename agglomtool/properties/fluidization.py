@@ -13,14 +13,13 @@ import numpy as np
 from fluids.packed_bed import Ergun
 from numba import vectorize
 
+from .._jit import CACHE
 from .._validate import check_range
-from ..collision._jit import CACHE
+from ..constants import GRAVITY
 
 __all__ = ["umf_wen_yu", "umf_ergun", "umf", "umf_methods", "umf_coated", "UMF_C1_C2",
            "GRAVITY"]
 
-#: Standard gravity [m/s2].
-GRAVITY = 9.80665
 
 
 def umf_wen_yu(d, rho_p, mu_g, rho_g, c1=33.7, c2=0.0408):

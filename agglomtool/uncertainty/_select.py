@@ -23,7 +23,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..collision._jit import CACHE
+from .._jit import CACHE
 
 __all__ = ["summary_counts", "summary_numpy", "linear_quantiles"]
 

@@ -1,0 +1,107 @@
+"""How the kernels are compiled and launched: the on-disk cache and the parallel-launch lock.
+
+On-disk cache
+-------------
+Numba's ``cache=True`` needs a writable directory: next to the sources (``__pycache__``),
+or the user-wide cache (``NUMBA_CACHE_DIR`` or the home directory's cache). A read-only
+install run by a user without a writable home has neither, and Numba refuses to even
+*define* a cached function there (``RuntimeError: cannot cache function ...: no locator
+available``). :data:`CACHE` is decided once, at import: ``True`` where Numba can cache; else
+a fresh temporary directory is tried as the cache directory (then ``True``); else ``False``
+(compile at every start). Each fallback is noted once with a :class:`RuntimeWarning`.
+
+Parallel launches
+-----------------
+Numba's ``workqueue`` threading layer (used when neither TBB nor OpenMP is installed) is not
+thread-safe: two threads launching parallel kernels at once abort the process
+("Concurrent access has been detected"). :func:`parallel_launch` serialises launches with a
+lock on that layer (and until the layer is known); TBB and OpenMP run concurrent launches
+without it.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import threading
+import warnings
+
+import numba
+from numba import njit
+
+__all__ = ["CACHE", "parallel_launch", "cache_status"]
+
+_STATUS = "default"
+
+
+def _try_cache() -> bool:
+    """True when Numba can cache a function defined in this directory."""
+
+    def _probe(x):  # pragma: no cover - compiled lazily, never called
+        return x
+
+    try:
+        njit(cache=True)(_probe)
+    except RuntimeError:
+        return False
+    return True
+
+
+def _decide_cache() -> bool:
+    global _STATUS
+    if _try_cache():
+        return True
+    try:
+        tmp = tempfile.mkdtemp(prefix="agglomtool-numba-")
+    except OSError:
+        tmp = None
+    if tmp is not None and os.access(tmp, os.W_OK):
+        numba.config.CACHE_DIR = tmp
+        if _try_cache():
+            _STATUS = f"temporary directory {tmp}"
+            warnings.warn(
+                "agglomtool: no writable Numba cache directory (package directory and "
+                f"user cache are read-only); compiled kernels are cached in {tmp} for this "
+                "session. Set NUMBA_CACHE_DIR to a writable directory to keep them.",
+                RuntimeWarning,
+                stacklevel=3,
+            )
+            return True
+    _STATUS = "off"
+    warnings.warn(
+        "agglomtool: no writable Numba cache directory; kernels are compiled at every start "
+        "(set NUMBA_CACHE_DIR to a writable directory to cache them).",
+        RuntimeWarning,
+        stacklevel=3,
+    )
+    return False
+
+
+#: Passed as ``cache=`` to every compiled function of the package (the collision core, the
+#: properties' vectorised kernels, the Monte Carlo summary).
+CACHE: bool = _decide_cache()
+
+
+def cache_status() -> str:
+    """Where compiled kernels are cached: ``"default"``, ``"temporary directory ..."`` or
+    ``"off"``."""
+    return _STATUS
+
+
+_LOCK = threading.Lock()
+_LAYER_SAFE = False  # True once a concurrent-safe layer (tbb, omp) is known to be running
+
+
+def parallel_launch(kernel, *args):
+    """Call the parallel (``prange``) ``kernel`` with ``args``, holding a process-wide lock
+    where the threading layer cannot take concurrent launches (module docstring)."""
+    global _LAYER_SAFE
+    if _LAYER_SAFE:
+        return kernel(*args)
+    with _LOCK:
+        out = kernel(*args)
+        try:
+            _LAYER_SAFE = numba.threading_layer() in ("tbb", "omp")
+        except ValueError:  # no parallel region ran yet
+            pass
+    return out
