@@ -1,7 +1,10 @@
 """Input checks shared by every public entry point.
 
 Bad input fails at the boundary with a ``ValueError`` that names the field, the offending
-value and the allowed range. Nothing downstream has to guard against NaN.
+value and the allowed range. Nothing downstream has to guard against NaN. Input that is
+valid but implausible warns with a :class:`PlausibilityWarning`, defined here (low in the
+layers) so that the correlations can warn without importing the scene-level checks of
+:mod:`agglomtool.plausibility`, which re-exports it.
 """
 
 from __future__ import annotations
@@ -10,6 +13,10 @@ import functools
 import math
 
 import numpy as np
+
+
+class PlausibilityWarning(UserWarning):
+    """Valid input that looks wrong (a unit slip, a size outside a solid's range, ...)."""
 
 
 def _first_bad(arr: np.ndarray, bad: np.ndarray) -> float:

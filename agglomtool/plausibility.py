@@ -17,6 +17,8 @@ import warnings
 
 import numpy as np
 
+from ._validate import PlausibilityWarning
+
 __all__ = ["PlausibilityWarning", "scene_findings", "warn_findings", "ASPERITY_RANGE",
            "COATING_FRACTION", "PRESSURE_RANGE"]
 
@@ -26,10 +28,6 @@ ASPERITY_RANGE = (1e-9, 10e-6)
 COATING_FRACTION = 0.1
 #: Absolute pressures outside this range [Pa] are implausible for a fluidized bed.
 PRESSURE_RANGE = (1e4, 1e7)
-
-
-class PlausibilityWarning(UserWarning):
-    """Valid input that looks wrong (a unit slip, a size outside a solid's range, ...)."""
 
 
 def _extreme(values: dict, name: str, how):

@@ -12,7 +12,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .._validate import check_range
+from .._validate import PlausibilityWarning, check_range
 from .slag_composition import molar_mass, mole_fractions, normalise_wt
 
 __all__ = ["surface_tension_mills", "surface_tension_kucuk", "density_mills_keene"]
@@ -41,8 +41,6 @@ def _left_out(model: str, unknown: list, x: Mapping) -> None:
     """Say which oxides of the user's melt a model has no term for, and how much of the melt
     they are: their share is left out of the model's sum (a PlausibilityWarning, so that
     ``--strict`` or an error filter turns it into an error)."""
-    from ..plausibility import PlausibilityWarning
-
     share = sum(float(np.max(np.asarray(x[k]))) for k in unknown)
     warnings.warn(f"{model} has no term for {', '.join(unknown)} (up to {share:.3g} mole "
                   "fraction of the melt): that share is left out of its sum",

@@ -14,7 +14,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .._validate import check_range
+from .._validate import PlausibilityWarning, check_range
 from .slag_composition import molar_mass, mole_fractions, normalise_wt
 
 __all__ = ["viscosity_giordano_russell_dingwell", "viscosity_urbain_mills", "viscosity_riboud"]
@@ -22,8 +22,6 @@ __all__ = ["viscosity_giordano_russell_dingwell", "viscosity_urbain_mills", "vis
 
 def _warn(msg: str) -> None:
     """A value outside a correlation's calibration: plausible input, implausible answer."""
-    from ..plausibility import PlausibilityWarning
-
     warnings.warn(msg, PlausibilityWarning, stacklevel=3)
 
 
