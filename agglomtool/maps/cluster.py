@@ -14,12 +14,29 @@ record (its checksums).
 
 from __future__ import annotations
 
+import itertools
 import uuid
 
 import numpy as np
 import xarray as xr
 
 __all__ = ["run_blocks", "compute_on_cluster"]
+
+
+def _blocks(chunks: dict):
+    """(index tuple, {dim: slice}) of every block, in C order."""
+    dims = list(chunks)
+    starts = {d: np.concatenate([[0], np.cumsum(chunks[d])]) for d in dims}
+    for idx in itertools.product(*[range(len(chunks[d])) for d in dims]):
+        sl = {d: slice(int(starts[d][i]), int(starts[d][i + 1]))
+              for d, i in zip(dims, idx, strict=True)}
+        yield idx, sl
+
+
+def _owned(var_dims: dict, dims: list, idx: tuple) -> list:
+    """Variables block ``idx`` writes: those over whose missing dimensions it is first."""
+    at = dict(zip(dims, idx, strict=True))
+    return [v for v, vd in var_dims.items() if all(at[d] == 0 for d in dims if d not in vd)]
 
 
 def _threads(client) -> int:
@@ -93,8 +110,6 @@ def compute_on_cluster(ds: xr.Dataset, client) -> xr.Dataset:
     in-memory Dataset (use ``store=`` for maps larger than the client's memory).
     """
     import dask
-
-    from .store import _blocks, _owned
 
     dims = list(ds.dims)
     var_dims = {k: tuple(v.dims) for k, v in ds.data_vars.items()}

@@ -39,7 +39,6 @@ from __future__ import annotations
 import contextlib
 import datetime
 import hashlib
-import itertools
 import json
 import os
 import shutil
@@ -53,6 +52,8 @@ from pathlib import Path
 import dask
 import numpy as np
 import xarray as xr
+
+from .cluster import _blocks, _owned, run_blocks
 
 __all__ = ["run_with_store", "open_store", "export_netcdf", "fingerprint", "progress_callback",
            "Progress", "StoreWarning", "StoreLockedError", "FORMAT_VERSION"]
@@ -239,22 +240,6 @@ def _differences(old: dict, new: dict) -> list[str]:
 
 # ---------------------------------------------------------------------------------------
 # Blocks
-
-
-def _blocks(chunks: dict):
-    """(index tuple, {dim: slice}) of every block, in C order."""
-    dims = list(chunks)
-    starts = {d: np.concatenate([[0], np.cumsum(chunks[d])]) for d in dims}
-    for idx in itertools.product(*[range(len(chunks[d])) for d in dims]):
-        sl = {d: slice(int(starts[d][i]), int(starts[d][i + 1]))
-              for d, i in zip(dims, idx, strict=True)}
-        yield idx, sl
-
-
-def _owned(var_dims: dict, dims: list, idx: tuple) -> list:
-    """Variables block ``idx`` writes: those over whose missing dimensions it is first."""
-    at = dict(zip(dims, idx, strict=True))
-    return [v for v, vd in var_dims.items() if all(at[d] == 0 for d in dims if d not in vd)]
 
 
 def _block_name(idx: tuple) -> str:
@@ -594,8 +579,6 @@ def run_with_store(ds: xr.Dataset, store, *, progress: bool = False, overwrite: 
 
         try:
             if client is not None and client is not False and todo:
-                from .cluster import run_blocks
-
                 run_blocks(client, todo, task, _write_block, record)
             else:
                 for idx, sl in todo:
