@@ -19,7 +19,8 @@ from agglomtool.uncertainty._select import summary_counts, summary_numpy
 from agglomtool.uncertainty.distributions import Distribution
 from agglomtool.uncertainty.monte_carlo import _stream, draw_inputs
 
-mc_module = importlib.import_module("agglomtool.uncertainty.monte_carlo")
+#: where the draws and the summary are made (both Monte Carlo paths use it)
+sampling = importlib.import_module("agglomtool.uncertainty._sampling")
 
 
 
@@ -84,9 +85,9 @@ def test_chunk_size_and_threads_do_not_change_the_draws(monkeypatch):
     n = 70_001
     ref, ref_k, _ = draw_inputs(kw["uncertain"], n, 8)
     assert min(ref_k[k] for k in ("h0_i", "theta_deg", "mu_l")) > 0
-    monkeypatch.setattr(mc_module, "_draw_threads", lambda: 4)
+    monkeypatch.setattr(sampling, "_draw_threads", lambda: 4)
     runs = [monte_carlo(**kw, n=n, seed=8, chunk_size=c) for c in (n, 40_000, 4_567)]
-    monkeypatch.setattr(mc_module, "_THREADED_MIN", 10**9)  # every chunk in one thread
+    monkeypatch.setattr(sampling, "_THREADED_MIN", 10**9)  # every chunk in one thread
     runs.append(monte_carlo(**kw, n=n, seed=8))
     for ds in runs:
         for name, x in ref.items():
@@ -204,7 +205,7 @@ def test_summary_falls_back_to_numpy_where_it_does_not_apply(monkeypatch):
     # a run summarised by numpy reports the same numbers
     kw = table4_case("water", 0.20)
     fast = monte_carlo(**kw, n=20_000, seed=2, keep_samples=False)
-    monkeypatch.setattr(mc_module, "summary_counts", lambda *args: None)
+    monkeypatch.setattr(sampling, "summary_counts", lambda *args: None)
     slow = monte_carlo(**kw, n=20_000, seed=2, keep_samples=False)
     for name in ("p_agglomeration", "e_w_mean", "e_w_std", "e_w_quantile", "e_w_density"):
         assert fast[name].values.tobytes() == slow[name].values.tobytes(), name

@@ -23,6 +23,7 @@ from .._version import __version__
 from ..collision.outcome import Stage
 from ..plausibility import scene_findings, warn_findings
 from ..scene import FIELD_RANGES, Resolved, Scene, provenance
+from ._sampling import _SAMPLING, _attrs, _ChunkedDraws, _summary, resolve_seed
 from .distributions import Distribution, to_si
 
 __all__ = ["scene_monte_carlo", "scene_e_w", "field_law", "check_fields", "SCENE_TO_CORE"]
@@ -32,10 +33,6 @@ SCENE_TO_CORE = {"h0": "h0_i"}
 
 #: Scene fields that may be uncertain: every numeric field but the reporting ceiling.
 UNCERTAIN_FIELDS = tuple(f for f in NUMERIC_FIELDS if f != "u_ceiling")
-
-
-def _attrs(units: str, long_name: str, **extra) -> dict:
-    return {"units": units, "long_name": long_name, **extra}
 
 
 def check_fields(uncertain) -> None:
@@ -81,8 +78,6 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
     derived as for a map, and ``e_w`` is evaluated at the scene's impact speed: ``u0``
     (fixed, or drawn if uncertain) or the median of its speed distribution.
     """
-    from .monte_carlo import _SAMPLING, _ChunkedDraws, _summary, resolve_seed
-
     check_fields(uncertain)
     base = scene.values()
     entropy, chosen = resolve_seed(seed)

@@ -20,8 +20,9 @@ import xarray as xr
 from .._fields import DEFAULT_MODE
 from .._version import __version__
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, check_names, evaluate_e_w
+from ._sampling import _attrs, resolve_seed
 from .distributions import Distribution, to_si
-from .monte_carlo import _attrs, monte_carlo, resolve_seed
+from .monte_carlo import monte_carlo
 
 __all__ = ["sobol_indices", "spread_by_input"]
 
