@@ -69,6 +69,21 @@ def test_bed_command_sweeps_the_example_config(tmp_path):
     assert np.all(np.diff(p, axis=0) < 0.0)  # faster bed, fewer sticking collisions
 
 
+@pytest.mark.parametrize("gas", ["steam", "biomass-flue-gas"])
+def test_bed_config_scene_is_read_at_its_own_temperature(gas):
+    """A bed file's [scene] is a scene at its own T, not a one-point map at 300 K: a gas
+    that condenses at room temperature (steam, a humid flue gas) loads at a bed temperature
+    (it was refused with an error about a "[grid] T" the file does not have)."""
+    import tomllib
+
+    text = ONE.replace('liquid = "water"\nT = "25 degC"',
+                       f'liquid = "k-silicate-ash-melt"\nT = "850 degC"\ngas = "{gas}"')
+    assert text != ONE
+    cfg = parse_bed_config(tomllib.loads(text), "bed.toml")
+    assert cfg.scene.gas == gas
+    assert cfg.scene.T == pytest.approx(1123.15, rel=1e-12)
+
+
 @pytest.mark.parametrize("edit, message", [
     (("fraction = 0.4", "fraction = 0.3"), "sum to 0.9"),
     (('solid = "ilmenite"', 'solid = "ilmenit"'), "[[component]] 2: solid = 'ilmenit'"),

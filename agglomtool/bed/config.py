@@ -35,7 +35,7 @@ Every error names the file, the table and the key.
 
 from __future__ import annotations
 
-from ..maps.config import ConfigError, _axis, parse_config
+from .._config import ConfigError, _axis, parse_scene, read_toml
 from ..units import to_si
 from .mixture import Component
 
@@ -94,8 +94,7 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
     if unknown:
         raise ConfigError(f"{source}: unknown table [{unknown[0]}]; allowed: [scene], "
                           "[[component]], [grid], [options]")
-    scene = parse_config({"scene": data.get("scene", {}), "grid": {"T": [300.0]}},
-                         source).scene
+    scene = parse_scene(data.get("scene", {}), source)
     tables = data.get("component")
     if not isinstance(tables, list) or not tables:
         raise ConfigError(f"{source}: the bed needs at least one [[component]] table")
@@ -144,6 +143,4 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
 
 def load_bed_config(path) -> BedConfig:
     """Read and validate a bed configuration file (TOML)."""
-    from ..maps.config import read_toml
-
     return parse_bed_config(read_toml(path), str(path))
