@@ -1,0 +1,154 @@
+"""The database's assumed values as uncertain inputs, and the Scene Monte Carlo that
+answers the map's question (propensity, u0*) per draw."""
+
+import math
+import textwrap
+
+import numpy as np
+import pytest
+from scipy import stats
+
+import agglomtool as at
+from agglomtool import materials
+from agglomtool.materials import MaterialsError, load
+from agglomtool.uncertainty.assumed import assumed_draws, law_distribution, scene_fields
+
+GLASS = at.Scene(liquid="water", T=323.15, h0=5e-6, d_i=400e-6, solid_i="glass-beads",
+                 U_Umf=2.0)
+
+
+def test_every_assumed_number_of_the_database_states_a_law_that_holds_its_value():
+    numeric = {"density", "asperity_height", "restitution_dry", "theta_deg", "mu", "gamma",
+               "rho"}
+    seen = 0
+    for kind, lookup in (("solid", materials.solid), ("liquid", materials.liquid_entry)):
+        for name in materials.names(kind):
+            entry = lookup(name)
+            laws = {law.field: law for law in entry.uncertainty}
+            assert set(laws) == set(entry.assumed) & numeric, (kind, name)
+            for field, law in laws.items():
+                lo, hi = law.params
+                assert lo <= getattr(entry, field) <= hi, (name, field)
+                assert len(law.reason) > 40, (name, field)
+                seen += 1
+    assert seen >= 9  # 5 asperities, 2 restitutions, 4 contact angles at the time of writing
+
+
+def test_a_lognormal_law_has_its_stated_5_and_95_percent_quantiles():
+    law = materials.solid("ilmenite").uncertainty[0]
+    assert law.law == "lognormal"
+    d = law_distribution(law)
+    m, s = d.log_params
+    ref = stats.lognorm(s=s, scale=math.exp(m))  # an independent implementation
+    np.testing.assert_allclose(ref.ppf([0.05, 0.95]), law.params, rtol=1e-12)
+    np.testing.assert_allclose(d.ppf(np.array([0.05, 0.95])), law.params, rtol=1e-12)
+
+
+def _user_file(tmp_path, body):
+    p = tmp_path / "mine.toml"
+    p.write_text(textwrap.dedent(body))
+    return tmp_path
+
+
+SOLID = """
+[solid.my-sand]
+assumed = ["asperity_height"]
+density = 2650.0
+asperity_height = 1e-6
+restitution_dry = 0.9
+size_range = [100e-6, 1000e-6]
+source = "test"
+confidence = "test"
+"""
+
+
+def test_a_user_entry_with_an_assumed_number_and_no_law_is_refused_naming_the_field(
+        tmp_path):
+    with pytest.raises(MaterialsError, match=r"my-sand.*uncertainty\.asperity_height.*"
+                                             r"is missing"):
+        load(extra_dirs=(str(_user_file(tmp_path, SOLID)),))
+
+
+@pytest.mark.parametrize("law, match", [
+    ('law = "lognormal"\np05 = 2e-6\np95 = 1e-5\nreason = "r"', "outside"),
+    ('law = "uniform"\nlo = 0.5e-6\nhi = 0.1e-6\nreason = "r"', "must be greater"),
+    ('law = "normal"\np05 = 0.5e-6\np95 = 2e-6\nreason = "r"', "is not one of"),
+    ('law = "lognormal"\np05 = 0.5e-6\np95 = 2e-6', "reason.*is missing"),
+    ('law = "lognormal"\np05 = 0.0\np95 = 2e-6\nreason = "r"', "p05.*outside the allowed"),
+])
+def test_a_bad_law_is_refused_naming_it(tmp_path, law, match):
+    body = SOLID + "\n[solid.my-sand.uncertainty.asperity_height]\n" + law + "\n"
+    with pytest.raises(MaterialsError, match=match):
+        load(extra_dirs=(str(_user_file(tmp_path, body)),))
+
+
+def test_a_law_for_a_value_not_marked_assumed_is_refused(tmp_path):
+    body = (SOLID + '\n[solid.my-sand.uncertainty.asperity_height]\nlaw = "uniform"\n'
+            'lo = 0.5e-6\nhi = 2e-6\nreason = "r"\n'
+            '\n[solid.my-sand.uncertainty.density]\nlaw = "uniform"\nlo = 2600.0\n'
+            'hi = 2700.0\nreason = "r"\n')
+    with pytest.raises(MaterialsError, match="only a field listed in assumed"):
+        load(extra_dirs=(str(_user_file(tmp_path, body)),))
+
+
+def test_assumed_draws_follow_the_scene():
+    base = at.Scene(liquid="k-silicate-ash-melt", T=1123.15, solid_i="silica-sand",
+                    solid_j="ilmenite", d_i=300e-6).values()
+    inputs, not_drawn = assumed_draws(base)
+    assert list(inputs) == ["solid silica-sand asperity_height",
+                            "solid ilmenite asperity_height",
+                            "solid ilmenite restitution_dry",
+                            "liquid k-silicate-ash-melt theta_deg"]
+    assert not_drawn == ["k-silicate-ash-melt composition_wt (not a number: no law yet)"]
+    # values the scene sets, or the caller makes uncertain, are not drawn
+    inputs, _ = assumed_draws({**base, "ha_i": 1e-6}, given=("theta_deg",))
+    assert list(inputs) == ["solid ilmenite asperity_height", "solid ilmenite restitution_dry"]
+    # e is the mean of the two solids' values, drawn or from the database (sand: 0.9)
+    out = scene_fields(base, {"solid ilmenite restitution_dry": np.array([0.7, 0.95])})
+    np.testing.assert_allclose(out["e"], [0.8, 0.925])
+
+
+def test_a_solid_is_one_draw_for_both_particles_and_options_share_their_draws():
+    same = at.monte_carlo(GLASS, uncertain="assumed", n=300, seed=5)
+    np.testing.assert_array_equal(same.ha_i.values, same.ha_j.values)
+    sand = at.Scene(liquid="water", T=323.15, h0=5e-6, solid_i="silica-sand", d_i=300e-6,
+                    U_Umf=2.0)
+    a = at.monte_carlo(sand.replace(solid_j="ilmenite"), uncertain="assumed", n=300, seed=5)
+    b = at.monte_carlo(sand.replace(solid_j="olivine"), uncertain="assumed", n=300, seed=5)
+    np.testing.assert_array_equal(a.ha_i.values, b.ha_i.values)  # the sand's own draws
+    assert not np.array_equal(a.ha_j.values, b.ha_j.values)  # two ores, two streams
+
+
+def test_the_scene_monte_carlo_answers_the_maps_question():
+    """Degenerate inputs: the mean propensity over the draws is the map's propensity at the
+    point (within 3 standard errors; here the draws are all alike, so the error is ~0 and
+    the bound is the floating-point noise of h0's 1e-12 m spread)."""
+    m = at.sweep(GLASS, h0=[5e-6])
+    p_map = float(m.propensity.values.ravel()[0])
+    assert 0.05 < p_map < 0.95  # a point inside the window, not a trivial 0 or 1
+    ds = at.monte_carlo(GLASS, uncertain={"h0": at.Normal(5e-6, 1e-12)}, n=2000, seed=1)
+    assert float(ds.propensity_nominal) == p_map
+    assert float(ds.u_star_nominal) == float(m.u_star.values.ravel()[0])
+    assert abs(float(ds.propensity_mean) - p_map) <= 3 * float(ds.propensity_se) + 1e-8
+    # a real spread: the mean lies within 3 standard errors of the mean of the samples
+    wide = at.monte_carlo(GLASS, uncertain={"h0": at.Uniform(2e-6, 8e-6)}, n=4000, seed=2)
+    assert float(wide.propensity_quantile.sel(quantile=0.05)) < float(
+        wide.propensity_quantile.sel(quantile=0.95))
+    np.testing.assert_allclose(float(wide.propensity_mean), wide.propensity.values.mean())
+
+
+@pytest.mark.parametrize("uncertain, match", [
+    ("assume", "the one word allowed is 'assumed'"),
+    ({"assumed": "yes"}, "must be True or False"),
+    ({"assumed": False}, "names no uncertain input"),
+    ({"ha": at.Uniform(0.1e-6, 1e-6)}, "'ha' is not a numeric Scene field"),
+])
+def test_bad_uncertain_is_refused_naming_it(uncertain, match):
+    with pytest.raises(ValueError, match=match):
+        at.monte_carlo(GLASS, uncertain=uncertain, n=10)
+
+
+def test_assumed_with_nothing_to_draw_is_refused():
+    scene = GLASS.replace(ha_i=0.5e-6, ha_j=0.5e-6, theta_deg=10.0)
+    with pytest.raises(ValueError, match="uses no assumed database value"):
+        at.monte_carlo(scene, uncertain="assumed", n=10)
