@@ -152,3 +152,82 @@ def test_assumed_with_nothing_to_draw_is_refused():
     scene = GLASS.replace(ha_i=0.5e-6, ha_j=0.5e-6, theta_deg=10.0)
     with pytest.raises(ValueError, match="uses no assumed database value"):
         at.monte_carlo(scene, uncertain="assumed", n=10)
+
+
+BIOMASS = at.Scene(liquid="k-silicate-ash-melt", T=1123.15, solid_i="silica-sand",
+                   d_i=300e-6, h0=0.2e-6, U_Umf=3.0)
+
+
+def test_compare_pairs_the_draws_and_names_the_deciding_input():
+    ds = at.compare(BIOMASS, solid_j=["silica-sand", "ilmenite", "olivine"], n=2048, seed=0)
+    assert list(ds.option.values) == ["silica-sand", "ilmenite", "olivine"]
+    p_lower, p_equal = ds.p_lower.values, ds.p_equal.values
+    # a probability law over the three outcomes of each pair, and symmetric ties
+    np.testing.assert_allclose(p_lower + p_lower.T + p_equal, 1.0)
+    np.testing.assert_array_equal(p_equal, p_equal.T)
+    # the mean propensities agree with the Scene Monte Carlo of each option, same seed
+    ilm = at.monte_carlo(BIOMASS.replace(solid_j="ilmenite"), uncertain="assumed", n=2048,
+                         seed=0)
+    assert float(ds.propensity_mean.sel(option="ilmenite")) == float(ilm.propensity_mean)
+    # p_lower recomputed from the paired samples themselves
+    sand = at.monte_carlo(BIOMASS.replace(solid_j="silica-sand"), uncertain="assumed",
+                          n=2048, seed=0)
+    expect = np.mean(ilm.propensity.values < sand.propensity.values)
+    assert float(ds.p_lower.sel(option="ilmenite", other="silica-sand")) == expect
+    assert ds.deciding_input.sel(option="ilmenite", other="silica-sand").item().startswith(
+        "solid_")
+    assert len(ds.attrs["verdicts"].splitlines()) == 3
+
+
+def test_the_sensitivity_of_a_difference_finds_the_input_that_drives_it():
+    from agglomtool.uncertainty.compare import _first_order
+
+    rng = np.random.default_rng(0)
+    x1, x2 = rng.uniform(size=20000), rng.uniform(size=20000)
+    d = np.sin(3.0 * x1)  # d depends on x1 only: S1 = 1, S2 = 0; binning loses the
+    # within-bin variance, (3/16)^2/12 of the slope's scale: about 0.3 % here
+    assert _first_order(x1, d, 16) > 0.99 and _first_order(x2, d, 16) < 0.01
+    d = x1 + x2  # additive, equal variances: S = 1/2 each
+    assert abs(_first_order(x1, d, 32) - 0.5) < 0.02
+
+
+def test_a_verdict_is_decided_only_past_the_threshold():
+    from agglomtool.uncertainty.compare import verdicts
+
+    def fake(p_ab, p_ba):
+        import xarray as xr
+        lo = np.array([[0.0, p_ab], [p_ba, 0.0]])
+        eq = 1.0 - lo - lo.T
+        np.fill_diagonal(eq, 1.0)
+        return xr.Dataset({
+            "p_lower": (("option", "other"), lo), "p_equal": (("option", "other"), eq),
+            "deciding_input": (("option", "other"), np.array([["", "h0"], ["h0", ""]])),
+            "deciding_index": (("option", "other"), np.array([[0.0, 0.8], [0.8, 0.0]]))},
+            coords={"option": ["a", "b"], "other": ["a", "b"]})
+
+    assert fake(0.97, 0.01).pipe(verdicts) == [
+        "decided: a sticks less than b in 97 % of plausible inputs, as much in 2 %, more "
+        "in 1 %."]
+    assert fake(0.03, 0.6).pipe(verdicts)[0].startswith("not decided: b sticks less than a "
+                                                        "in 60 %")
+    assert "depends on h0 (first-order index 0.80)" in fake(0.03, 0.6).pipe(verdicts)[0]
+
+
+@pytest.mark.parametrize("kw, match", [
+    ({}, "exactly one field"),
+    ({"solid_j": ["ilmenite"]}, "at least two options"),
+    ({"solid_j": ["ilmenite", "ilmenite"]}, "options repeat"),
+    ({"solid_j": ["ilmenite", "granite"]}, "option 'granite'"),
+    ({"solid": ["ilmenite", "olivine"]}, "'solid' is not a Scene field"),
+    ({"solid_j": ["ilmenite", "olivine"], "h0": [1e-6, 2e-6]}, "exactly one field"),
+])
+def test_compare_refuses_bad_options_naming_them(kw, match):
+    with pytest.raises(ValueError, match=match):
+        at.compare(BIOMASS, n=16, **kw)
+
+
+def test_compare_refuses_bad_counts():
+    with pytest.raises(ValueError, match="n = 0 must be a positive integer"):
+        at.compare(BIOMASS, solid_j=["ilmenite", "olivine"], n=0)
+    with pytest.raises(ValueError, match="bins = 1 must be"):
+        at.compare(BIOMASS, solid_j=["ilmenite", "olivine"], n=16, bins=1)

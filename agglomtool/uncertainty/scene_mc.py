@@ -258,7 +258,10 @@ def _map_summary(ds: xr.Dataset, propensity, u_star, q, nominal) -> None:
         "dimensionless", "quantile of the propensity over the draws"))
     ds["propensity_nominal"] = ((), float(nominal["propensity"][0]), _attrs(
         "dimensionless", "propensity at the nominal inputs (the map's value)"))
-    ds["u_star_quantile"] = ("quantile", np.quantile(u_star, q), _attrs(
-        "m/s", "quantile of the critical impact speed u0* over the draws"))
+    # u0* may be inf (the pair sticks at every bed speed): quantiles that pick a sample
+    # (inverted CDF) rather than interpolate between an inf and a finite value.
+    ds["u_star_quantile"] = ("quantile", np.quantile(u_star, q, method="inverted_cdf"),
+                             _attrs("m/s", "quantile of the critical impact speed u0* over "
+                                    "the draws (a sample value: inverted CDF)"))
     ds["u_star_nominal"] = ((), float(nominal["u_star"][0]), _attrs(
         "m/s", "u0* at the nominal inputs (the map's value)"))
