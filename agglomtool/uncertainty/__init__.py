@@ -13,8 +13,8 @@ Shabanian et al. (2024), Heliyon 10:e29397, doi:10.1016/j.heliyon.2024.e29397, S
 """
 
 from ._inputs import UNCERTAIN_INPUTS
-from .distributions import Distribution, LogNormal, Normal, Uniform
 from .compare import compare
+from .distributions import Distribution, LogNormal, Normal, Uniform
 from .monte_carlo import DEFAULT_QUANTILES, e_w_density, monte_carlo
 from .sensitivity import sobol_indices, spread_by_input
 from .table4 import TABLE4, TABLE4_GROUPS, TABLE4_U0, table4_case
