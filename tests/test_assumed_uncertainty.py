@@ -210,8 +210,10 @@ def test_a_verdict_is_decided_only_past_the_threshold():
     assert fake(0.97, 0.01).pipe(verdicts) == [
         "decided: a sticks less than b in 97 % of plausible inputs, as much in 2 %, more "
         "in 1 %."]
-    assert fake(0.03, 0.6).pipe(verdicts)[0].startswith("not decided: b sticks less than a "
-                                                        "in 60 %")
+    assert fake(0.03, 0.6).pipe(verdicts)[0].startswith(
+        "not decided (a decision needs 90 %): b sticks less than a in 60 %")
+    # a share just below the threshold is not printed as the threshold
+    assert "in 89.6 % of plausible" in fake(0.896, 0.05).pipe(verdicts)[0]
     assert "depends on h0 (first-order index 0.80)" in fake(0.03, 0.6).pipe(verdicts)[0]
 
 

@@ -30,6 +30,12 @@ __all__ = ["compare", "verdicts"]
 #: A ranking is called decided when one option sticks less in at least this share of the
 #: plausible inputs and more in at most 1 - this share.
 DECIDED = 0.9
+#: Below this first-order index no single input is said to decide a difference.
+INDEX_MIN = 0.2
+
+#: Database fields in words.
+_WORDS = {"asperity_height": "asperity height", "restitution_dry": "dry restitution",
+          "theta_deg": "contact angle", "density": "density"}
 
 
 def _options(option_grid: Mapping) -> tuple[str, list]:
@@ -114,9 +120,9 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         runs.append(monte_carlo(s, uncertain=uncertain, n=int(n), seed=seed, quantiles=q,
                                 bins=8))
     prop = np.stack([r.propensity.values for r in runs])  # (option, sample)
-    # the inputs drawn: a name is one input when every option drew it (paired)
-    inputs = [k for k in runs[0].data_vars
-              if runs[0][k].dims == ("sample",) and "distribution" in runs[0][k].attrs]
+    # the inputs each option drew (its sample variables that carry a distribution)
+    inputs = [[k for k in r.data_vars if r[k].dims == ("sample",)
+               and "distribution" in r[k].attrs] for r in runs]
     k_opt = len(opts)
     p_lower = np.zeros((k_opt, k_opt))
     p_equal = np.zeros((k_opt, k_opt))
@@ -130,11 +136,14 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
             if a == b:
                 continue
             best, best_s = "", 0.0
-            for name in inputs:
-                xa = runs[a][name].values
-                if name not in runs[b] or not np.array_equal(xa, runs[b][name].values):
-                    continue  # not shared by both options: not a paired input
-                s_k = _first_order(xa, d, int(bins))
+            # every input drawn for either option is a covariate of the difference (the
+            # samples are aligned: sample k of both options shares the shared inputs);
+            # an input both draw must have been drawn alike (paired)
+            for name in dict.fromkeys(inputs[a] + inputs[b]):
+                here = [r[name].values for r in (runs[a], runs[b]) if name in r]
+                if len(here) == 2 and not np.array_equal(here[0], here[1]):
+                    continue
+                s_k = _first_order(here[0], d, int(bins))
                 if s_k > best_s:
                     best, best_s = name, s_k
             deciding[a, b], index[a, b] = best, best_s
@@ -191,8 +200,18 @@ def _input_text(name: str) -> str:
     kind, _, rest = name.partition("_")
     if kind in ("solid", "liquid") and "_" in rest:
         entry, _, field = rest.partition("_")
-        return f"the {field.replace('_', ' ')} of {entry}, which the database assumes"
+        words = _WORDS.get(field, field.replace("_", " "))
+        return f"the {words} of {entry}, which the database assumes"
     return name
+
+
+def _pct(p: float) -> str:
+    """A share as a percentage, never rounded onto or across 0, 90 or 100 %: one decimal
+    where whole numbers would hide which side of a threshold it lies."""
+    text = f"{100 * p:.0f} %"
+    if round(100 * p) in (0, 100, round(100 * DECIDED)) and 100 * p != round(100 * p):
+        text = f"{100 * p:.1f} %"
+    return text
 
 
 def verdicts(ds: xr.Dataset) -> list[str]:
@@ -206,18 +225,19 @@ def verdicts(ds: xr.Dataset) -> list[str]:
             pe = float(ds.p_equal.values[a, b])
             lo, hi = (a, b) if pl >= pm else (b, a)
             p_less, p_more = max(pl, pm), min(pl, pm)
-            what = (f"{labels[lo]} sticks less than {labels[hi]} in {100 * p_less:.0f} % of "
-                    f"plausible inputs, as much in {100 * pe:.0f} %, more in "
-                    f"{100 * p_more:.0f} %")
+            what = (f"{labels[lo]} sticks less than {labels[hi]} in {_pct(p_less)} of "
+                    f"plausible inputs, as much in {_pct(pe)}, more in {_pct(p_more)}")
             name = str(ds.deciding_input.values[lo, hi])
             idx = float(ds.deciding_index.values[lo, hi])
             if p_less >= DECIDED:
                 out.append(f"decided: {what}.")
             elif pe >= DECIDED:
                 out.append(f"no difference: {labels[a]} and {labels[b]} stick alike in "
-                           f"{100 * pe:.0f} % of plausible inputs.")
+                           f"{_pct(pe)} of plausible inputs.")
             else:
                 why = (f"depends on {_input_text(name)} (first-order index {idx:.2f})"
-                       if name else "no single input explains the difference")
-                out.append(f"not decided: {what}; {why}.")
+                       if name and idx >= INDEX_MIN else
+                       "no single input explains the difference (largest first-order index "
+                       f"{idx:.2f}{': ' + _input_text(name) if name else ''})")
+                out.append(f"not decided (a decision needs {_pct(DECIDED)}): {what}; {why}.")
     return out
