@@ -44,7 +44,7 @@ def test_summaries_are_consistent(robust):
 
 
 def test_a_degenerate_law_gives_the_nominal_map():
-    ds = robust_sweep(SAND, uncertain={"ha_i": at.Uniform(0.1e-6, 0.1e-6 * (1 + 1e-12))},
+    ds = at.sweep(SAND, uncertain={"ha_i": at.Uniform(0.1e-6, 0.1e-6 * (1 + 1e-12))},
                       samples=4, solid_j=["silica-sand"], U_Umf=[1.5, 3.0], h0=[2e-6, 8e-6])
     np.testing.assert_allclose(ds.propensity_mean.values, ds.propensity.values, atol=1e-9)
 
@@ -60,3 +60,11 @@ def test_a_degenerate_law_gives_the_nominal_map():
 def test_bad_requests_are_refused_naming_the_field(kw, match):
     with pytest.raises(ValueError, match=match):
         robust_sweep(SAND, **kw)
+
+
+def test_sweep_with_uncertain_is_the_robust_map(robust):
+    ds = at.sweep(SAND, uncertain="assumed", samples=64, seed=7, **GRID)
+    for name in ("propensity", "propensity_mean", "p_unsafe", "propensity_quantile"):
+        np.testing.assert_array_equal(ds[name].values, robust[name].values)
+    with pytest.raises(ValueError, match="computed in memory"):
+        at.sweep(SAND, uncertain="assumed", store="somewhere", **GRID)
