@@ -59,8 +59,9 @@ def scene_mc(n: int) -> None:
         def one(unc, scene=scene):
             return at.monte_carlo(scene, uncertain=unc, n=n, seed=1, keep_samples=False)
 
-        (tb, tm), (rb, rm), ratio = paired(lambda: one({"h0": h0, "T": T}),
-                                           lambda: one({"h0": h0}), repeats=REPEATS)
+        both, alone = {"h0": h0, "T": T}, {"h0": h0}
+        (tb, tm), (rb, rm), ratio = paired(lambda u=both: one(u), lambda u=alone: one(u),
+                                           repeats=REPEATS)
         print(f"  {label}: n = {n:,} ({load()})")
         print(f"    h0 alone      best {rb:7.3f} s  median {rm:7.3f} s")
         print(f"    h0 and T      best {tb:7.3f} s  median {tm:7.3f} s  "
