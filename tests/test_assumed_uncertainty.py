@@ -235,3 +235,26 @@ def test_compare_refuses_bad_counts():
         at.compare(BIOMASS, solid_j=["ilmenite", "olivine"], n=0)
     with pytest.raises(ValueError, match="bins = 1 must be"):
         at.compare(BIOMASS, solid_j=["ilmenite", "olivine"], n=16, bins=1)
+
+
+def test_the_docs_table_of_assumed_laws_is_the_database():
+    """docs/confidence.md lists every law of the database with its numbers (and no other)."""
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parent.parent / "docs" / "confidence.md").read_text()
+    rows = {line for line in page.splitlines() if line.startswith(("| solid `",
+                                                                   "| liquid `"))}
+    scale = {"asperity_height": (1e6, " um"), "restitution_dry": (1.0, ""),
+             "theta_deg": (1.0, " deg")}
+    expect = set()
+    for kind, look in (("solid", materials.solid), ("liquid", materials.liquid_entry)):
+        for name in materials.names(kind):
+            entry = look(name)
+            for law in entry.uncertainty:
+                f, u = scale[law.field]
+                a, b = law.params
+                text = (f"lognormal, 5-95 %: {a * f:g}-{b * f:g}{u}" if law.law == "lognormal"
+                        else f"uniform on [{a * f:g}, {b * f:g}]{u}")
+                expect.add(f"| {kind} `{name}` | `{law.field}` | "
+                           f"{getattr(entry, law.field) * f:g}{u} | {text} |")
+    assert rows == expect
