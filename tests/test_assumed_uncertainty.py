@@ -258,3 +258,8 @@ def test_the_docs_table_of_assumed_laws_is_the_database():
                 expect.add(f"| {kind} `{name}` | `{law.field}` | "
                            f"{getattr(entry, law.field) * f:g}{u} | {text} |")
     assert rows == expect
+
+
+def test_sobol_refuses_assumed_with_the_way_out():
+    with pytest.raises(ValueError, match="'assumed' is for monte_carlo, compare"):
+        at.sobol_indices(GLASS, uncertain="assumed", n_base=8)
