@@ -22,7 +22,7 @@ _LAZY = {
     "Scene": ".scene",
     "PlausibilityWarning": ".plausibility",
     "LogNormal": ".uncertainty", "Normal": ".uncertainty", "Uniform": ".uncertainty",
-    "monte_carlo": ".uncertainty", "sobol_indices": ".uncertainty",
+    "monte_carlo": ".uncertainty", "sobol_indices": ".uncertainty", "compare": ".uncertainty",
     "Component": ".bed.mixture", "bed_propensity": ".bed.propensity",
     "bed_sweep": ".bed.propensity",
 }

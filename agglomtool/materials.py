@@ -42,6 +42,7 @@ from .inputs import Liquid, Particle
 
 __all__ = [
     "MaterialsError",
+    "AssumedLaw",
     "Solid",
     "LiquidEntry",
     "GasEntry",
@@ -67,6 +68,25 @@ class MaterialsError(ValueError):
 
 
 @dataclass(frozen=True)
+class AssumedLaw:
+    """The plausible law of one assumed database value, as the database states it.
+
+    Plain data (the uncertainty layer turns it into a distribution): ``law`` is
+    ``"lognormal"`` with ``params = (p05, p95)``, its 5 and 95 % quantiles, or
+    ``"uniform"`` with ``params = (lo, hi)``; values in the field's SI unit.
+    """
+
+    field: str
+    law: str
+    params: tuple[float, float]
+    reason: str
+
+
+#: Laws an assumed value may be given, with the names of their two parameters.
+ASSUMED_LAWS = {"lognormal": ("p05", "p95"), "uniform": ("lo", "hi")}
+
+
+@dataclass(frozen=True)
 class Solid:
     """A bed solid: typical properties of one material, with their source."""
 
@@ -80,6 +100,8 @@ class Solid:
     file: str
     #: Fields of this entry that are assumptions (not measured or published values).
     assumed: tuple[str, ...] = ()
+    #: The plausible law of each assumed numeric field (:class:`AssumedLaw`, one a field).
+    uncertainty: tuple[AssumedLaw, ...] = ()
 
     def particle(self, d, h0=0.0, ha=None) -> Particle:
         """A :class:`~agglomtool.Particle` of this solid with diameter ``d`` [m].
@@ -106,6 +128,8 @@ class LiquidEntry:
     viscosity_model: str = "auto"  #: melts
     #: Fields of this entry that are assumptions (not measured or published values).
     assumed: tuple[str, ...] = ()
+    #: The plausible law of each assumed numeric field (:class:`AssumedLaw`, one a field).
+    uncertainty: tuple[AssumedLaw, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -188,7 +212,7 @@ def _fractions(ctx, entry, field, check_key, total, tol):
     return MappingProxyType(out)
 
 
-_COMMON = ("source", "confidence", "description", "assumed")
+_COMMON = ("source", "confidence", "description", "assumed", "uncertainty")
 
 
 def _assumed(ctx, entry, fields) -> tuple[str, ...]:
@@ -204,12 +228,68 @@ def _assumed(ctx, entry, fields) -> tuple[str, ...]:
     return tuple(value)
 
 
+def _uncertainty(ctx, entry, assumed, ranges) -> tuple[AssumedLaw, ...]:
+    """The ``[KIND.NAME.uncertainty.FIELD]`` tables: a law for every assumed numeric field.
+
+    ``ranges`` maps each numeric field to ``(lo, hi, lo_open)``, its allowed range; the law
+    must lie inside it and hold the entry's own value.
+    """
+    file, kind, key = ctx
+    table = entry.get("uncertainty", {})
+    if not isinstance(table, dict):
+        raise _fail(file, kind, key, "uncertainty",
+                    f"must be a table of field = {{law, ...}}, got {table!r}")
+    out = {}
+    for field_name, spec in table.items():
+        where = f"uncertainty.{field_name}"
+        if field_name not in assumed:
+            raise _fail(file, kind, key, where,
+                        f"only a field listed in assumed ({list(assumed)}) takes a law")
+        if field_name not in ranges:
+            raise _fail(file, kind, key, where,
+                        f"{field_name!r} is not a number: no law can be drawn for it")
+        if not isinstance(spec, dict):
+            raise _fail(file, kind, key, where, f"must be a table, got {spec!r}")
+        sub = (file, kind, f"{key}.{where}")
+        law = _text(sub, spec, "law")
+        if law not in ASSUMED_LAWS:
+            raise _fail(*sub, "law", f"{law!r} is not one of {sorted(ASSUMED_LAWS)}")
+        names_ = ASSUMED_LAWS[law]
+        _no_unknown(sub, spec, ("law", "reason", *names_))
+        lo, hi, lo_open = ranges[field_name]
+        a = _number(sub, spec, names_[0], lo, hi, lo_open=lo_open or law == "lognormal")
+        b = _number(sub, spec, names_[1], lo, hi, lo_open=lo_open)
+        if not a < b:
+            raise _fail(*sub, names_[1], f"{b!r} must be greater than {names_[0]} = {a!r}")
+        value = entry.get(field_name)
+        if isinstance(value, int | float) and not a <= float(value) <= b:
+            raise _fail(*sub, names_[0],
+                        f"the entry's own {field_name} = {value!r} lies outside "
+                        f"[{names_[0]}, {names_[1]}] = [{a!r}, {b!r}]")
+        out[field_name] = AssumedLaw(field_name, law, (a, b), _text(sub, spec, "reason"))
+    missing = [f for f in assumed if f in ranges and f not in out]
+    if missing:
+        raise _fail(file, kind, key, f"uncertainty.{missing[0]}",
+                    f"is missing: {missing[0]!r} is listed in assumed, so the entry states "
+                    f"its plausible law ([{kind}.{key}.uncertainty.{missing[0]}] with law = "
+                    f"{' or '.join(repr(k) for k in ASSUMED_LAWS)} and reason)")
+    return tuple(out.values())
+
+
+#: Allowed range ``(lo, hi, lo_open)`` of each numeric field of a solid and of a liquid.
+_SOLID_RANGES = {"density": (0.0, 25000.0, True), "asperity_height": (0.0, 1e-3, False),
+                 "restitution_dry": (0.0, 1.0, True)}
+_LIQUID_RANGES = {"theta_deg": (0.0, 89.999, False), "mu": (0.0, None, True),
+                  "gamma": (0.0, 5.0, True), "rho": (0.0, 25000.0, True)}
+
+
 def _solid(ctx, entry) -> Solid:
     _no_unknown(ctx, entry, ("density", "asperity_height", "restitution_dry", "size_range")
                 + _COMMON)
-    density = _number(ctx, entry, "density", 0.0, 25000.0, lo_open=True)
-    asperity = _number(ctx, entry, "asperity_height", 0.0, 1e-3)
-    restitution = _number(ctx, entry, "restitution_dry", 0.0, 1.0, lo_open=True)
+    density = _number(ctx, entry, "density", *_SOLID_RANGES["density"][:2], lo_open=True)
+    asperity = _number(ctx, entry, "asperity_height", *_SOLID_RANGES["asperity_height"][:2])
+    restitution = _number(ctx, entry, "restitution_dry", *_SOLID_RANGES["restitution_dry"][:2],
+                          lo_open=True)
     size = entry.get("size_range")
     file, kind, key = ctx
     if (
@@ -220,6 +300,8 @@ def _solid(ctx, entry) -> Solid:
     ):
         raise _fail(file, kind, key, "size_range",
                     f"must be [d_min, d_max] in m with 0 < d_min <= d_max < 0.1, got {size!r}")
+    assumed = _assumed(ctx, entry, ("density", "asperity_height", "restitution_dry",
+                                     "size_range"))
     return Solid(
         name=key,
         density=density,
@@ -229,8 +311,8 @@ def _solid(ctx, entry) -> Solid:
         source=_text(ctx, entry, "source"),
         confidence=_text(ctx, entry, "confidence"),
         file=str(file),
-        assumed=_assumed(ctx, entry, ("density", "asperity_height", "restitution_dry",
-                                      "size_range")),
+        assumed=assumed,
+        uncertainty=_uncertainty(ctx, entry, assumed, _SOLID_RANGES),
     )
 
 
@@ -239,22 +321,24 @@ def _liquid(ctx, entry) -> LiquidEntry:
 
     file, kind, key = ctx
     model = _text(ctx, entry, "model")
+    assumed = _assumed(ctx, entry, ("theta_deg", "mu", "gamma", "rho", "composition_wt",
+                                    "viscosity_model"))
     common = {
         "name": key,
         "model": model,
-        "theta_deg": _number(ctx, entry, "theta_deg", 0.0, 89.999),
+        "theta_deg": _number(ctx, entry, "theta_deg", *_LIQUID_RANGES["theta_deg"][:2]),
         "source": _text(ctx, entry, "source"),
         "confidence": _text(ctx, entry, "confidence"),
         "file": str(file),
-        "assumed": _assumed(ctx, entry, ("theta_deg", "mu", "gamma", "rho", "composition_wt",
-                                         "viscosity_model")),
+        "assumed": assumed,
+        "uncertainty": _uncertainty(ctx, entry, assumed, _LIQUID_RANGES),
     }
     if model == "fixed":
         _no_unknown(ctx, entry, ("model", "theta_deg", "mu", "gamma", "rho") + _COMMON)
         return LiquidEntry(
-            mu=_number(ctx, entry, "mu", 0.0, None, lo_open=True),
-            gamma=_number(ctx, entry, "gamma", 0.0, 5.0, lo_open=True),
-            rho=_number(ctx, entry, "rho", 0.0, 25000.0, lo_open=True),
+            mu=_number(ctx, entry, "mu", *_LIQUID_RANGES["mu"][:2], lo_open=True),
+            gamma=_number(ctx, entry, "gamma", *_LIQUID_RANGES["gamma"][:2], lo_open=True),
+            rho=_number(ctx, entry, "rho", *_LIQUID_RANGES["rho"][:2], lo_open=True),
             **common,
         )
     if model == "water":

@@ -13,6 +13,7 @@ PICTURES = {
     "plot_fig6_curves": ["fig6_curves"],
     "plot_material_comparison": ["sand_vs_ilmenite"],
     "plot_biomass_window": ["biomass_window"],
+    "plot_biomass_compare": ["biomass_compare"],
     "plot_granulator_window": ["granulator_window"],
     "plot_sobol": ["sobol_granulator"],
     "plot_monte_carlo_table4": ["fig10_water_ew052", "fig10_water_ew020", "fig11_slag_ew052",

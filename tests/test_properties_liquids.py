@@ -212,3 +212,23 @@ def test_riboud_warnings_name_the_value_and_the_calibration():
         viscosity_riboud(BF_SLAG, np.array([1200.0, 1300.0]))
     with pytest.warns(PlausibilityWarning, match=r"Al2O3 = 0\.\d+ mole fraction"):
         viscosity_riboud({"SiO2": 40.0, "CaO": 25.0, "Al2O3": 35.0}, 1600.0)
+
+
+def test_water_from_its_table_agrees_with_heos_state_by_state():
+    """Above TABLE_MIN states (a Monte Carlo over T) water comes from a checked spline table;
+    every state agrees with HEOS's own value to the table's tolerance, boiling is still
+    refused, and below TABLE_MIN the values are HEOS's bitwise."""
+    from agglomtool.properties import water
+
+    rng = np.random.default_rng(4)
+    T = rng.uniform(273.16, 372.0, water.TABLE_MIN + 1)
+    mu, rho = water._liquid_states(T, 101325.0)
+    for k in rng.choice(T.size, 200, replace=False):
+        water._MEMO.clear()
+        m1, r1 = water._liquid_states(T[k:k + 1], 101325.0)
+        assert abs(mu[k] / m1[0] - 1.0) <= water.TABLE_TOL
+        assert abs(rho[k] / r1[0] - 1.0) <= water.TABLE_TOL
+    hot = np.full(water.TABLE_MIN + 1, 350.0)
+    hot[-1] = 380.0  # above the boiling point at 1 atm
+    with pytest.raises(ValueError, match="is not a liquid"):
+        water._liquid_states(hot, 101325.0)

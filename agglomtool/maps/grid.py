@@ -258,7 +258,9 @@ def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
 
 
 def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=False,
-          compute: bool = True, overwrite: bool = False, client=None, **grid) -> xr.Dataset:
+          compute: bool = True, overwrite: bool = False, client=None, uncertain=None,
+          samples: int = 256, threshold: float = 0.5, seed: int | None = 0,
+          **grid) -> xr.Dataset:
     """Evaluate ``scene`` over a grid of its fields.
 
     Parameters
@@ -293,6 +295,21 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         its blocks' regions of the store, which must then be on a file system that the
         workers and this process share; the client holds only completion records. Without
         ``store`` the blocks are gathered into one in-memory Dataset.
+    uncertain : mapping or ``"assumed"``, optional
+        A robust map (:mod:`agglomtool.maps.robust`): the uncertain inputs, as for
+        :func:`agglomtool.monte_carlo` with a Scene (Scene field -> distribution,
+        ``"assumed"`` for every value the materials database assumes, or both). The map
+        then also holds, per point, ``propensity_mean``, ``propensity_quantile`` (5, 50,
+        95 %), ``p_unsafe`` (the probability that the propensity exceeds ``threshold``)
+        and ``undecided`` (``p_unsafe`` between 0.1 and 0.9), over ``samples`` draws that
+        are the same at every point (common random numbers). Computed in memory.
+    samples : int
+        Draws per point of a robust map (>= 2).
+    threshold : float
+        The propensity above which a point of a robust map is unsafe, in [0, 1).
+    seed : int or None
+        Seed of a robust map's draws (the same seed gives the same draws as
+        :func:`agglomtool.monte_carlo` and :func:`agglomtool.compare`).
     **grid
         ``field=values``: one dimension per field, in the order given, with the values
         as coordinates (numbers in the units of :class:`Scene`, or names).
@@ -341,6 +358,18 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     from .checks import check_chunks
 
     check_chunks(chunks)
+    if uncertain is not None:
+        if store is not None or not compute or client not in (None, False):
+            raise ValueError("a robust map (uncertain=...) is computed in memory, here: "
+                             "store=, compute=False and client= are not for it")
+        from ..uncertainty.scene_mc import split_uncertain
+        from .robust import robust_sweep
+
+        split_uncertain(uncertain)  # a bad request fails before the nominal map is made
+        nominal = sweep(scene, chunks=chunks, nodes=nodes, progress=progress, client=False,
+                        **grid)
+        return robust_sweep(scene, nominal, tuple(grid), uncertain=uncertain,
+                            samples=samples, seed=seed, threshold=threshold, nodes=nodes)
     if store is not None:
         from .store import _check_path
 

@@ -22,8 +22,9 @@ from .._fields import FIELD_META, NUMERIC_FIELDS
 from .._version import __version__
 from ..collision.outcome import Stage
 from ..plausibility import scene_findings, warn_findings
-from ..scene import FIELD_RANGES, Resolved, Scene, provenance
+from ..scene import FIELD_RANGES, Resolved, Scene, collision_outputs, critical_outputs, provenance
 from ._sampling import _SAMPLING, _attrs, _ChunkedDraws, _summary, resolve_seed
+from .assumed import ASSUMED, assumed_draws, scene_fields
 from .distributions import Distribution, to_si
 
 __all__ = ["scene_monte_carlo", "scene_e_w", "field_law", "check_fields", "SCENE_TO_CORE"]
@@ -35,15 +36,39 @@ SCENE_TO_CORE = {"h0": "h0_i"}
 UNCERTAIN_FIELDS = tuple(f for f in NUMERIC_FIELDS if f != "u_ceiling")
 
 
-def check_fields(uncertain) -> None:
-    """Raise ``ValueError`` naming any key of ``uncertain`` that is not an uncertain field."""
+def split_uncertain(uncertain) -> tuple[dict, bool]:
+    """``(fields, with_assumed)``: the caller's laws by Scene field, and whether the
+    database's assumed values are drawn too.
+
+    ``uncertain`` is a mapping of Scene field -> distribution, the word ``"assumed"``
+    (every assumed value of the database, nothing else), or a mapping that also holds
+    ``"assumed": True``. A ``ValueError`` names any key that is not an uncertain field.
+    """
+    if isinstance(uncertain, str):
+        if uncertain != ASSUMED:
+            raise ValueError(f"uncertain = {uncertain!r}: the one word allowed is "
+                             f"{ASSUMED!r} (every value the materials database assumes); "
+                             "else a mapping of Scene field -> distribution")
+        return {}, True
     if not isinstance(uncertain, Mapping) or not uncertain:
         raise ValueError("uncertain must be a non-empty mapping of Scene field -> "
-                         "distribution")
-    for name in uncertain:
+                         f"distribution, or {ASSUMED!r}")
+    fields = dict(uncertain)
+    flag = fields.pop(ASSUMED, False)
+    if not isinstance(flag, bool):
+        raise ValueError(f"uncertain[{ASSUMED!r}] = {flag!r} must be True or False")
+    for name in fields:
         if name not in UNCERTAIN_FIELDS:
             raise ValueError(f"uncertain input {name!r} is not a numeric Scene field; "
-                             f"fields: {', '.join(UNCERTAIN_FIELDS)}")
+                             f"fields: {', '.join(UNCERTAIN_FIELDS)}, or {ASSUMED!r}")
+    if not fields and not flag:
+        raise ValueError(f"uncertain = {uncertain!r} names no uncertain input")
+    return fields, flag
+
+
+def check_fields(uncertain) -> None:
+    """Raise ``ValueError`` naming any key of ``uncertain`` that is not an uncertain field."""
+    split_uncertain(uncertain)
 
 
 def field_law(name: str, dist: Distribution):
@@ -68,50 +93,78 @@ def scene_e_w(base: dict, draws: dict):
     return np.broadcast_to(res.e_w, shape), np.broadcast_to(res.stage, shape)
 
 
-def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n: int,
-                      seed, chunk_size: int, quantiles, bins, keep_samples: bool
-                      ) -> xr.Dataset:
+def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int, quantiles,
+                      bins, keep_samples: bool, nodes: int = 16) -> xr.Dataset:
     """The Scene path of :func:`agglomtool.monte_carlo` (see there for the parameters).
 
     Every draw is a Scene with the uncertain fields replaced; its properties (gas and
     liquid at the drawn T and P, ``U_mf``, the database values it does not override) are
-    derived as for a map, and ``e_w`` is evaluated at the scene's impact speed: ``u0``
-    (fixed, or drawn if uncertain) or the median of its speed distribution.
+    derived as for a map, and each draw answers the map's questions: its critical impact
+    speed ``u_star``, its ``propensity`` (the probability that a collision sticks, over the
+    draw's impact-speed law, as on a map) and ``e_w`` at its impact speed (``u0`` fixed or
+    drawn, else the median of its speed law).
+
+    ``uncertain="assumed"`` (or ``"assumed": True`` in the mapping) draws every value the
+    materials database marks as assumed, from the law it states
+    (:mod:`agglomtool.uncertainty.assumed`); each has its own stream named after the entry
+    and the field, so options sharing a material share its draws.
     """
-    check_fields(uncertain)
+    fields, with_assumed = split_uncertain(uncertain)
     base = scene.values()
+    assumed, not_drawn = (assumed_draws(base, given=fields) if with_assumed else ({}, []))
+    if with_assumed and not fields and not assumed:
+        raise ValueError(f"uncertain = {ASSUMED!r}: this scene uses no assumed database "
+                         "value that can be drawn (the values it sets itself are not drawn)"
+                         + (f"; assumed but not drawn: {'; '.join(not_drawn)}"
+                            if not_drawn else ""))
     entropy, chosen = resolve_seed(seed)
     chunk = int(min(chunk_size, n))
-    draws = _ChunkedDraws(uncertain, n, entropy, chunk, law=field_law,
+
+    def law(name, dist):
+        if name in assumed:
+            a = assumed[name]
+            return (a.dist, *a.bounds, a.range_text)
+        return field_law(name, dist)
+
+    laws = {**fields, **{k: a.dist for k, a in assumed.items()}}
+    draws = _ChunkedDraws(laws, n, entropy, chunk, law=law,
                           stream_name=lambda name: SCENE_TO_CORE.get(name, name))
     resampled, dists = draws.resampled, draws.dists
     before = set(scene_findings(base))
 
-    # Memory as on the core path: e_w of every sample, the samples only when kept.
-    e_w = np.empty(n)
+    # Memory as on the core path: the outputs of every sample, the samples only when kept.
+    e_w, propensity, u_star = np.empty(n), np.empty(n), np.empty(n)
     stage = np.empty(n, dtype=np.int8) if keep_samples else None
     values = {k: np.empty(n) for k in dists} if keep_samples else {}
-    e_max = -np.inf if "e" in dists else float(np.max(Resolved(base).e))
+    scene_values = {}
+    e_max = -np.inf
     findings = []
     for sl, chunk_values in draws.chunks(out=values if keep_samples else None):
+        drawn = {k: v for k, v in chunk_values.items() if k in fields}
+        drawn.update(scene_fields(base, {k: v for k, v in chunk_values.items()
+                                         if k in assumed}))
         # Draws that are valid but implausible (a lognormal given a log-space spread as
         # its standard deviation, ...) are said, as for a Scene.
-        findings += [f for f in scene_findings({**base, **chunk_values})
+        findings += [f for f in scene_findings({**base, **drawn})
                      if f not in before and f not in findings]
-        e_w[sl], st = scene_e_w(base, chunk_values)
+        out = _map_outputs(base, drawn, nodes)
+        e_w[sl], propensity[sl], u_star[sl] = out["e_w"], out["propensity"], out["u_star"]
         if keep_samples:
-            stage[sl] = st
-        if "e" in chunk_values:
-            e_max = max(e_max, float(np.max(chunk_values["e"])))
+            stage[sl] = out["stage"]
+            for k in ("e", "ha_i", "ha_j", "theta_deg"):
+                if k in drawn and k not in fields:
+                    scene_values.setdefault(k, np.empty(n))[sl] = drawn[k]
+        e_max = max(e_max, float(np.max(out["e"])))
     warn_findings(findings, stacklevel=3)
-    nominal = {k: np.atleast_1d(d.nominal) for k, d in dists.items()}
-    e_w_nominal = float(scene_e_w(base, nominal)[0][0])
+    nominal = _map_outputs(base, {}, nodes)
+    e_w_nominal = float(nominal["e_w"][0])
     edges = (np.linspace(0.0, max(e_max, float(e_w.max())), int(bins) + 1)
              if np.ndim(bins) == 0 else np.asarray(bins, dtype=float))
     if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0.0):
         raise ValueError("bins must be a positive integer or increasing bin edges")
-    ds = _summary(e_w, np.asarray(quantiles, dtype=float), edges, e_w_nominal, chunk,
-                  scratch=not keep_samples)
+    q = np.asarray(quantiles, dtype=float)
+    ds = _summary(e_w, q, edges, e_w_nominal, chunk, scratch=not keep_samples)
+    _map_summary(ds, propensity, u_star, q, nominal)
     if keep_samples:
         ds["e_w"] = ("sample", e_w, _attrs("dimensionless", "wet restitution coefficient "
                                            "at the scene's impact speed"))
@@ -121,23 +174,45 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
             "dimensionless", "stage where the outcome was decided",
             flag_values=np.array([int(s) for s in Stage], dtype=np.int8),
             flag_meanings=" ".join(s.name.lower() for s in Stage)))
+        ds["propensity"] = ("sample", propensity, _attrs(
+            "dimensionless", "sticking probability over the draw's impact-speed law"))
+        ds["u_star"] = ("sample", u_star, _attrs("m/s", "critical impact speed u0*"))
         for name, x in values.items():
+            if name in assumed:
+                a = assumed[name]
+                unit = FIELD_META[_SCENE_FIELD_OF[a.field]][0]
+                ds[name.replace(" ", "_")] = ("sample", x, _attrs(
+                    unit, f"drawn {a.field} of {a.kind} {a.entry} (assumed in the database)",
+                    distribution=repr(dists[name]), law=f"{a.law.law} {a.law.params}",
+                    reason=a.law.reason, n_resampled=resampled[name]))
+                continue
             unit, long_name = FIELD_META[name]
             ds[name] = ("sample", x, _attrs(unit, long_name, distribution=repr(dists[name]),
                                             n_resampled=resampled[name]))
+        for name, x in scene_values.items():
+            unit, long_name = FIELD_META[name]
+            ds[name] = ("sample", x, _attrs(unit, long_name + " (from the assumed draws)"))
+    set_by_draws = set(fields) | set(scene_fields(base, {k: 0.0 for k in assumed}))
     prov = {f"provenance: {k}": f"{v} {u}; {o}; {c}"
-            for k, (v, u, o, c) in provenance(base).items() if k not in dists}
+            for k, (v, u, o, c) in provenance(base).items() if k not in set_by_draws}
     ds.attrs.update(
-        title="Monte Carlo propagation of scene uncertainty to e_w",
+        title="Monte Carlo propagation of scene uncertainty to u0*, propensity and e_w",
         agglomtool_version=__version__,
         mode=str(base["mode"]),
         seed=entropy,
         seed_chosen_by_user=int(chosen),
         sampling=(f"{_SAMPLING}; Scene names share the core's streams "
-                  f"({', '.join(f'{a} = {b}' for a, b in SCENE_TO_CORE.items())})"),
+                  f"({', '.join(f'{a} = {b}' for a, b in SCENE_TO_CORE.items())}); an "
+                  "assumed database value has the stream '<kind> <entry> <field>'"),
         n_samples=n,
+        nodes=int(nodes),
         uncertain_inputs=" ".join(dists),
-        distributions="; ".join(f"{k} = {dists[k]!r} [{FIELD_META[k][0]}]" for k in dists),
+        distributions="; ".join(
+            f"{k} = {dists[k]!r} [{FIELD_META[k][0] if k in FIELD_META else 'SI'}]"
+            for k in dists),
+        assumed_drawn="; ".join(f"{a.key}: {a.law.law} {a.law.params}"
+                                for a in assumed.values()),
+        assumed_not_drawn="; ".join(not_drawn),
         n_resampled_total=int(sum(resampled.values())),
         scene=repr(scene),
         references="Shabanian et al. (2024), Heliyon 10:e29397, "
@@ -145,3 +220,43 @@ def scene_monte_carlo(scene: Scene, *, uncertain: Mapping[str, Distribution], n:
         **prov,
     )
     return ds
+
+
+#: database field -> the Scene field whose unit its draws carry
+_SCENE_FIELD_OF = {"asperity_height": "ha_i", "restitution_dry": "e", "theta_deg": "theta_deg"}
+
+
+def _map_outputs(base: dict, drawn: dict, nodes: int) -> dict:
+    """The map's outputs of the scene ``base`` with the fields in ``drawn`` replaced (1-D
+    arrays of one length; none: the nominal scene), flattened to 1-D."""
+    r = Resolved({**base, **drawn})
+    out = critical_outputs(r)
+    out.update(collision_outputs(r, out["u_star"], nodes))
+    n = max([np.size(v) for v in drawn.values()], default=1)
+    res = {k: np.broadcast_to(out[k], np.broadcast_shapes(np.shape(out[k]), (n,))).ravel()
+           for k in ("e_w", "stage", "propensity", "u_star")}
+    res["e"] = np.atleast_1d(r.e)
+    return res
+
+
+def _map_summary(ds: xr.Dataset, propensity, u_star, q, nominal) -> None:
+    """Mean, standard error and quantiles of the propensity and of u0* over the draws."""
+    n = propensity.size
+    mean = float(propensity.mean())
+    sd = float(propensity.std(ddof=1)) if n > 1 else 0.0
+    ds["propensity_mean"] = ((), mean, _attrs(
+        "dimensionless", "mean over the draws of the sticking probability (the map's "
+        "propensity)"))
+    ds["propensity_se"] = ((), sd / np.sqrt(n), _attrs(
+        "dimensionless", "standard error of propensity_mean"))
+    ds["propensity_quantile"] = ("quantile", np.quantile(propensity, q), _attrs(
+        "dimensionless", "quantile of the propensity over the draws"))
+    ds["propensity_nominal"] = ((), float(nominal["propensity"][0]), _attrs(
+        "dimensionless", "propensity at the nominal inputs (the map's value)"))
+    # u0* may be inf (the pair sticks at every bed speed): quantiles that pick a sample
+    # (inverted CDF) rather than interpolate between an inf and a finite value.
+    ds["u_star_quantile"] = ("quantile", np.quantile(u_star, q, method="inverted_cdf"),
+                             _attrs("m/s", "quantile of the critical impact speed u0* over "
+                                    "the draws (a sample value: inverted CDF)"))
+    ds["u_star_nominal"] = ((), float(nominal["u_star"][0]), _attrs(
+        "m/s", "u0* at the nominal inputs (the map's value)"))

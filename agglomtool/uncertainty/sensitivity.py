@@ -129,7 +129,11 @@ def sobol_indices(
                                 ("u0", u0), ("u0_j", u0_j)) if v is not None]
         if given:
             raise ValueError(f"{given[0]} is given with a Scene: the Scene holds it")
-        scene_mc.check_fields(uncertain)
+        fields, with_assumed = scene_mc.split_uncertain(uncertain)
+        if with_assumed:
+            raise ValueError("sobol_indices takes a mapping of Scene field -> distribution; "
+                             "'assumed' is for monte_carlo, compare and robust maps (which "
+                             "name the input that decides a comparison)")
         laws = {k: scene_mc.field_law(k, uncertain[k]) for k in uncertain}
         scene_base = p_i.values()
         mode = scene_base["mode"]

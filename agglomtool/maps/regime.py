@@ -1,0 +1,54 @@
+"""Which quantity decides a map where the collision model has no critical speed to give.
+
+Two regimes leave a map without a finite ``u0*``: a coating no thicker than the asperities
+forms no bridge (nothing sticks, ``u0* = 0``), and a liquid viscous enough holds every
+bridge up to the ceiling speed (everything sticks, ``u0* = inf``). A map made only of these
+is uniform in its colour, and its answer does not depend on temperature, speed or size
+within it: what decides is whether a bridge forms at all, the coating thickness against the
+asperity heights. :func:`deciding_regime` says so in words for the map's attributes, the
+command line and the pictures.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["deciding_regime"]
+
+
+def deciding_regime(ds) -> str:
+    """A sentence naming what decides the map ``ds``, or ``""`` where ``u0*`` is finite
+    somewhere (the map is then decided by speeds against ``u0*`` as usual)."""
+    if "u_star_flag" not in ds:
+        return ""
+    flag = np.asarray(ds["u_star_flag"].values)
+    n = flag.size
+    if n == 0 or np.any(flag == 0):
+        return ""
+    n_none = int(np.count_nonzero(flag == 1))
+    n_all = int(np.count_nonzero(flag == 2))
+    mu = ""
+    if "mu_l" in ds and n_all:
+        m = np.asarray(ds["mu_l"].values, dtype=float)
+        mu = f" (mu_l {np.nanmin(m):.2g}-{np.nanmax(m):.2g} Pa s)"
+    ceiling = ""
+    if "scene" in ds.attrs:
+        import json
+
+        try:
+            ceiling = f" of {json.loads(ds.attrs['scene'])['u_ceiling']:g} m/s"
+        except (ValueError, KeyError, TypeError):
+            ceiling = ""
+    decides = ("what decides is whether a bridge forms: the coating thickness h0 against "
+               "the asperity heights ha_i, ha_j")
+    if n_all == 0:
+        return ("No bridge forms anywhere on this map (the coating is no thicker than the "
+                f"asperities): nothing sticks, and {decides}, not temperature, speed or size.")
+    if n_none == 0:
+        return (f"The pair sticks at every impact speed up to the ceiling{ceiling} everywhere "
+                f"on this map: the liquid{mu} holds every bridge. Only a coating no thicker "
+                f"than the asperities would change the answer: {decides}.")
+    return (f"Every point of this map either forms no bridge ({100 * n_none / n:.0f} %) or "
+            f"sticks at every speed up to the ceiling{ceiling} ({100 * n_all / n:.0f} %): "
+            f"the liquid{mu} holds any bridge that forms, so {decides}; temperature, "
+            "speeds and sizes change nothing within this map.")

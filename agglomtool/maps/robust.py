@@ -1,0 +1,150 @@
+"""Robust operating maps: the propensity at every grid point under uncertain inputs.
+
+``at.sweep(scene, ..., uncertain=..., samples=N)`` evaluates the map's propensity at every
+grid point for each of ``N`` draws of the uncertain inputs and reports, per point, its mean,
+its quantiles and the probability that it exceeds the designer's threshold (the "unsafe"
+criterion). The draws are common random numbers across the grid: draw ``k`` is the same
+plausible world at every point (the same asperity height of the same solid, the same
+coating error), so the map is smooth and a difference between two points is a difference
+of the points, not of their draws. A point is *undecided* where the probability of being
+unsafe lies strictly between :data:`UNDECIDED` bounds.
+
+Draws are made once per combination of the swept names (solids, liquids, ...), from the
+named streams of :mod:`agglomtool.uncertainty.assumed` and of the Scene Monte Carlo, so the
+draws of a material are the same in every panel where it appears, and the same as
+:func:`agglomtool.monte_carlo` and :func:`agglomtool.compare` draw with the same seed.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import xarray as xr
+
+from .._fields import CATEGORICAL_FIELDS, FIELD_META
+from ..scene import Resolved, Scene, collision_outputs, critical_outputs
+
+__all__ = ["robust_sweep", "UNDECIDED", "ROBUST_BLOCK"]
+
+#: Probabilities of being unsafe between these bounds mark a point as undecided.
+UNDECIDED = (0.1, 0.9)
+#: Point-draw evaluations per batch (bounded memory, as a map's block).
+ROBUST_BLOCK = 2**16
+
+
+def _check(name, value, ok, text):
+    if not ok(value):
+        raise ValueError(f"{name} = {value!r} must be {text}")
+
+
+def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
+                 samples: int = 256, seed: int | None = 0, threshold: float = 0.5,
+                 nodes: int = 16, quantiles=(0.05, 0.5, 0.95)) -> xr.Dataset:
+    """The nominal map ``nominal`` of :func:`agglomtool.sweep` over the dimensions ``grid``
+    (in order), with the propensity's spread under ``uncertain`` at every point (see
+    :func:`agglomtool.sweep`, which calls this, for the parameters)."""
+    from ..uncertainty.assumed import assumed_draws, scene_fields
+    from ..uncertainty._sampling import _ChunkedDraws, resolve_seed
+    from ..uncertainty.scene_mc import SCENE_TO_CORE, field_law, split_uncertain
+    _check("samples", samples, lambda v: isinstance(v, int | np.integer)
+           and not isinstance(v, bool) and v >= 2, "an integer >= 2")
+    _check("threshold", threshold, lambda v: isinstance(v, int | float) and not isinstance(
+        v, bool) and 0.0 <= v < 1.0, "a number in [0, 1): the propensity above which a "
+           "point is unsafe")
+    q = np.asarray(quantiles, dtype=float)
+    _check("quantiles", quantiles, lambda v: q.ndim == 1 and q.size > 0 and bool(
+        np.all((q >= 0.0) & (q <= 1.0))), "a non-empty sequence of numbers in [0, 1]")
+    fields, with_assumed = split_uncertain(uncertain)
+    both = sorted(set(fields) & set(grid))
+    if both:
+        raise ValueError(f"{both[0]} is both swept and uncertain: sweep it, or make it "
+                         "uncertain, not both")
+    gv = {k: nominal[k].values for k in grid}
+    entropy, chosen = resolve_seed(seed)
+    base = scene.values()
+    cats = [k for k in gv if k in CATEGORICAL_FIELDS]
+    nums = [k for k in gv if k not in CATEGORICAL_FIELDS]
+    num_shape = tuple(len(gv[k]) for k in nums)
+    n_points = math.prod(num_shape)
+    mesh = [m.ravel() for m in np.meshgrid(*[gv[k] for k in nums], indexing="ij")]
+    cat_shape = tuple(len(gv[k]) for k in cats)
+    mean = np.empty(cat_shape + num_shape)
+    quant = np.empty(cat_shape + num_shape + (q.size,))
+    p_unsafe = np.empty(cat_shape + num_shape)
+    drawn_text, not_drawn_all = {}, []
+    per_batch = max(1, ROBUST_BLOCK // int(samples))
+    for idx in itertools.product(*[range(n) for n in cat_shape]):
+        values = {**base, **{k: str(gv[k][i]) for k, i in zip(cats, idx, strict=True)}}
+        assumed, not_drawn = (assumed_draws(values, given=fields) if with_assumed
+                              else ({}, []))
+        not_drawn_all += [t for t in not_drawn if t not in not_drawn_all]
+        laws = {**fields, **{k: a.dist for k, a in assumed.items()}}
+        if not laws:
+            raise ValueError(f"uncertain = {uncertain!r}: the scene at "
+                             f"{dict(zip(cats, (values[k] for k in cats), strict=True))} "
+                             "uses no assumed database value that can be drawn")
+
+        def law(name, dist, assumed=assumed):
+            if name in assumed:
+                a = assumed[name]
+                return (a.dist, *a.bounds, a.range_text)
+            return field_law(name, dist)
+
+        draws = _ChunkedDraws(laws, int(samples), entropy, int(samples), law=law,
+                              stream_name=lambda name: SCENE_TO_CORE.get(name, name))
+        drawn = {k: np.empty(int(samples)) for k in laws}
+        for _ in draws.chunks(out=drawn):
+            pass
+        for k in laws:
+            drawn_text.setdefault(k, f"{k} = {draws.dists[k]!r}" + (
+                f" [{FIELD_META[k][0]}]" if k in FIELD_META else
+                f" ({assumed[k].law.law} {assumed[k].law.params}, assumed in the database)"))
+        sample_fields = {k: v for k, v in drawn.items() if k in fields}
+        sample_fields.update(scene_fields(values, {k: v for k, v in drawn.items()
+                                                   if k in assumed}))
+        prop = np.empty((n_points, int(samples)))
+        for start in range(0, n_points, per_batch):
+            sl = slice(start, min(start + per_batch, n_points))
+            vals = dict(values)
+            for k, m in zip(nums, mesh, strict=True):
+                vals[k] = m[sl, None]
+            for k, v in sample_fields.items():
+                vals[k] = v[None, :]
+            r = Resolved(vals)
+            crit = critical_outputs(r)
+            out = collision_outputs(r, crit["u_star"], nodes)
+            prop[sl] = np.broadcast_to(out["propensity"], (sl.stop - sl.start, int(samples)))
+        mean[idx] = prop.mean(axis=1).reshape(num_shape)
+        quant[idx] = np.quantile(prop, q, axis=1).T.reshape(num_shape + (q.size,))
+        p_unsafe[idx] = np.mean(prop > threshold, axis=1).reshape(num_shape)
+    dims = cats + nums
+    ds = nominal.copy()
+    ds = ds.assign_coords(quantile=("quantile", q, {"units": "1",
+                                                    "long_name": "probability level"}))
+    ds["propensity_mean"] = (dims, mean, {
+        "units": "1", "long_name": "mean propensity over the plausible inputs"})
+    ds["propensity_quantile"] = (dims + ["quantile"], quant, {
+        "units": "1", "long_name": "quantile of the propensity over the plausible inputs"})
+    ds["p_unsafe"] = (dims, p_unsafe, {
+        "units": "1", "long_name": f"probability that the propensity exceeds {threshold:g}",
+        "threshold": float(threshold)})
+    lo, hi = UNDECIDED
+    ds["undecided"] = (dims, ((p_unsafe > lo) & (p_unsafe < hi)).astype(np.int8), {
+        "units": "1", "long_name": f"undecided: probability of being unsafe in ({lo:g}, "
+        f"{hi:g})", "flag_values": np.array([0, 1], dtype=np.int8),
+        "flag_meanings": "decided undecided"})
+    ds.attrs.update(
+        robust_samples=int(samples),
+        robust_seed=entropy,
+        robust_seed_chosen_by_user=int(chosen),
+        robust_threshold=float(threshold),
+        robust_uncertain_inputs="; ".join(drawn_text.values()),
+        robust_assumed_not_drawn="; ".join(not_drawn_all) or "none",
+        robust_method=("common random numbers: draw k is the same at every grid point "
+                       "(named streams per input; an assumed database value has the "
+                       "stream '<kind> <entry> <field>'); the propensity of every point "
+                       "and draw as on the nominal map"),
+    )
+    return ds

@@ -1,0 +1,176 @@
+"""The database's assumed values as uncertain inputs (``uncertain="assumed"``).
+
+The materials database marks the values of an entry that are assumptions (an asperity
+height nobody measured, a contact angle taken as perfect wetting) and states for each a
+plausible law and the reason for it (:class:`agglomtool.materials.AssumedLaw`). Here those
+laws become uncertain inputs of a Scene:
+
+- each assumed value of each material the Scene uses is one uncertain input of its own,
+  drawn from its own random stream named after the material and the field
+  (``"solid ilmenite asperity_height"``). Two options that share a material (silica sand
+  against ilmenite, and silica sand against olivine) therefore see the same draws of the
+  sand's values: comparisons are paired, and grids use common random numbers;
+- a solid's value is one value for the solid, not one per particle: where both particles
+  are of the same solid, ``ha_i`` and ``ha_j`` are the same draw (the uncertainty is what
+  the solid is like, not how two grains differ);
+- the Scene's ``e`` is the mean of the two solids' restitution coefficients, drawn or not;
+- a value the Scene sets itself (``ha_i``, ``e``, ``theta_deg`` given) is not drawn, and
+  neither is one named uncertain by the caller: the caller's law wins;
+- draws are truncated (by resampling, as for any uncertain input) to the Scene's valid
+  range and, for asperity heights, to the range the tool finds plausible;
+- an assumed value that is not a number (a melt's composition) has no law yet: it is
+  listed as assumed but not drawn.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.special import ndtri
+
+from .. import materials
+from ..materials import AssumedLaw
+from ..plausibility import ASPERITY_RANGE
+from ..scene import FIELD_RANGES
+from .distributions import Distribution, LogNormal, Uniform
+
+__all__ = ["AssumedInput", "assumed_draws", "law_distribution", "scene_fields", "ASSUMED"]
+
+#: The word that asks for every assumed value of the database.
+ASSUMED = "assumed"
+
+#: The standard normal's 95 % quantile: a lognormal's 5-95 % band spans 2 x this many
+#: standard deviations of its log.
+_Z95 = float(ndtri(0.95))
+
+#: database field -> the Scene field it sets, per side (None: the field has no Scene field).
+_SOLID_FIELDS = {"asperity_height": ("ha_i", "ha_j"), "restitution_dry": ("e", "e")}
+_LIQUID_FIELDS = {"theta_deg": "theta_deg"}
+
+
+@dataclass(frozen=True)
+class AssumedInput:
+    """One assumed database value drawn as an uncertain input."""
+
+    key: str  #: its random stream's name: ``"<kind> <entry> <field>"``
+    kind: str  #: ``"solid"`` or ``"liquid"``
+    entry: str  #: the database entry's name
+    field: str  #: the database field
+    law: AssumedLaw  #: the law the database states
+    dist: Distribution  #: that law as a distribution, SI
+    #: the Scene field's range its draws are truncated to: ``(lo, hi, lo_open, hi_open)``
+    bounds: tuple
+    #: the range as text, for messages
+    range_text: str
+
+
+def law_distribution(law: AssumedLaw) -> Distribution:
+    """The distribution of an :class:`~agglomtool.materials.AssumedLaw` (SI).
+
+    ``lognormal``: ``ln X`` normal with its 5 and 95 % quantiles at ``ln p05`` and
+    ``ln p95`` (median ``sqrt(p05 p95)``); ``uniform``: uniform on ``[lo, hi]``.
+    """
+    a, b = law.params
+    if law.law == "lognormal":
+        la, lb = np.log(a), np.log(b)
+        return LogNormal.from_log(0.5 * (la + lb), (lb - la) / (2.0 * _Z95))
+    if law.law == "uniform":
+        return Uniform(a, b)
+    raise ValueError(f"law = {law.law!r} is not one of 'lognormal', 'uniform'")
+
+
+def _scene_range(scene_field: str) -> tuple[tuple, str]:
+    """The range the draws of a Scene field are truncated to: where the Scene accepts
+    them and, for asperity heights, the range the tool finds plausible (a lognormal's
+    upper tail would otherwise draw the implausible heights it warns about)."""
+    lo, hi, lo_open, hi_open = FIELD_RANGES[scene_field]
+    lo, hi = -np.inf if lo is None else lo, np.inf if hi is None else hi
+    if scene_field in ("ha_i", "ha_j"):
+        lo, hi = max(lo, ASPERITY_RANGE[0]), min(hi, ASPERITY_RANGE[1])
+    text = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
+    return (lo, hi, lo_open, hi_open), text
+
+
+def _uses(values: dict):
+    """The entries a scene takes values from: ``(solid_i, solid_j, liquid entry)``."""
+    si = materials.solid(str(values["solid_i"]))
+    sj = materials.solid(str(values.get("solid_j") or values["solid_i"]))
+    return si, sj, materials.liquid_entry(str(values["liquid"]))
+
+
+def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list[str]]:
+    """The assumed values a scene uses, as uncertain inputs.
+
+    Parameters
+    ----------
+    values : dict
+        The Scene's field values (:meth:`agglomtool.Scene.values`).
+    given : iterable of str
+        Scene fields the caller already makes uncertain: the database values they would
+        replace are not drawn.
+
+    Returns
+    -------
+    inputs : dict of str to AssumedInput
+        Stream key -> the input, in a stable order (solid i, solid j, liquid).
+    not_drawn : list of str
+        ``"<entry> <field>"`` of the assumed values used but not drawn, with why.
+    """
+    given = set(given)
+    si, sj, liquid = _uses(values)
+    inputs: dict[str, AssumedInput] = {}
+    not_drawn: list[str] = []
+
+    def add(kind, entry, field_name, scene_field):
+        law = next((x for x in entry.uncertainty if x.field == field_name), None)
+        if law is None:
+            return
+        key = f"{kind} {entry.name} {field_name}"
+        if key not in inputs:
+            bounds, text = _scene_range(scene_field)
+            inputs[key] = AssumedInput(key, kind, entry.name, field_name, law,
+                                       law_distribution(law), bounds, text)
+
+    for side, sol in ((0, si), (1, sj)):
+        for field_name in sol.assumed:
+            if field_name not in _SOLID_FIELDS:
+                not_drawn.append(f"{sol.name} {field_name} (no Scene field takes it)")
+                continue
+            scene_field = _SOLID_FIELDS[field_name][side]
+            if values.get(scene_field) is not None or scene_field in given:
+                continue  # the scene, or the caller's own law, sets it
+            add("solid", sol, field_name, scene_field)
+    for field_name in liquid.assumed:
+        if field_name not in _LIQUID_FIELDS:
+            not_drawn.append(f"{liquid.name} {field_name} (not a number: no law yet)")
+            continue
+        scene_field = _LIQUID_FIELDS[field_name]
+        if values.get(scene_field) is not None or scene_field in given:
+            continue
+        add("liquid", liquid, field_name, scene_field)
+    return inputs, list(dict.fromkeys(not_drawn))
+
+
+def scene_fields(values: dict, draws: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The Scene fields set by the assumed values drawn (``draws``: stream key -> values).
+
+    ``ha_i``/``ha_j`` from the solids' asperity heights (one draw where the solids are the
+    same), ``e`` the mean of the two solids' restitution coefficients (drawn or database),
+    ``theta_deg`` from the liquid's contact angle.
+    """
+    si, sj, liquid = _uses(values)
+    out: dict[str, np.ndarray] = {}
+    for side, sol in (("i", si), ("j", sj)):
+        key = f"solid {sol.name} asperity_height"
+        if key in draws:
+            out[f"ha_{side}"] = draws[key]
+    ki, kj = (f"solid {s.name} restitution_dry" for s in (si, sj))
+    if ki in draws or kj in draws:
+        e_i = draws.get(ki, si.restitution_dry)
+        e_j = draws.get(kj, sj.restitution_dry)
+        out["e"] = 0.5 * (e_i + e_j)
+    key = f"liquid {liquid.name} theta_deg"
+    if key in draws:
+        out["theta_deg"] = draws[key]
+    return out
