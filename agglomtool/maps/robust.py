@@ -45,8 +45,8 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     """The nominal map ``nominal`` of :func:`agglomtool.sweep` over the dimensions ``grid``
     (in order), with the propensity's spread under ``uncertain`` at every point (see
     :func:`agglomtool.sweep`, which calls this, for the parameters)."""
-    from ..uncertainty.assumed import assumed_draws, scene_fields
     from ..uncertainty._sampling import _ChunkedDraws, resolve_seed
+    from ..uncertainty.assumed import assumed_draws, scene_fields
     from ..uncertainty.scene_mc import SCENE_TO_CORE, field_law, split_uncertain
     _check("samples", samples, lambda v: isinstance(v, int | np.integer)
            and not isinstance(v, bool) and v >= 2, "an integer >= 2")
