@@ -20,7 +20,7 @@ from .._version import __version__
 from ..collision.outcome import Stage
 from ..scene import CA_VISCOUS, FIELD_META, U_STAR_FLAGS
 
-__all__ = ["VARIABLE_META", "FIELD_META", "CONVENTIONS", "REFERENCES", "variable_attrs",
+__all__ = ["VARIABLE_META", "FIELD_META", "FLAGS", "CONVENTIONS", "REFERENCES", "variable_attrs",
            "field_attrs", "cf_units", "global_attrs", "provenance_attr", "call_text",
            "history_line"]
 
