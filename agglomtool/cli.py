@@ -61,7 +61,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     finally:
         if client is not None:
             client.close()
-    write_map(ds, out, complevel=0 if args.no_compress else 4)
+    write_map(ds, out, complevel=0 if args.no_compress else 4, history=_command(args))
     ds.close()
     if not args.keep_parts:
         shutil.rmtree(store, ignore_errors=True)
@@ -101,10 +101,17 @@ def _cmd_bed(args: argparse.Namespace) -> int:
         print(f"bed propensity {float(ds.propensity):.4g} (by component: {parts}); "
               f"U_mf {float(ds.Umf):.4g} m/s, U {float(ds.U):.4g} m/s")
         if args.efficiency:
-            print(f"wrote {export_efficiency(ds, args.efficiency)}")
-    write_map(ds, out)
+            print(f"wrote {export_efficiency(ds, args.efficiency, history=_command(args))}")
+    write_map(ds, out, history=_command(args))
     print(f"wrote {out}")
     return 0
+
+
+def _command(args: argparse.Namespace) -> str:
+    """The command line that ran, as a file's ``history`` records it."""
+    import shlex
+
+    return shlex.join(["agglomtool", *args._argv])
 
 
 def _parse_sel(items) -> dict:
@@ -328,6 +335,7 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser(command).parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a usage error argparse reported
         return int(exc.code or 0)
+    args._argv = argv  # for the history of the files a command writes
     import warnings
 
     from .plausibility import PlausibilityWarning

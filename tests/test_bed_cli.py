@@ -54,7 +54,7 @@ def test_bed_command_one_point_matches_the_api(tmp_path, capsys):
                            directions=4)
     with xr.open_dataset(tmp_path / "b.nc") as f:
         assert float(f.propensity) == pytest.approx(float(ds.propensity), rel=1e-12)
-        assert f.propensity.attrs["units"] == "dimensionless"
+        assert f.propensity.attrs["units"] == "1"
     np.testing.assert_array_equal(read_efficiency(tmp_path / "m.csv").efficiency.values,
                                   ds.efficiency.values)
     assert "bed propensity" in capsys.readouterr().out

@@ -53,6 +53,7 @@ def test_map_is_written_compressed(tmp_path):
     big = write_map(ds, tmp_path / "raw.nc", complevel=0)
     assert small.stat().st_size < 0.85 * big.stat().st_size
     with xr.open_dataset(small) as a:
+        assert a.attrs.pop("history")  # the file records when and how it was written
         xr.testing.assert_identical(a.load(), ds)  # lossless
         assert a.e_w.encoding["zlib"]
 
@@ -81,6 +82,8 @@ def test_interrupted_map_says_how_to_resume_and_the_rerun_finishes(tmp_path, cap
     assert main(["map", str(cfg), "-o", str(fresh), "-q", "--store",
                  str(tmp_path / "other")]) == 0
     with xr.open_dataset(out) as a, xr.open_dataset(fresh) as b:
+        # each file's history names its own command; the rest is the same map
+        assert str(out) in a.attrs.pop("history") and str(fresh) in b.attrs.pop("history")
         xr.testing.assert_identical(a.load(), b.load())
 
 

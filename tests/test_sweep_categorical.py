@@ -2,6 +2,7 @@
 (each of these crashed in an earlier version)."""
 
 import itertools
+import json
 
 import numpy as np
 import pytest
@@ -54,7 +55,7 @@ def test_water_map_over_valid_temperatures():
     mu = ds.mu_l.values
     assert np.all(np.diff(mu) < 0.0)  # water thins as it warms
     assert np.all(np.isfinite(ds.u_star.values))
-    assert any(k.startswith("source: liquid water") for k in ds.attrs)
+    assert "liquid water" in json.loads(ds.attrs["material_sources"])
 
 
 def test_water_outside_its_range_names_the_liquid():

@@ -8,18 +8,20 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..maps.export import write_map
+
 __all__ = ["export_efficiency", "read_efficiency", "EXPORTED"]
 
-#: Pair variables written (besides the class table): name -> (units, long_name).
+#: Pair variables written (besides the class table): name -> (units, long_name); units as
+#: CF and UDUNITS write them ("1": dimensionless).
 EXPORTED = {
-    "efficiency": ("dimensionless", "coalescence efficiency (direction-averaged sticking "
-                   "probability)"),
-    "rate_weight": ("dimensionless", "collision-rate weight of the ordered pair of classes"),
+    "efficiency": ("1", "coalescence efficiency (direction-averaged sticking probability)"),
+    "rate_weight": ("1", "collision-rate weight of the ordered pair of classes"),
     "u_star_min": ("m/s", "critical impact speed u0*, minimum over directions"),
 }
-#: Class columns: name -> (units, long_name).
+#: Class columns: name -> (units, long_name); a name has no units (None).
 CLASS_COLUMNS = {
-    "component": ("dimensionless", "component (solid name) of the class"),
+    "component": (None, "component (solid name) of the class"),
     "d": ("m", "solid diameter of the class"),
     "d_lo": ("m", "lower edge of the class"),
     "d_hi": ("m", "upper edge of the class"),
@@ -42,7 +44,7 @@ def _matrix_dataset(ds: xr.Dataset) -> xr.Dataset:
     return out
 
 
-def export_efficiency(ds: xr.Dataset, path) -> Path:
+def export_efficiency(ds: xr.Dataset, path, *, history: str | None = None) -> Path:
     """Write the coalescence-efficiency matrix of ``ds`` to ``path`` (``.csv`` or ``.nc``).
 
     Parameters
@@ -55,7 +57,11 @@ def export_efficiency(ds: xr.Dataset, path) -> Path:
         component, diameter and edges [m], ``efficiency`` [-], ``rate_weight`` [-] and
         ``u_star_min`` [m/s]; ``#`` comment lines first give the units and the bed's
         propensity. ``*.nc``: the matrices over ``(cls_i, cls_j)`` with the class
-        coordinates, units and long names as attributes.
+        coordinates, units and long names as attributes, and the bed's global attributes
+        (a CF-1.8 file, as :func:`agglomtool.write_map` writes).
+    history : str, optional
+        ``*.nc``: the command recorded in the file's ``history`` line (the command line
+        when the CLI writes); default ``agglomtool.bed.export_efficiency(ds, '<name>')``.
 
     Returns
     -------
@@ -66,19 +72,19 @@ def export_efficiency(ds: xr.Dataset, path) -> Path:
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".nc":
-        _matrix_dataset(ds).to_netcdf(path)
-        return path
+        return write_map(_matrix_dataset(ds), path, history=history if history is not None
+                         else f"agglomtool.bed.export_efficiency(ds, {path.name!r})")
     if suffix != ".csv":
         raise ValueError(f"path = {str(path)!r}: the suffix must be .csv or .nc")
     ni, nj = ds.sizes["cls_i"], ds.sizes["cls_j"]
     ii, jj = np.meshgrid(np.arange(ni), np.arange(nj), indexing="ij")
     cols = ["i", "j"]
-    units = ["dimensionless", "dimensionless"]
+    units = ["1", "1"]
     values = [ii.ravel(), jj.ravel()]
     for side, idx in (("i", ii.ravel()), ("j", jj.ravel())):
         for name, (unit, _) in CLASS_COLUMNS.items():
             cols.append(f"{name}_{side}")
-            units.append(unit)
+            units.append(unit or "")  # a name: no units
             values.append(np.asarray(ds[f"{name}_cls_{side}"].values)[idx])
     for name, (unit, _) in EXPORTED.items():
         if name not in ds:  # a bed_sweep's matrix has the efficiency only
@@ -119,13 +125,14 @@ def read_efficiency(path) -> xr.Dataset:
     for side, idx, n in (("i", i, ni), ("j", j, nj)):
         first = np.array([np.flatnonzero(idx == k)[0] for k in range(n)])
         dim = f"cls_{side}"
-        coords[dim] = xr.DataArray(np.arange(n), dims=[dim], attrs={
-            "units": "dimensionless", "long_name": "size class (all components)"})
+        coords[dim] = xr.DataArray(np.arange(n, dtype=np.int32), dims=[dim], attrs={
+            "units": "1", "long_name": "size class (all components)"})
         for name, (unit, long_name) in CLASS_COLUMNS.items():
             raw = np.array(col[f"{name}_{side}"])[first]
             vals = raw if name == "component" else raw.astype(float)
-            coords[f"{name}_{dim}"] = xr.DataArray(vals, dims=[dim], attrs={
-                "units": unit, "long_name": long_name})
+            attrs = {"long_name": long_name} if unit is None else {"units": unit,
+                                                                    "long_name": long_name}
+            coords[f"{name}_{dim}"] = xr.DataArray(vals, dims=[dim], attrs=attrs)
     data = {}
     for name, (unit, long_name) in EXPORTED.items():
         if name not in col:

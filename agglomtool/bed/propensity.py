@@ -54,6 +54,7 @@ from .._fields import short_unit
 from .._validate import check_range
 from .._version import __version__
 from ..inputs import Particle
+from ..maps.meta import call_text, cf_units, global_attrs, provenance_attr
 from ..pair import wet_mass
 from ..properties import umf
 from ..scene import (
@@ -62,8 +63,10 @@ from ..scene import (
     NUMERIC_FIELDS,
     Resolved,
     Scene,
+    assumed_inputs,
     collision_outputs,
     critical_outputs,
+    provenance,
 )
 from ..units import to_si_array
 from .mixture import Component
@@ -240,7 +243,9 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
 
 
 def _attrs(units, long_name, description=None):
-    out = {"units": units, "long_name": long_name}
+    """Variable attributes; ``units`` in CF spelling, ``None`` for names (no units)."""
+    out = {} if units is None else {"units": cf_units(units)}
+    out["long_name"] = long_name
     if description:
         out["description"] = description
     return out
@@ -257,11 +262,10 @@ def _contributions(ev):
 
 def _class_coords(comps, ev, dim):
     names = np.array([comps[k].name for k in ev["cidx"]])
-    idx = np.arange(ev["d"].size)
-    return {dim: xr.DataArray(idx, dims=[dim], attrs=_attrs("dimensionless",
-                                                              "size class (all components)")),
+    idx = np.arange(ev["d"].size, dtype=np.int32)
+    return {dim: xr.DataArray(idx, dims=[dim], attrs=_attrs("1", "size class (all components)")),
             f"component_{dim}": xr.DataArray(names, dims=[dim], attrs=_attrs(
-                "dimensionless", "component (solid name) of the class")),
+                None, "component (solid name) of the class")),
             f"d_{dim}": xr.DataArray(ev["d"], dims=[dim], attrs=_attrs(
                 "m", "solid diameter of the class")),
             f"d_lo_{dim}": xr.DataArray(ev["lo"], dims=[dim], attrs=_attrs(
@@ -291,13 +295,16 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
     Returns
     -------
     xarray.Dataset
-        Every variable with ``units`` and ``long_name``. Classes are numbered over all
-        components along ``cls`` (pair dimensions ``cls_i``, ``cls_j``), each with its
-        component, diameter and edges; ``direction`` holds ``sin_beta``, ``beta_deg`` and
-        ``direction_weight``. Pair matrix: ``u_star`` (per direction), ``u_star_min`` (its
-        minimum over directions: the lowest speed at which the pair rebounds in some
-        direction), ``sticking_probability`` (per direction), ``efficiency`` (the
-        direction average: the coalescence efficiency), ``rate_weight`` (``W_ab``). Bed:
+        Every variable with a ``long_name`` and every number with CF ``units`` (names have
+        none); global attributes as a map's (CF-1.8, the provenance of every input, the
+        assumed database values, the materials' sources; see :func:`agglomtool.sweep`) and
+        the components. Classes are numbered over all components along ``cls`` (pair
+        dimensions ``cls_i``, ``cls_j``), each with its component, diameter and edges;
+        ``direction`` holds ``sin_beta``, ``beta_deg`` and ``direction_weight``. Pair
+        matrix: ``u_star`` (per direction), ``u_star_min`` (its minimum over directions:
+        the lowest speed at which the pair rebounds in some direction),
+        ``sticking_probability`` (per direction), ``efficiency`` (the direction average:
+        the coalescence efficiency), ``rate_weight`` (``W_ab``). Bed:
         ``propensity``, ``propensity_by_class``, ``propensity_by_component`` (both sum to
         ``propensity``; a collision's share goes half to each partner), ``mass_fraction``,
         ``number_fraction``, ``collision_share`` (of each class), ``Umf``, ``U``,
@@ -317,16 +324,17 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
     E, by_class, by_comp, total = _contributions(ev)
     coords = {**_class_coords(comps, ev, "cls"), **_class_coords(comps, ev, "cls_i"),
               **_class_coords(comps, ev, "cls_j")}
-    coords["direction"] = xr.DataArray(np.arange(ev["s"].size), dims=["direction"],
-                                       attrs=_attrs("dimensionless", "collision direction"))
+    coords["direction"] = xr.DataArray(np.arange(ev["s"].size, dtype=np.int32),
+                                       dims=["direction"],
+                                       attrs=_attrs("1", "collision direction"))
     coords["sin_beta"] = xr.DataArray(ev["s"], dims=["direction"], attrs=_attrs(
-        "dimensionless", "sine of the elevation of the axis i -> j (Gauss-Legendre node)"))
+        "1", "sine of the elevation of the axis i -> j (Gauss-Legendre node)"))
     coords["beta_deg"] = xr.DataArray(ev["beta"], dims=["direction"], attrs=_attrs(
         "degree", "elevation of the axis i -> j from the horizontal"))
     coords["direction_weight"] = xr.DataArray(ev["wdir"], dims=["direction"], attrs=_attrs(
-        "dimensionless", "weight of the direction (isotropic normals)"))
+        "1", "weight of the direction (isotropic normals)"))
     coords["component"] = xr.DataArray([c.name for c in comps], dims=["component"],
-                                       attrs=_attrs("dimensionless", "component (solid name)"))
+                                       attrs=_attrs(None, "component (solid name)"))
     pair4, pair2 = ("cls_i", "cls_j", "direction"), ("cls_i", "cls_j")
     n0 = ev["n"][0]
     W0 = ev["W"][0]
@@ -336,29 +344,29 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
         "u_star_min": (pair2, ev["u_star"][0].min(axis=-1), _attrs(
             "m/s", "critical impact speed u0*, minimum over directions")),
         "sticking_probability": (pair4, ev["prob"][0], _attrs(
-            "dimensionless", "sticking probability per direction",
+            "1", "sticking probability per direction",
             "over the scene's impact-speed distribution")),
         "efficiency": (pair2, E[0], _attrs(
-            "dimensionless", "coalescence efficiency",
+            "1", "coalescence efficiency",
             "sticking probability averaged over isotropic collision directions")),
         "rate_weight": (pair2, W0, _attrs(
-            "dimensionless", "collision-rate weight of the ordered pair of classes",
+            "1", "collision-rate weight of the ordered pair of classes",
             "n_i n_j (D_i + D_j)**2, normalised to sum 1 over ordered pairs")),
         "propensity": ((), total[0], _attrs(
-            "dimensionless", "bed agglomeration propensity",
+            "1", "bed agglomeration propensity",
             "fraction of all collisions in the bed that stick")),
         "propensity_by_class": (("cls",), by_class[0], _attrs(
-            "dimensionless", "contribution of the class to the bed propensity",
+            "1", "contribution of the class to the bed propensity",
             "half of each sticking collision to each partner; sums to propensity")),
         "propensity_by_component": (("component",), by_comp[0], _attrs(
-            "dimensionless", "contribution of the component to the bed propensity",
+            "1", "contribution of the component to the bed propensity",
             "sums to propensity")),
         "mass_fraction": (("cls",), ev["w_bed"][0], _attrs(
-            "dimensionless", "mass fraction of the class in the bed")),
+            "1", "mass fraction of the class in the bed")),
         "number_fraction": (("cls",), n0 / n0.sum(), _attrs(
-            "dimensionless", "number fraction of the class in the bed")),
+            "1", "number fraction of the class in the bed")),
         "collision_share": (("cls",), W0.sum(axis=1), _attrs(
-            "dimensionless", "share of the collisions the class takes part in",
+            "1", "share of the collisions the class takes part in",
             "sum_j rate_weight; half of each collision to each partner")),
         "h0_component": (("component",), ev["h0_c"][0], _attrs(
             "m", "coating thickness of the component")),
@@ -369,25 +377,66 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
     }
     ds = xr.Dataset({k: xr.Variable(dims, v, attrs) for k, (dims, v, attrs) in data.items()},
                     coords=coords)
-    ds.attrs.update(_bed_attrs(scene, comps, nodes, directions))
+    ds.attrs.update(_bed_attrs(scene, comps, nodes, directions, call_text(
+        "agglomtool.bed_propensity", {}, ("scene", "components"), nodes=nodes,
+        directions=directions)))
     return ds
 
 
-def _bed_attrs(scene, comps, nodes, directions) -> dict:
+def _bed_attrs(scene, comps, nodes, directions, call, grid=None) -> dict:
+    """Global attributes of a bed: what a map's carry (CF's, the provenance of every input,
+    the database values that are assumptions, the materials' sources) and the bed's own
+    (components, quadrature nodes, weighting)."""
     import json
 
+    grid = grid or {}
+    base = scene.values()
+    first = {**base, **{k: float(v[0]) for k, v in grid.items() if k in base}}
+    pairs = [{**first, "solid_i": a.name, "solid_j": b.name, "ha_i": a.ha, "ha_j": b.ha}
+             for a in comps for b in comps]
+    assumed, sources = [], {}
+    for values in pairs:
+        assumed += [t for t in assumed_inputs(values) if t not in assumed]
+        sources.update({k: " ".join(t.split()) for k, t in Resolved(values).sources.items()})
     return {
-        "title": "agglomtool bed propensity",
+        **global_attrs("agglomtool bed propensity", call),
+        "assumed_inputs": "; ".join(assumed) if assumed else "none",
+        "provenance": provenance_attr(_bed_provenance(first, comps, grid)),
         "agglomtool_version": __version__,
-        "scene": json.dumps({k: v for k, v in scene.values().items()}),
+        "model_tier": str(base["mode"]),
+        "scene": json.dumps(base),
         "components": json.dumps([c.__dict__ for c in comps]),
         "speed_nodes": nodes, "direction_nodes": directions,
         "weighting": "collision rate n_i n_j pi d_ij**2 g0 sqrt(16 Theta/pi), one granular "
                      "temperature, g0 = 1 (Gidaspow 1994; Jenkins and Mancini 1989, "
                      "doi:10.1063/1.857479); isotropic normals, Gauss-Legendre in sin(beta)",
-        "references": "Shabanian et al. (2024), Heliyon 10:e29397, "
-                      "doi:10.1016/j.heliyon.2024.e29397",
+        "material_sources": json.dumps(sources),
     }
+
+
+def _bed_provenance(first: dict, comps, grid: dict) -> dict:
+    """:func:`agglomtool.scene.provenance` of a bed: the scene's inputs that the components
+    and the grid do not set, and per solid the database values the bed uses (density,
+    asperity height where a component gives none, dry restitution where the scene gives
+    none), keyed ``"<solid> <field>"``. The components' own values are in the
+    ``components`` attribute."""
+    own = {*_OWN, "solid_i", "solid_j", "rho_i", "rho_j"}
+    if first["e"] is None:
+        own.add("e")  # each pair: the mean of its two solids' dry restitution
+    out = {k: v for k, v in provenance({**first, "solid_i": comps[0].name}).items()
+           if k not in own and k not in grid}
+    for c in comps:
+        p = provenance({**first, "solid_i": c.name, "solid_j": c.name, "ha_i": c.ha,
+                        "ha_j": c.ha})
+        out[f"{c.name} density"] = p["rho_i"]
+        if c.ha is None:
+            out[f"{c.name} asperity_height"] = p["ha_i"]
+        if first["e"] is None:
+            value, units, _, conf = p["e"]
+            out[f"{c.name} restitution_dry"] = (
+                value, units, f"database: solid {c.name}.restitution_dry (a pair takes the "
+                "mean of its two solids')", conf)
+    return out
 
 
 def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
@@ -416,8 +465,9 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     xarray.Dataset
         Over the grid's dimensions (in the order given): ``propensity``,
         ``propensity_by_component`` (+ ``component``), ``propensity_by_class`` (+ ``cls``),
-        ``Umf``, ``U`` and, with ``matrix``, ``efficiency`` (+ ``cls_i``, ``cls_j``); units
-        and long_name on every variable and coordinate.
+        ``Umf``, ``U`` and, with ``matrix``, ``efficiency`` (+ ``cls_i``, ``cls_j``); a
+        long_name on every variable and coordinate, CF units on every number; global
+        attributes as :func:`bed_propensity`'s.
 
     Notes
     -----
@@ -445,23 +495,23 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     coords = {}
     for k in names:
         if k == "fraction":
-            attrs = _attrs("dimensionless", f"mass fraction of {comps[mix_i].name} in the bed")
+            attrs = _attrs("1", f"mass fraction of {comps[mix_i].name} in the bed")
         else:
             attrs = _attrs(*FIELD_META[k])
         coords[k] = xr.DataArray(axes[k], dims=[k], attrs=attrs)
     coords.update(_class_coords(comps, ev, "cls"))
     coords["component"] = xr.DataArray([c.name for c in comps], dims=["component"],
-                                       attrs=_attrs("dimensionless", "component (solid name)"))
+                                       attrs=_attrs(None, "component (solid name)"))
     dims = tuple(names)
     data = {
         "propensity": (dims, total.reshape(shape), _attrs(
-            "dimensionless", "bed agglomeration propensity",
+            "1", "bed agglomeration propensity",
             "fraction of all collisions in the bed that stick")),
         "propensity_by_component": (dims + ("component",), by_comp.reshape(shape + (-1,)),
-                                    _attrs("dimensionless", "contribution of the component "
+                                    _attrs("1", "contribution of the component "
                                            "to the bed propensity", "sums to propensity")),
         "propensity_by_class": (dims + ("cls",), by_class.reshape(shape + (-1,)), _attrs(
-            "dimensionless", "contribution of the class to the bed propensity",
+            "1", "contribution of the class to the bed propensity",
             "sums to propensity")),
         "Umf": (dims, ev["Umf"].reshape(shape), _attrs(
             "m/s", "minimum fluidization velocity of the bed")),
@@ -471,11 +521,14 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
         coords.update(_class_coords(comps, ev, "cls_i"))
         coords.update(_class_coords(comps, ev, "cls_j"))
         data["efficiency"] = (dims + ("cls_i", "cls_j"), E.reshape(shape + E.shape[1:]),
-                              _attrs("dimensionless", "coalescence efficiency",
+                              _attrs("1", "coalescence efficiency",
                                      "sticking probability averaged over directions"))
     ds = xr.Dataset({k: xr.Variable(d_, v, a) for k, (d_, v, a) in data.items()},
                     coords=coords)
-    ds.attrs.update(_bed_attrs(scene, comps, nodes, directions))
+    options = {"mix": comps[mix_i].name} if mix_i is not None else {}
+    ds.attrs.update(_bed_attrs(scene, comps, nodes, directions, call_text(
+        "agglomtool.bed_sweep", axes, ("scene", "components"), **options, nodes=nodes,
+        directions=directions, matrix=bool(matrix)), grid=axes))
     if mix_i is not None:
         ds.attrs["mix"] = comps[mix_i].name
     return ds

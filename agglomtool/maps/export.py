@@ -1,23 +1,45 @@
-"""Writing a map as one compressed netCDF file."""
+"""Writing a map (or a bed) as one compressed CF-1.8 netCDF file."""
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
+import numpy as np
 import xarray as xr
 
-__all__ = ["write_map", "COMPLEVEL"]
+from .meta import CONVENTIONS, history_line
+
+__all__ = ["write_map", "COMPLEVEL", "cf_ready"]
 
 #: zlib level of the written variables: 4 is most of level 9's gain at a fraction of its time.
 COMPLEVEL = 4
 
+#: Integer types of netCDF's classic model, which CF-1.8 keeps to (no 64-bit integers).
+_INT32 = np.iinfo(np.int32)
 
-def write_map(ds: xr.Dataset, path, *, complevel: int = COMPLEVEL) -> Path:
+
+def write_map(ds: xr.Dataset, path, *, complevel: int = COMPLEVEL,
+              history: str | None = None) -> Path:
     """Write ``ds`` to the netCDF file ``path``, every variable zlib-compressed.
 
-    The file is written next to ``path`` and renamed when complete, so an interrupted write
+    The file follows the CF-1.8 conventions (:func:`cf_ready`): ``Conventions``, a
+    ``history`` line, no fill value on coordinates, flags of the variables' own type. The
+    file is written next to ``path`` and renamed when complete, so an interrupted write
     never leaves a truncated map behind. ``complevel=0`` writes uncompressed.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A map of :func:`agglomtool.sweep`, a bed of :func:`agglomtool.bed_propensity` or
+        :func:`agglomtool.bed_sweep`, or any Dataset.
+    path : str or Path
+        The file to write.
+    complevel : int
+        zlib level, 0-9.
+    history : str, optional
+        What to record as the command in the ``history`` line (the command line when the
+        CLI writes); default ``agglomtool.write_map(ds, '<file name>')``.
 
     Returns
     -------
@@ -27,20 +49,84 @@ def write_map(ds: xr.Dataset, path, *, complevel: int = COMPLEVEL) -> Path:
     if not isinstance(complevel, int) or not 0 <= complevel <= 9:
         raise ValueError(f"complevel = {complevel!r} is outside the allowed range 0-9")
     path = Path(path)
-    encoding = {}
+    out, encoding = cf_ready(ds, history if history is not None
+                             else f"agglomtool.write_map(ds, {path.name!r})")
     if complevel:
-        for name, var in ds.variables.items():
+        for name, var in out.variables.items():
             if var.dtype.kind in "fiub" and var.ndim > 0:
-                encoding[name] = {"zlib": True, "complevel": complevel, "shuffle": True,
-                                  "chunksizes": _chunk_shape(var.shape)}
+                encoding[name].update(zlib=True, complevel=complevel, shuffle=True,
+                                      chunksizes=_chunk_shape(var.shape))
     tmp = path.with_name(path.name + ".tmp")
     try:
-        ds.to_netcdf(tmp, encoding=encoding)
+        out.to_netcdf(tmp, encoding=encoding)
         os.replace(tmp, path)
     finally:
         if tmp.exists():
             tmp.unlink()
     return path
+
+
+def cf_ready(ds: xr.Dataset, command: str) -> tuple[xr.Dataset, dict]:
+    """``(dataset, encoding)`` that ``to_netcdf`` writes as a CF-1.8 file; ``ds`` is left
+    as it is.
+
+    - ``Conventions`` is set where missing; a ``history`` line (UTC time, agglomtool's
+      version, ``command``) goes before any earlier lines.
+    - A numeric axis whose values are out of order (a grid may list them in any order) is
+      written in increasing order, data with it: CF coordinates are strictly monotonic. A
+      repeated value is a ValueError naming the coordinate.
+    - Coordinates get no ``_FillValue`` (CF 2.5.1: a coordinate has no missing values).
+    - ``flag_values`` take the type the variable has in the file (int8 for a boolean,
+      which xarray stores as a byte), as CF 3.5 asks; attributes read back from a store
+      come as lists of 64-bit integers.
+    - 64-bit integers, which CF-1.8's netCDF classic types lack, are written as 32-bit
+      ones; a value that does not fit is a ValueError naming the variable.
+    """
+    if not isinstance(ds, xr.Dataset):
+        raise ValueError(f"ds must be an xarray.Dataset, got {type(ds).__name__}")
+    out = ds.copy()
+    unordered = []
+    for dim in out.dims:
+        if dim in out.coords and out[dim].dtype.kind in "fiu" and out.sizes[dim] > 1:
+            step = np.diff(out[dim].values)
+            if np.all(step > 0) or np.all(step < 0):
+                continue
+            if len(np.unique(out[dim].values)) != out.sizes[dim]:
+                raise ValueError(f"coordinate {dim} repeats a value ({out[dim].values}); a "
+                                 "CF coordinate is strictly monotonic")
+            unordered.append(dim)
+    if unordered:
+        out = out.sortby(unordered)
+    encoding = {}
+    for name, var in out.variables.items():
+        attrs = dict(var.attrs)
+        enc = {}
+        stored = np.dtype(np.int8) if var.dtype == bool else var.dtype
+        if var.dtype.kind in "iu" and var.dtype.itemsize > 4:
+            lo, hi = (int(var.min()), int(var.max())) if var.size else (0, 0)
+            if lo < _INT32.min or hi > _INT32.max:
+                raise ValueError(f"variable {name}: values {lo}-{hi} are outside the 32-bit "
+                                 f"integers ({_INT32.min}-{_INT32.max}) a CF-1.8 file holds")
+            stored = np.dtype(np.int32)
+            enc["dtype"] = stored
+        for key in ("flag_values", "flag_masks"):
+            if key in attrs:
+                raw = np.atleast_1d(np.asarray(attrs[key]))
+                cast = raw.astype(stored)
+                if not np.array_equal(cast, raw):
+                    raise ValueError(f"variable {name}: {key} = {raw.tolist()} do not fit its "
+                                     f"type {stored}")
+                attrs[key] = cast
+        if name in out.coords:
+            enc["_FillValue"] = None
+        var.attrs = attrs
+        encoding[name] = enc
+    attrs = dict(out.attrs)
+    attrs.setdefault("Conventions", CONVENTIONS)
+    earlier = str(attrs.get("history", "")).strip()
+    attrs["history"] = history_line(command) + ("\n" + earlier if earlier else "")
+    out.attrs = attrs
+    return out, encoding
 
 
 def _chunk_shape(shape: tuple, target: int = 2**20) -> tuple:

@@ -29,7 +29,14 @@ from ..scene import (
     validate,
 )
 from ..units import to_si_array
-from .meta import FIELD_META, field_attrs, variable_attrs
+from .meta import (
+    FIELD_META,
+    call_text,
+    field_attrs,
+    global_attrs,
+    provenance_attr,
+    variable_attrs,
+)
 
 __all__ = ["sweep", "build", "GROUPS", "DEFAULT_BLOCK"]
 
@@ -219,6 +226,9 @@ def build(scene: Scene, *, chunks="auto", nodes: int = 16, **grid) -> xr.Dataset
 
 
 def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
+    """Global attributes of a map: CF's (:func:`~agglomtool.maps.meta.global_attrs`), the
+    provenance of every input the grid does not set (JSON), the database values that are
+    assumptions, the materials' sources (JSON) and the sweep's settings."""
     base = scene.values()
     first = _first_point(base, grid)  # properties are described where the grid has them
     tiers = list(grid["mode"]) if "mode" in grid else [base["mode"]]
@@ -228,10 +238,8 @@ def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
             if value is None:
                 continue
             for key, text in Resolved({**first, name: str(value)}).sources.items():
-                sources["source: " + key] = " ".join(text.split())
-    prov = {f"provenance: {name}": f"{val} {units}; {origin}; {conf}"
-            for name, (val, units, origin, conf) in provenance(first).items()
-            if name not in grid}
+                sources[key] = " ".join(text.split())
+    prov = {name: item for name, item in provenance(first).items() if name not in grid}
     assumed = []
     combos = [first] + [{**first, k: str(v)} for k in grid if k in CATEGORICAL_FIELDS
                         for v in grid[k]]
@@ -240,9 +248,10 @@ def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
             if text not in assumed:
                 assumed.append(text)
     return {
-        "title": "agglomtool operating map",
+        **global_attrs("agglomtool operating map",
+                       call_text("agglomtool.sweep", grid, nodes=int(nodes))),
         "assumed_inputs": "; ".join(assumed) if assumed else "none",
-        **prov,
+        "provenance": provenance_attr(prov),
         "agglomtool_version": __version__,
         "model_tier": ", ".join(tiers),
         "scene": json.dumps(base),
@@ -251,9 +260,7 @@ def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
             f"F(u0*) plus the sticking indicator integrated over {nodes} equal-probability "
             "nodes above u0* (agglomtool.maps.speeds)"),
         "quadrature_nodes": int(nodes),
-        "reference": ("Shabanian, Duchesne, Syamlal and Runstedtler (2024), Heliyon "
-                      "10:e29397, doi:10.1016/j.heliyon.2024.e29397"),
-        **sources,
+        "material_sources": json.dumps(sources),
     }
 
 
@@ -281,7 +288,7 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         a fingerprint of the sweep (scene, grid, chunks, nodes, materials files, version); a
         different sweep is refused with a ValueError saying what differs. Only one process
         writes a store at a time. The result is opened lazily from the store (bounded
-        memory for grids larger than memory); ``.to_netcdf(path)`` writes one file.
+        memory for grids larger than memory); :func:`agglomtool.write_map` writes one file.
     progress : bool
         Show progress on stderr (``tqdm`` if installed, else a text bar).
     compute : bool
@@ -321,8 +328,12 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         ``units`` and ``long_name``: gas and liquid properties, ``Umf``, ``U``, ``U_e``,
         ``u_star``, ``Ca_star``, ``regime``, ``u_typical``, ``St``, ``e_w``,
         ``agglomerated``, ``stage``, ``propensity`` and ``margin``, each over the grid
-        dimensions it depends on. Attributes record the agglomtool version, model tier,
-        base scene and material sources.
+        dimensions it depends on; coded outputs (``stage``, ``regime``, ``u_star_flag``,
+        ``agglomerated``) carry CF ``flag_values`` and ``flag_meanings``. Attributes
+        (CF-1.8, see :mod:`agglomtool.maps.meta`) record the call (``source``), the agglomtool
+        version, model tier, base scene, the provenance of every input (JSON), the database
+        values that are assumptions and the materials' sources (JSON).
+        :func:`agglomtool.write_map` writes it as a CF-1.8 netCDF file.
 
     Notes
     -----

@@ -622,13 +622,15 @@ def open_store(store) -> xr.Dataset:
 def export_netcdf(store, output) -> Path:
     """Write the finished store as one netCDF file ``output`` (atomically); returns its path.
 
-    Variables are compressed (zlib level 4, lossless).
+    Variables are compressed (zlib level 4, lossless); the file is CF-1.8, as
+    :func:`agglomtool.write_map` writes.
     """
     from .export import write_map
 
     ds = open_store(store)
     try:
         with dask.config.set(scheduler="synchronous"):
-            return write_map(ds, output)
+            return write_map(ds, output, history="agglomtool.maps.store.export_netcdf("
+                             f"{str(store)!r}, {str(output)!r})")
     finally:
         ds.close()
