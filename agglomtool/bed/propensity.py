@@ -417,7 +417,8 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
         Over the grid's dimensions (in the order given): ``propensity``,
         ``propensity_by_component`` (+ ``component``), ``propensity_by_class`` (+ ``cls``),
         ``Umf``, ``U`` and, with ``matrix``, ``efficiency`` (+ ``cls_i``, ``cls_j``); units
-        and long_name on every variable and coordinate.
+        and long_name on every variable and coordinate. Where ``U`` is swept, ``ds["U"]``
+        is its coordinate (no output repeats it).
 
     Notes
     -----
@@ -467,6 +468,8 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
             "m/s", "minimum fluidization velocity of the bed")),
         "U": (dims, ev["U"].reshape(shape), _attrs("m/s", "superficial gas velocity")),
     }
+    if "U" in coords:  # swept: the coordinate is the superficial gas velocity
+        del data["U"]
     if matrix:
         coords.update(_class_coords(comps, ev, "cls_i"))
         coords.update(_class_coords(comps, ev, "cls_j"))

@@ -211,6 +211,8 @@ def build(scene: Scene, *, chunks="auto", nodes: int = 16, **grid) -> xr.Dataset
             vals = func(*[a.values for a in args])
             res = tuple(xr.DataArray(v) for v in vals)
         for name, da in zip(outs, res, strict=True):
+            if name in coords:  # U swept: the output would be its coordinate, once again
+                continue
             data[name] = da.assign_attrs(variable_attrs(name)).drop_vars(
                 [c for c in da.coords if c not in coords], errors="ignore")
     ds = xr.Dataset(data, coords=coords)
@@ -304,8 +306,10 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         ``units`` and ``long_name``: gas and liquid properties, ``Umf``, ``U``, ``U_e``,
         ``u_star``, ``Ca_star``, ``regime``, ``u_typical``, ``St``, ``e_w``,
         ``agglomerated``, ``stage``, ``propensity`` and ``margin``, each over the grid
-        dimensions it depends on. Attributes record the agglomtool version, model tier,
-        base scene and material sources.
+        dimensions it depends on. ``ds["U"]`` is always the superficial gas velocity: the
+        output ``U_Umf * Umf`` where ``U`` is not swept, and the coordinate ``U`` where it
+        is (the output would repeat it). Attributes record the agglomtool version, model
+        tier, base scene and material sources.
 
     Notes
     -----
