@@ -1,6 +1,7 @@
 """Valid requests that used to crash, and inputs that used to be taken silently or
 inconsistently (issue 22): each as a user types it, from the API and from the command line."""
 
+import contextlib
 import tomllib
 import warnings
 
@@ -21,12 +22,12 @@ UREG = pint.get_application_registry()
 WATER = dict(liquid="water", T=323.15, h0=5e-6, d_i=500e-6)
 
 
+@contextlib.contextmanager
 def _quiet():
     """A context in which any PlausibilityWarning fails the test."""
-    w = warnings.catch_warnings()
-    w.__enter__()
-    warnings.simplefilter("error", PlausibilityWarning)
-    return w
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        yield
 
 
 # --- sweeping U (the superficial gas velocity) -----------------------------------------

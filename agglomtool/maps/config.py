@@ -28,11 +28,12 @@ from pathlib import Path
 import numpy as np
 
 from .._fields import FIELD_META
-from ..plausibility import PlausibilityWarning
+from ..plausibility import PlausibilityWarning, scene_findings
 from ..scene import CATEGORICAL_FIELDS, Scene, field_names
 from ..units import to_si
 
-__all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "read_toml"]
+__all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "parse_scene",
+           "read_toml"]
 
 
 class ConfigError(ValueError):
@@ -110,27 +111,7 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
         raise ConfigError(f"{source}: unknown table [{unknown[0]}]; allowed: [scene], [grid], "
                           "[options]")
     fields = field_names()
-    scene_data = data.get("scene", {})
-    if not isinstance(scene_data, dict):
-        raise ConfigError(f"{source}: [scene] must be a table of field = value")
-    for key, value in scene_data.items():
-        if key not in fields:
-            raise ConfigError(f"{source}: [scene] {key}: not a Scene field; fields: "
-                              f"{', '.join(fields)}")
-        if isinstance(value, list | dict):
-            raise ConfigError(f"{source}: [scene] {key}: must be a single value; put ranges "
-                              "in [grid]")
-    try:
-        with warnings.catch_warnings():  # say where: re-issued below with the file's name
-            warnings.simplefilter("error", PlausibilityWarning)
-            scene = Scene(**scene_data)
-    except PlausibilityWarning as warning:
-        warnings.warn(f"{source}: [scene]: {warning}", PlausibilityWarning, stacklevel=3)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", PlausibilityWarning)
-            scene = Scene(**scene_data)
-    except (ValueError, TypeError) as exc:
-        raise ConfigError(f"{source}: [scene]: {exc}") from None
+    scene = parse_scene(data.get("scene", {}), source)
     grid_data = data.get("grid", {})
     if not isinstance(grid_data, dict) or not grid_data:
         raise ConfigError(f"{source}: [grid] must hold at least one field = values")
@@ -157,17 +138,49 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
                              or chunks < 1):
         raise ConfigError(f"{source}: [options] chunks: must be \"auto\" or an integer >= 1, "
                           f"got {chunks!r}")
-    # Validate the grid against the scene now, so the error names the key.
-    from .grid import _grid_values
+    # The grid is validated now, once, at the values it sweeps (not at the scene's values
+    # of the fields it sweeps), so that an error names the key.
+    from .grid import GridError, _grid_values, grid_findings
 
-    for key, axis in grid.items():
-        try:
-            with warnings.catch_warnings():  # plausibility is the sweep's to say, once
-                warnings.simplefilter("ignore", PlausibilityWarning)
-                _grid_values(scene, {key: axis})
-        except ValueError as exc:
-            raise ConfigError(f"{source}: [grid] {key}: {exc}") from None
+    try:
+        axes = _grid_values(scene, grid, plausibility=False)  # the sweep says those, once
+    except GridError as exc:
+        where = f"[grid] {exc.field}" if exc.field else "[scene]"
+        raise ConfigError(f"{source}: {where}: {exc}") from None
+    warn_scene_findings(scene, source, grid_findings(scene.values(), axes))
     return MapConfig(scene, grid, {"nodes": nodes, "chunks": chunks})
+
+
+def parse_scene(scene_data, source: str = "config") -> Scene:
+    """The ``[scene]`` table as a :class:`Scene`; an error names the key. Its plausibility
+    findings are not said here: a field that a grid sweeps has no scene value to judge
+    (see :func:`warn_scene_findings`)."""
+    fields = field_names()
+    if not isinstance(scene_data, dict):
+        raise ConfigError(f"{source}: [scene] must be a table of field = value")
+    for key, value in scene_data.items():
+        if key not in fields:
+            raise ConfigError(f"{source}: [scene] {key}: not a Scene field; fields: "
+                              f"{', '.join(fields)}")
+        if isinstance(value, list | dict):
+            raise ConfigError(f"{source}: [scene] {key}: must be a single value; put ranges "
+                              "in [grid]")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            return Scene(**scene_data)
+    except (ValueError, TypeError) as exc:
+        raise ConfigError(f"{source}: [scene]: {exc}") from None
+
+
+def warn_scene_findings(scene: Scene, source: str, swept: list) -> None:
+    """Say the plausibility findings of the ``[scene]`` that still hold at the values swept
+    (``swept``: the findings of the scene over its grid), naming the file and the table;
+    the others are the sweep's to say."""
+    for finding in scene_findings(scene.values()):
+        if finding in swept:
+            warnings.warn(f"{source}: [scene]: {finding[1]}", PlausibilityWarning,
+                          stacklevel=3)
 
 
 def load_config(path) -> MapConfig:
