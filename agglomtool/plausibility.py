@@ -26,6 +26,8 @@ ASPERITY_RANGE = (1e-9, 10e-6)
 COATING_FRACTION = 0.1
 #: Absolute pressures outside this range [Pa] are implausible for a fluidized bed.
 PRESSURE_RANGE = (1e4, 1e7)
+#: Water's triple-point pressure [Pa]: no liquid water below it.
+_WATER_P_TRIPLE = 611.655
 
 
 class PlausibilityWarning(UserWarning):
@@ -93,7 +95,8 @@ def scene_findings(values: dict) -> list[tuple[str, str]]:
     if liquid is not None and materials.liquid_entry(str(liquid)).model == "water":
         tmax = _extreme(values, "T", hi)
         pmin = _extreme(values, "P", lo)
-        if tmax is not None and pmin is not None and pmin > 0.0:
+        # (below the triple point there is no boiling point: the properties refuse P)
+        if tmax is not None and pmin is not None and pmin >= _WATER_P_TRIPLE:
             t_boil = _water_boiling_point(pmin)
             if tmax >= t_boil:
                 found.append(("T", f"T = {tmax:g} K is at or above water's boiling point at "
@@ -119,5 +122,5 @@ def _water_boiling_point(P: float) -> float:
     """Saturation temperature of water at ``P`` [Pa] (IAPWS-95 through CoolProp) [K]."""
     from .properties._gas_tables import _cp
 
-    P = min(max(P, 611.7), 22.06e6)  # the triple point to the critical pressure
+    P = min(max(P, _WATER_P_TRIPLE), 22.06e6)  # the triple point to the critical pressure
     return float(_cp().PropsSI("T", "P", P, "Q", 0, "Water"))
