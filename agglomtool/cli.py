@@ -108,15 +108,27 @@ def _cmd_bed(args: argparse.Namespace) -> int:
 
 
 def _parse_sel(items) -> dict:
+    """``--sel NAME=VALUE`` items: a Scene field's number in SI or with a unit ("400 um",
+    through :func:`agglomtool.units.to_si`), another dimension's number, or a name."""
     sel = {}
     for item in items or []:
         name, sep, value = item.partition("=")
+        name, value = name.strip(), value.strip()
         if not sep or not name or not value:
-            raise CommandError(f"--sel {item!r}: write NAME=VALUE, e.g. --sel d_i=500e-6")
+            raise CommandError(f"--sel {item!r}: write NAME=VALUE, e.g. --sel d_i=500e-6 or "
+                               "--sel \"d_i=500 um\"")
+        if name in FIELD_META:
+            from .units import to_si
+
+            try:
+                sel[name] = float(to_si(name, value, *FIELD_META[name]))
+            except ValueError as exc:
+                raise CommandError(f"--sel {item!r}: {exc}") from None
+            continue
         try:
-            sel[name.strip()] = float(value)
+            sel[name] = float(value)
         except ValueError:
-            sel[name.strip()] = value.strip()
+            sel[name] = value
     return sel
 
 
@@ -296,8 +308,9 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
                        ("row", "facet rows")):
         pl.add_argument(f"--{name}", metavar="DIM", help=f"dimension for {what}")
     pl.add_argument("--sel", action="append", metavar="DIM=VALUE",
-                    help="fix a dimension at a grid value (SI units, or a name), e.g. "
-                    "--sel d_i=500e-6 --sel solid_j=ilmenite; repeatable")
+                    help="fix a dimension at a grid value (SI units, a quantity with units, or "
+                    "a name), e.g. --sel d_i=500e-6 --sel \"d_i=500 um\" --sel solid_j=ilmenite; "
+                    "repeatable")
     pl.set_defaults(func=_cmd_plot)
 
     co = sub.add_parser("collide", help="one collision of a scene, as a readable report",
