@@ -35,7 +35,10 @@ Every error names the file, the table and the key.
 
 from __future__ import annotations
 
-from ..maps.config import ConfigError, _axis, parse_config
+import warnings
+
+from ..maps.config import ConfigError, _axis, parse_scene, warn_scene_findings
+from ..plausibility import BED_OWN, PlausibilityWarning, scene_findings
 from ..units import to_si
 from .mixture import Component
 
@@ -81,9 +84,17 @@ def _component(where, table) -> Component:
     if "d_fractions" in kw and isinstance(kw["d_fractions"], list):
         kw["d_fractions"] = tuple(kw["d_fractions"])
     try:
-        return Component(**kw)
+        with warnings.catch_warnings(record=True) as caught:  # say where, below
+            warnings.simplefilter("always", PlausibilityWarning)
+            comp = Component(**kw)
     except (ValueError, TypeError) as exc:
         raise ConfigError(f"{where}: {exc}") from None
+    for w in caught:
+        if issubclass(w.category, PlausibilityWarning):
+            warnings.warn(f"{where}: {w.message}", PlausibilityWarning, stacklevel=4)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return comp
 
 
 def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
@@ -94,8 +105,7 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
     if unknown:
         raise ConfigError(f"{source}: unknown table [{unknown[0]}]; allowed: [scene], "
                           "[[component]], [grid], [options]")
-    scene = parse_config({"scene": data.get("scene", {}), "grid": {"T": [300.0]}},
-                         source).scene
+    scene = parse_scene(data.get("scene", {}), source)
     tables = data.get("component")
     if not isinstance(tables, list) or not tables:
         raise ConfigError(f"{source}: the bed needs at least one [[component]] table")
@@ -118,6 +128,10 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
             grid.update(_grid_arrays({key: axis}))
         except ValueError as exc:
             raise ConfigError(f"{where}: {exc}") from None
+    # The scene's findings that still hold at the values the grid sweeps (the bed's own
+    # findings, its coating on each component, are bed_propensity's and bed_sweep's).
+    base = {k: v for k, v in scene.values().items() if k not in BED_OWN}
+    warn_scene_findings(scene, source, scene_findings({**base, **grid}))
     opts = dict(data.get("options", {}))
     unknown = sorted(set(opts) - {"nodes", "directions", "mix"})
     if unknown:

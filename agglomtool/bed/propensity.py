@@ -55,6 +55,7 @@ from .._validate import check_range
 from .._version import __version__
 from ..inputs import Particle
 from ..pair import wet_mass
+from ..plausibility import bed_findings, warn_findings
 from ..properties import umf
 from ..scene import (
     FIELD_META,
@@ -313,6 +314,7 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
     if not isinstance(scene, Scene):
         raise ValueError(f"scene = {scene!r} must be an agglomtool.Scene")
     comps = _check_components(components)
+    warn_findings(bed_findings(scene.values(), comps), stacklevel=3)
     ev = _evaluate(scene, comps, {}, _fractions(comps, None, None), nodes, directions)
     E, by_class, by_comp, total = _contributions(ev)
     coords = {**_class_coords(comps, ev, "cls"), **_class_coords(comps, ev, "cls_i"),
@@ -429,6 +431,7 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
         raise ValueError(f"scene = {scene!r} must be an agglomtool.Scene")
     comps = _check_components(components)
     axes = _grid_arrays(grid)
+    warn_findings(bed_findings(scene.values(), comps, axes), stacklevel=3)
     if "fraction" in axes and mix is None:
         raise ValueError("grid fraction needs mix = the component (index or solid name) whose "
                          "mass fraction it sets")
