@@ -263,10 +263,17 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
         description="Will wet or ash-coated particles in a fluidized bed stick together?",
     )
     parser.add_argument("--version", action="version", version=f"agglomtool {__version__}")
-    parser.add_argument("--strict", action="store_true",
-                        help="treat plausibility warnings (unit slips, sizes outside a "
-                        "solid's range, ...) as errors")
+    strict_help = ("treat plausibility warnings (unit slips, sizes outside a solid's range, "
+                   "...) as errors; before or after the command")
+    parser.add_argument("--strict", action="store_true", help=strict_help)
+    # Every command takes --strict too (after its name); SUPPRESS keeps a --strict given
+    # before the command from being reset by the command's default.
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--strict", action="store_true", default=argparse.SUPPRESS,
+                        help=strict_help)
     sub = parser.add_subparsers(dest="command", required=True)
+    _add_parser = sub.add_parser
+    sub.add_parser = lambda *a, **kw: _add_parser(*a, parents=[common], **kw)
     ref = sub.add_parser(
         "reference",
         help="the paper's reference cases (water, slag): critical impact speed and e_w",
@@ -367,6 +374,8 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_BAD_INPUT
     except (CommandError, ValueError, KeyError, OSError) as exc:  # bad input: no traceback
         msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        if hasattr(exc, "for_cli"):  # the way out in the command line's terms (--overwrite)
+            msg = exc.for_cli()
         print(f"agglomtool: error: {msg}", file=sys.stderr)
         return EXIT_BAD_INPUT
 
