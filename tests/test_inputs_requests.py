@@ -1,5 +1,5 @@
 """Valid requests that used to crash, and inputs that used to be taken silently or
-inconsistently (issue 22): each as a user types it, from the API and from the command line."""
+inconsistently: each as a user types it, from the API and from the command line."""
 
 import contextlib
 import tomllib

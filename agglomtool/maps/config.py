@@ -33,7 +33,7 @@ from ..scene import CATEGORICAL_FIELDS, Scene, field_names
 from ..units import to_si
 
 __all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "parse_scene",
-           "read_toml"]
+           "warn_scene_findings", "read_toml"]
 
 
 class ConfigError(ValueError):
