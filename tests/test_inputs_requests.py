@@ -221,6 +221,8 @@ def test_distribution_unit_errors_name_the_parameter():
         to_si("T", Normal(50.0, 5.0, units="um"), "K")
     with pytest.raises(ValueError, match=r"mean = 'warm' is not a number"):
         Normal("warm", 5.0)
+    with pytest.raises(ValueError, match=r"has units: .*to_si"):
+        Normal("50 degC", 5.0).sample(np.random.default_rng(0), 3)
 
 
 def test_scene_monte_carlo_with_a_temperature_in_degC():

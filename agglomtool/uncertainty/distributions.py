@@ -64,16 +64,17 @@ class Distribution:
         unit is checked to be a number with a unit pint knows now."""
         from ..units import _parse, is_quantity
 
+        units = getattr(self, "units", None)  # (a user's law may have no units field)
         given = {k: v for k, v in self._params().items() if isinstance(v, str) or is_quantity(v)}
-        if self.units is None and not given:
+        if units is None and not given:
             return False
-        if self.units is not None:
-            if not isinstance(self.units, str):
-                raise ValueError(f"{type(self).__name__}: units = {self.units!r} must be a "
+        if units is not None:
+            if not isinstance(units, str):
+                raise ValueError(f"{type(self).__name__}: units = {units!r} must be a "
                                  "unit (a string such as \"um\" or \"degC\")")
             from ..units import quantity
 
-            quantity("units", 1.0, self.units, self.units)
+            quantity("units", 1.0, units, units)
         for k, v in given.items():
             if isinstance(v, str):
                 _parse(k, v)
@@ -113,6 +114,9 @@ class Distribution:
         return self._ppf_trunc(u, lo, hi)
 
     def _effective_bounds(self, lo: float, hi: float) -> tuple[float, float]:
+        if self._with_units():
+            raise ValueError(f"{self!r} has units: its numbers are known once it describes an "
+                             "input (monte_carlo, sobol_indices, or to_si(name, law, unit))")
         s_lo, s_hi = self.bounds()
         lo, hi = max(lo, s_lo), min(hi, s_hi)
         if not lo < hi or self.mass(lo, hi) <= 0.0:
