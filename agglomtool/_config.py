@@ -15,11 +15,11 @@ from pathlib import Path
 import numpy as np
 
 from ._fields import FIELD_META
-from .plausibility import PlausibilityWarning
+from .plausibility import PlausibilityWarning, scene_findings
 from .scene import Scene, field_names
 from .units import to_si
 
-__all__ = ["ConfigError", "parse_scene", "read_toml"]
+__all__ = ["ConfigError", "parse_scene", "read_toml", "warn_scene_findings"]
 
 
 class ConfigError(ValueError):
@@ -83,13 +83,13 @@ def _axis(where: str, value, key: str = ""):
                       f"got {value!r}")
 
 
-def parse_scene(scene_data, source: str = "config", stacklevel: int = 2) -> Scene:
+def parse_scene(scene_data, source: str = "config") -> Scene:
     """The :class:`~agglomtool.Scene` of a configuration's ``[scene]`` table.
 
     Every field must be a Scene field with one value (numbers SI, or quantities with units
-    as strings); an error is a :class:`ConfigError` naming ``source`` and the key. A
-    plausibility warning of the scene is re-issued with ``source`` in its message, at
-    ``stacklevel`` counted from the caller as for :func:`warnings.warn`.
+    as strings); an error is a :class:`ConfigError` naming ``source`` and the key. Its
+    plausibility findings are not said here: a field that a grid sweeps has no scene value
+    to judge (see :func:`warn_scene_findings`).
     """
     fields = field_names()
     if not isinstance(scene_data, dict):
@@ -102,18 +102,22 @@ def parse_scene(scene_data, source: str = "config", stacklevel: int = 2) -> Scen
             raise ConfigError(f"{source}: [scene] {key}: must be a single value; put ranges "
                               "in [grid]")
     try:
-        with warnings.catch_warnings():  # say where: re-issued below with the file's name
-            warnings.simplefilter("error", PlausibilityWarning)
-            scene = Scene(**scene_data)
-    except PlausibilityWarning as warning:
-        warnings.warn(f"{source}: [scene]: {warning}", PlausibilityWarning,
-                      stacklevel=stacklevel + 1)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlausibilityWarning)
-            scene = Scene(**scene_data)
+            return Scene(**scene_data)
     except (ValueError, TypeError) as exc:
         raise ConfigError(f"{source}: [scene]: {exc}") from None
-    return scene
+
+
+def warn_scene_findings(scene: Scene, source: str, swept: list, stacklevel: int = 2) -> None:
+    """Say the plausibility findings of the ``[scene]`` that still hold at the values swept
+    (``swept``: the findings of the scene over its grid), naming the file and the table;
+    the others are the sweep's to say. ``stacklevel`` counts from the caller, as for
+    :func:`warnings.warn`."""
+    for finding in scene_findings(scene.values()):
+        if finding in swept:
+            warnings.warn(f"{source}: [scene]: {finding[1]}", PlausibilityWarning,
+                          stacklevel=stacklevel + 1)
 
 
 def read_toml(path) -> dict:

@@ -115,15 +115,27 @@ def _command(args: argparse.Namespace) -> str:
 
 
 def _parse_sel(items) -> dict:
+    """``--sel NAME=VALUE`` items: a Scene field's number in SI or with a unit ("400 um",
+    through :func:`agglomtool.units.to_si`), another dimension's number, or a name."""
     sel = {}
     for item in items or []:
         name, sep, value = item.partition("=")
+        name, value = name.strip(), value.strip()
         if not sep or not name or not value:
-            raise CommandError(f"--sel {item!r}: write NAME=VALUE, e.g. --sel d_i=500e-6")
+            raise CommandError(f"--sel {item!r}: write NAME=VALUE, e.g. --sel d_i=500e-6 or "
+                               "--sel \"d_i=500 um\"")
+        if name in FIELD_META:
+            from .units import to_si
+
+            try:
+                sel[name] = float(to_si(name, value, *FIELD_META[name]))
+            except ValueError as exc:
+                raise CommandError(f"--sel {item!r}: {exc}") from None
+            continue
         try:
-            sel[name.strip()] = float(value)
+            sel[name] = float(value)
         except ValueError:
-            sel[name.strip()] = value.strip()
+            sel[name] = value
     return sel
 
 
@@ -258,10 +270,17 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
         description="Will wet or ash-coated particles in a fluidized bed stick together?",
     )
     parser.add_argument("--version", action="version", version=f"agglomtool {__version__}")
-    parser.add_argument("--strict", action="store_true",
-                        help="treat plausibility warnings (unit slips, sizes outside a "
-                        "solid's range, ...) as errors")
+    strict_help = ("treat plausibility warnings (unit slips, sizes outside a solid's range, "
+                   "...) as errors; before or after the command")
+    parser.add_argument("--strict", action="store_true", help=strict_help)
+    # Every command takes --strict too (after its name); SUPPRESS keeps a --strict given
+    # before the command from being reset by the command's default.
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--strict", action="store_true", default=argparse.SUPPRESS,
+                        help=strict_help)
     sub = parser.add_subparsers(dest="command", required=True)
+    _add_parser = sub.add_parser
+    sub.add_parser = lambda *a, **kw: _add_parser(*a, parents=[common], **kw)
     ref = sub.add_parser(
         "reference",
         help="the paper's reference cases (water, slag): critical impact speed and e_w",
@@ -303,8 +322,9 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
                        ("row", "facet rows")):
         pl.add_argument(f"--{name}", metavar="DIM", help=f"dimension for {what}")
     pl.add_argument("--sel", action="append", metavar="DIM=VALUE",
-                    help="fix a dimension at a grid value (SI units, or a name), e.g. "
-                    "--sel d_i=500e-6 --sel solid_j=ilmenite; repeatable")
+                    help="fix a dimension at a grid value (SI units, a quantity with units, or "
+                    "a name), e.g. --sel d_i=500e-6 --sel \"d_i=500 um\" --sel solid_j=ilmenite; "
+                    "repeatable")
     pl.set_defaults(func=_cmd_plot)
 
     co = sub.add_parser("collide", help="one collision of a scene, as a readable report",
@@ -362,6 +382,8 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_BAD_INPUT
     except (CommandError, ValueError, KeyError, OSError) as exc:  # bad input: no traceback
         msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        if hasattr(exc, "for_cli"):  # the way out in the command line's terms (--overwrite)
+            msg = exc.for_cli()
         print(f"agglomtool: error: {msg}", file=sys.stderr)
         return EXIT_BAD_INPUT
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import re
+from functools import cache
 
 import numpy as np
 
@@ -21,16 +22,27 @@ import numpy as np
 #: few parameters); larger ones are multiplied (within one rounding of it).
 _EXACT_MAX = 100_000
 
-__all__ = ["is_quantity", "to_si", "to_si_array", "registry"]
+__all__ = ["is_quantity", "to_si", "to_si_array", "quantity", "registry", "ALIASES"]
 
 _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
 
+#: Spellings accepted besides pint's own (pint reads ``m3`` as a unit named "m3").
+ALIASES = {"kg/m3": "kg/m**3", "g/cm3": "g/cm**3", "m2/s2": "m**2/s**2", "-": "dimensionless"}
 
+#: Units that pint reads as something else than a person typing them after a temperature
+#: often means: pint's symbol -> (what pint takes it for, the temperature meant).
+_TEMPERATURE_SLIPS = {"C": ("coulomb", "degC"), "F": ("farad", "degF")}
+
+
+@cache
 def registry():
-    """pint's application registry (the one a user's ``pint.Quantity`` belongs to)."""
+    """The registry that reads what a person types: pint's default definitions, private to
+    agglomtool, so that "50 C" means the same (a coulomb, with a hint) whatever other
+    library has replaced pint's application registry (cf_xarray.units, for one, defines
+    UDUNITS spellings there). A user's own Quantity is converted by its own registry."""
     import pint
 
-    return pint.get_application_registry()
+    return pint.UnitRegistry()
 
 
 def is_quantity(value) -> bool:
@@ -44,29 +56,37 @@ def _parse(field: str, text: str):
     if m is None:
         raise ValueError(f"{field} = {text!r} is not a number with a unit (e.g. \"5 um\", "
                          "\"850 degC\", \"1.5 bar\")")
-    number, unit = float(m.group(1)), m.group(2)
+    return quantity(field, float(m.group(1)), m.group(2), text)
+
+
+def quantity(field: str, number, unit: str, text=None):
+    """``number`` in ``unit`` (a pint unit, or one of :data:`ALIASES`) as a Quantity; a
+    ``ValueError`` naming the field for a unit pint does not know."""
     ureg = registry()
     try:
-        return ureg.Quantity(number, unit)
+        return ureg.Quantity(number, ALIASES.get(unit.strip(), unit))
     except Exception as exc:  # pint's UndefinedUnitError and parse errors
-        raise ValueError(f"{field} = {text!r}: {unit!r} is not a unit pint knows "
+        shown = text if text is not None else f"{number!r} {unit}"
+        raise ValueError(f"{field} = {shown!r}: {unit!r} is not a unit pint knows "
                          f"({type(exc).__name__})") from None
 
 
-def _convert(field: str, q, unit: str, long_name: str):
-    """Magnitude of Quantity ``q`` in ``unit``, exact for power-of-ten scalings."""
+def _convert(field: str, q, unit: str, long_name: str, delta: bool = False):
+    """Magnitude of Quantity ``q`` in ``unit``, exact for power-of-ten scalings; with
+    ``delta``, ``q`` is a difference (a spread): an offset unit scales only (5 degC -> 5 K)."""
     import pint
 
-    target = q._REGISTRY.parse_units(unit)
+    target = q._REGISTRY.parse_units(ALIASES.get(unit, unit))
     try:
         offset = q._REGISTRY.Quantity(0.0, q.units).to(target).magnitude
         factor = q._REGISTRY.Quantity(1.0, q.units).to(target).magnitude - offset
     except pint.DimensionalityError:
         raise ValueError(
             f"{field} = {q:~P} has units of {q.dimensionality}, but {field}"
-            + (f" ({long_name})" if long_name != field else "") + f" is in {unit}") from None
+            + (f" ({long_name})" if long_name != field else "") + f" is in {unit}"
+            + _slip_hint(q, target)) from None
     mag = np.asarray(q.magnitude, dtype=float)
-    if offset != 0.0:  # temperatures: degC, degF
+    if offset != 0.0 and not delta:  # temperatures: degC, degF
         return q.to(target).magnitude
     if factor == 1.0:
         return mag
@@ -79,9 +99,23 @@ def _convert(field: str, q, unit: str, long_name: str):
     return mag * factor
 
 
-def to_si(field: str, value, unit: str, long_name: str = ""):
+def _slip_hint(q, target) -> str:
+    """``"; 'C' is the coulomb in pint: did you mean "50 degC"?"`` where a temperature was
+    asked for and the unit given is pint's symbol of something else."""
+    if target.dimensionality != q._REGISTRY.parse_units("K").dimensionality:
+        return ""
+    for symbol, (what, meant) in _TEMPERATURE_SLIPS.items():
+        if q.units == q._REGISTRY.parse_units(symbol):
+            number = np.asarray(q.magnitude).reshape(-1)[0] if np.size(q.magnitude) else ""
+            return (f"; {symbol!r} is the {what} in pint: did you mean "
+                    f"\"{float(number):g} {meant}\"?")
+    return ""
+
+
+def to_si(field: str, value, unit: str, long_name: str = "", *, delta: bool = False):
     """``value`` in ``unit`` (the field's SI unit): a Quantity or unit string converted, a
     plain number or array returned as it is. A bare numeric string (``"5e-6"``) is a number.
+    ``delta``: the value is a difference or a spread (an offset unit only scales).
 
     Raises
     ------
@@ -98,7 +132,7 @@ def to_si(field: str, value, unit: str, long_name: str = ""):
         q = value
     else:
         return value
-    out = _convert(field, q, unit, long_name or field)
+    out = _convert(field, q, unit, long_name or field, delta)
     out = np.asarray(out, dtype=float)
     return float(out) if out.ndim == 0 else out
 

@@ -77,7 +77,7 @@ def test_store_equals_in_memory_and_resumes_after_interruption(ref, tmp_path):
     (dict(scene=SCENE.replace(e=0.7)), "scene e: stored null, now 0.7"),
     (dict(T=np.linspace(950.0, 1300.0, 3)), "grid T last: stored 1250.0, now 1300.0"),
     (dict(T=[950.0, 1200.0, 1250.0]), "grid T sha256"),
-    (dict(chunks=8), "chunks T: stored [1, 1, 1], now [2, 1]"),
+    (dict(chunks=8), "chunks T: stored 3 chunks [1, 1, 1], now 2 chunks [2, 1]"),
     (dict(nodes=8), "nodes: stored 16, now 8"),
 ])
 def test_a_different_sweep_is_refused_saying_what_differs(ref, tmp_path, change, what):

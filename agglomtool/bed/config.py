@@ -35,7 +35,10 @@ Every error names the file, the table and the key.
 
 from __future__ import annotations
 
-from .._config import ConfigError, _axis, parse_scene, read_toml
+import warnings
+
+from .._config import ConfigError, _axis, parse_scene, read_toml, warn_scene_findings
+from ..plausibility import BED_OWN, PlausibilityWarning, scene_findings
 from ..units import to_si
 from .mixture import Component
 
@@ -81,9 +84,17 @@ def _component(where, table) -> Component:
     if "d_fractions" in kw and isinstance(kw["d_fractions"], list):
         kw["d_fractions"] = tuple(kw["d_fractions"])
     try:
-        return Component(**kw)
+        with warnings.catch_warnings(record=True) as caught:  # say where, below
+            warnings.simplefilter("always", PlausibilityWarning)
+            comp = Component(**kw)
     except (ValueError, TypeError) as exc:
         raise ConfigError(f"{where}: {exc}") from None
+    for w in caught:
+        if issubclass(w.category, PlausibilityWarning):
+            warnings.warn(f"{where}: {w.message}", PlausibilityWarning, stacklevel=4)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return comp
 
 
 def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
@@ -117,6 +128,10 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
             grid.update(_grid_arrays({key: axis}))
         except ValueError as exc:
             raise ConfigError(f"{where}: {exc}") from None
+    # The scene's findings that still hold at the values the grid sweeps (the bed's own
+    # findings, its coating on each component, are bed_propensity's and bed_sweep's).
+    base = {k: v for k, v in scene.values().items() if k not in BED_OWN}
+    warn_scene_findings(scene, source, scene_findings({**base, **grid}))
     opts = dict(data.get("options", {}))
     unknown = sorted(set(opts) - {"nodes", "directions", "mix"})
     if unknown:

@@ -9,6 +9,8 @@ from scipy.special import ndtri
 
 from .. import materials
 from .._validate import check_range
+from ..plausibility import component_findings, warn_findings
+from ..units import is_quantity, to_si, to_si_array
 
 __all__ = ["Component", "MAX_CLASSES", "TAIL"]
 
@@ -23,7 +25,10 @@ class Component:
     """One component of a bed: a solid of the database, its mass fraction, sizes and coating.
 
     Give the sizes either as a lognormal (``d50``, ``gsd``, ``classes``) or as explicit
-    classes (``d`` and ``d_fractions``).
+    classes (``d`` and ``d_fractions``). Lengths are numbers in m, or quantities with units
+    (``d50="500 um"``, a pint Quantity) as everywhere (:mod:`agglomtool.units`). A size
+    outside the solid's typical range, a coating thicker than a film or an implausible
+    asperity height warns (:class:`agglomtool.PlausibilityWarning`), as a Scene does.
 
     Parameters
     ----------
@@ -65,6 +70,15 @@ class Component:
     ha: float | None = None
 
     def __post_init__(self) -> None:
+        for name, long_name in (("d50", "mass-median diameter"), ("h0", "coating thickness"),
+                                ("ha", "asperity height")):  # quantities, unit strings -> m
+            value = getattr(self, name)
+            if isinstance(value, str) or is_quantity(value):
+                object.__setattr__(self, name, to_si(name, value, "m", long_name))
+        if self.d is not None and not isinstance(self.d, str):
+            d = to_si_array("d", self.d if is_quantity(self.d) else list(self.d), "m",
+                            "class diameters")
+            object.__setattr__(self, "d", d)
         known = materials.names("solid")
         if not isinstance(self.solid, str) or materials._key(self.solid) not in known:
             raise ValueError(f"solid = {self.solid!r} is not in the materials database; known "
@@ -101,6 +115,7 @@ class Component:
             check_range("h0", self.h0, 0.0, unit="m")
         if self.ha is not None:
             check_range("ha", self.ha, 0.0, unit="m")
+        warn_findings(component_findings(self), stacklevel=4)
 
     @property
     def density(self) -> float:

@@ -56,6 +56,7 @@ from .._version import __version__
 from ..inputs import Particle
 from ..maps.meta import call_text, cf_units, global_attrs, provenance_attr
 from ..pair import wet_mass
+from ..plausibility import bed_findings, warn_findings
 from ..properties import umf
 from ..scene import (
     FIELD_META,
@@ -320,6 +321,7 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
     if not isinstance(scene, Scene):
         raise ValueError(f"scene = {scene!r} must be an agglomtool.Scene")
     comps = _check_components(components)
+    warn_findings(bed_findings(scene.values(), comps), stacklevel=3)
     ev = _evaluate(scene, comps, {}, _fractions(comps, None, None), nodes, directions)
     E, by_class, by_comp, total = _contributions(ev)
     coords = {**_class_coords(comps, ev, "cls"), **_class_coords(comps, ev, "cls_i"),
@@ -467,7 +469,8 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
         ``propensity_by_component`` (+ ``component``), ``propensity_by_class`` (+ ``cls``),
         ``Umf``, ``U`` and, with ``matrix``, ``efficiency`` (+ ``cls_i``, ``cls_j``); a
         long_name on every variable and coordinate, CF units on every number; global
-        attributes as :func:`bed_propensity`'s.
+        attributes as :func:`bed_propensity`'s. Where ``U`` is swept, ``ds["U"]`` is its
+        coordinate (no output repeats it).
 
     Notes
     -----
@@ -478,6 +481,7 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
         raise ValueError(f"scene = {scene!r} must be an agglomtool.Scene")
     comps = _check_components(components)
     axes = _grid_arrays(grid)
+    warn_findings(bed_findings(scene.values(), comps, axes), stacklevel=3)
     if "fraction" in axes and mix is None:
         raise ValueError("grid fraction needs mix = the component (index or solid name) whose "
                          "mass fraction it sets")
@@ -517,6 +521,8 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
             "m/s", "minimum fluidization velocity of the bed")),
         "U": (dims, ev["U"].reshape(shape), _attrs("m/s", "superficial gas velocity")),
     }
+    if "U" in coords:  # swept: the coordinate is the superficial gas velocity
+        del data["U"]
     if matrix:
         coords.update(_class_coords(comps, ev, "cls_i"))
         coords.update(_class_coords(comps, ev, "cls_j"))

@@ -21,13 +21,11 @@ Every error names the file, the table and the key.
 
 from __future__ import annotations
 
-import warnings
-
-from .._config import ConfigError, _axis, parse_scene, read_toml
-from ..plausibility import PlausibilityWarning
+from .._config import ConfigError, _axis, parse_scene, read_toml, warn_scene_findings
 from ..scene import CATEGORICAL_FIELDS, Scene, field_names
 
-__all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "read_toml"]
+__all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "parse_scene",
+           "warn_scene_findings", "read_toml"]
 
 
 class MapConfig:
@@ -43,7 +41,7 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
     if unknown:
         raise ConfigError(f"{source}: unknown table [{unknown[0]}]; allowed: [scene], [grid], "
                           "[options]")
-    scene = parse_scene(data.get("scene", {}), source, stacklevel=3)
+    scene = parse_scene(data.get("scene", {}), source)
     fields = field_names()
     grid_data = data.get("grid", {})
     if not isinstance(grid_data, dict) or not grid_data:
@@ -71,16 +69,16 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
                              or chunks < 1):
         raise ConfigError(f"{source}: [options] chunks: must be \"auto\" or an integer >= 1, "
                           f"got {chunks!r}")
-    # Validate the grid against the scene now, so the error names the key.
-    from .grid import _grid_values
+    # The grid is validated now, once, at the values it sweeps (not at the scene's values
+    # of the fields it sweeps), so that an error names the key.
+    from .grid import GridError, _grid_values, grid_findings
 
-    for key, axis in grid.items():
-        try:
-            with warnings.catch_warnings():  # plausibility is the sweep's to say, once
-                warnings.simplefilter("ignore", PlausibilityWarning)
-                _grid_values(scene, {key: axis})
-        except ValueError as exc:
-            raise ConfigError(f"{source}: [grid] {key}: {exc}") from None
+    try:
+        axes = _grid_values(scene, grid, plausibility=False)  # the sweep says those, once
+    except GridError as exc:
+        where = f"[grid] {exc.field}" if exc.field else "[scene]"
+        raise ConfigError(f"{source}: {where}: {exc}") from None
+    warn_scene_findings(scene, source, grid_findings(scene.values(), axes))
     return MapConfig(scene, grid, {"nodes": nodes, "chunks": chunks})
 
 

@@ -9,7 +9,9 @@ expensive part (about 1e5 solves/s), so a grid whose speed axes are long is chea
 
 from __future__ import annotations
 
+import itertools
 import json
+import re
 
 import dask
 import numpy as np
@@ -38,7 +40,7 @@ from .meta import (
     variable_attrs,
 )
 
-__all__ = ["sweep", "build", "GROUPS", "DEFAULT_BLOCK"]
+__all__ = ["sweep", "build", "GROUPS", "DEFAULT_BLOCK", "GridError", "grid_findings"]
 
 #: Default number of grid points per dask block (bounded memory: about 30 MB of
 #: temporaries per collision batch).
@@ -64,53 +66,100 @@ GROUPS = {
 }
 
 
-def _grid_values(scene: Scene, grid: dict) -> dict:
-    """Validate the grid: 1-D, known fields, values the scene accepts."""
+class GridError(ValueError):
+    """A grid that cannot be swept; ``field`` is the swept field the message blames (None
+    where it blames none of them)."""
+
+    def __init__(self, message: str, field: str | None = None):
+        super().__init__(message)
+        self.field = field
+
+
+def _blamed(message: str, names) -> str | None:
+    """The swept field (of ``names``) whose value ``message`` states first, if any."""
+    found = [(m.start(), k) for k in names
+             for m in [re.search(rf"(?<![\w.]){re.escape(k)} = ", message)] if m]
+    return min(found)[1] if found else None
+
+
+def _axes(base: dict, grid: dict) -> dict:
+    """Each axis alone: a known field, 1-D, non-empty, unique, in SI; names as strings."""
     out = {}
-    base = scene.values()
     for name, values in grid.items():
         if name == "body_forces":
-            raise ValueError("body_forces cannot be swept; run two sweeps")
+            raise GridError("body_forces cannot be swept; run two sweeps", name)
         if name not in base:
-            raise ValueError(f"{name!r} is not a Scene field; fields: {sorted(base)}")
+            raise GridError(f"{name!r} is not a Scene field; fields: {sorted(base)}", name)
         if name in CATEGORICAL_FIELDS:
             vals = [values] if isinstance(values, str) else list(values)
             if not vals or not all(isinstance(v, str) for v in vals):
-                raise ValueError(f"grid {name} must be a non-empty list of names, got {values!r}")
-            for v in vals:
-                validate({**base, name: v})
+                raise GridError(f"grid {name} must be a non-empty list of names, got "
+                                f"{values!r}", name)
             arr = np.array(vals)
         else:
             unit, long_name = FIELD_META[name]
-            values = to_si_array(name, values, unit, long_name)
+            try:
+                values = to_si_array(name, values, unit, long_name)
+            except ValueError as exc:
+                raise GridError(str(exc), name) from None
             try:
                 arr = np.atleast_1d(np.asarray(values, dtype=float))
             except (TypeError, ValueError):
-                raise ValueError(f"grid {name} must be numbers (SI) or quantities with units, "
-                                 f"got {values!r}") from None
+                raise GridError(f"grid {name} must be numbers (SI) or quantities with units, "
+                                f"got {values!r}", name) from None
             if arr.ndim != 1 or arr.size == 0:
-                raise ValueError(f"grid {name} must be a non-empty 1-D list of numbers, "
-                                 f"got shape {arr.shape}")
-            validate({**base, name: arr})
+                raise GridError(f"grid {name} must be a non-empty 1-D list of numbers, "
+                                f"got shape {arr.shape}", name)
         if len(np.unique(arr)) != arr.size:
-            raise ValueError(f"grid {name} repeats a value; coordinates must be unique")
+            raise GridError(f"grid {name} repeats a value; coordinates must be unique", name)
         out[name] = arr
-    _check_properties(base, out)
-    numeric = {k: v for k, v in out.items() if k not in CATEGORICAL_FIELDS}
-    before = set(scene_findings(base))  # the Scene warned of these already
-    found = scene_findings({**base, **numeric})
-    for name in (k for k in out if k in CATEGORICAL_FIELDS):  # names: check each value
-        for v in out[name]:
-            found += scene_findings({**base, **numeric, name: str(v)})
-    warn_findings([f for f in dict.fromkeys(found) if f not in before], stacklevel=4)
+    return out
+
+
+def _combinations(base: dict, axes: dict):
+    """The scene's values as the grid sweeps them, one dict per combination of its names:
+    every swept number as its whole axis (checks see its extremes), every swept name at
+    each of its values together with each value of the other swept names."""
+    numeric = {k: v for k, v in axes.items() if k not in CATEGORICAL_FIELDS}
+    names = [k for k in axes if k in CATEGORICAL_FIELDS]
+    for combo in itertools.product(*[[str(v) for v in axes[k]] for k in names]):
+        yield {**base, **numeric, **dict(zip(names, combo, strict=True))}
+
+
+def grid_findings(base: dict, axes: dict) -> list:
+    """The plausibility findings of the scene ``base`` swept over ``axes`` (validated
+    axes), at the values swept (not at the scene's values of the swept fields)."""
+    found = []
+    for values in _combinations(base, axes):
+        found += scene_findings(values)
+    return list(dict.fromkeys(found))
+
+
+def _grid_values(scene: Scene, grid: dict, *, plausibility: bool = True) -> dict:
+    """Validate the grid, once, at the values swept: each axis alone (1-D, known field,
+    units, unique), then every field the model reads together, with each swept field at its
+    swept values and never at the scene's value for it (numbers as whole axes, names in
+    every combination), properties included. Raises :class:`GridError` naming the swept
+    field it blames; warns the plausibility findings the scene has not said already."""
+    base = scene.values()
+    out = _axes(base, grid)
+    try:
+        for values in _combinations(base, out):
+            validate(values)
+        _check_properties(base, out)
+    except ValueError as exc:
+        raise GridError(str(exc), _blamed(str(exc), out)) from None
+    if plausibility:
+        before = set(scene_findings(base))  # the Scene warned of these already
+        warn_findings([f for f in grid_findings(base, out) if f not in before], stacklevel=4)
     speed = base["speed"]
     needs = {"u0": ("fixed", "lognormal"), "sigma_ln": ("lognormal",),
              "granular_temperature": ("maxwellian",), "fluctuation_ratio": ("excess-gas",)}
     if "speed" not in grid:
         for name, families in needs.items():
             if name in grid and speed not in families:
-                raise ValueError(f"grid {name} has no effect with speed = {speed!r}; set the "
-                                 f"scene's speed to one of {list(families)}")
+                raise GridError(f"grid {name} has no effect with speed = {speed!r}; set the "
+                                f"scene's speed to one of {list(families)}", name)
     return out
 
 
@@ -218,6 +267,8 @@ def build(scene: Scene, *, chunks="auto", nodes: int = 16, **grid) -> xr.Dataset
             vals = func(*[a.values for a in args])
             res = tuple(xr.DataArray(v) for v in vals)
         for name, da in zip(outs, res, strict=True):
+            if name in coords:  # U swept: the output would be its coordinate, once again
+                continue
             data[name] = da.assign_attrs(variable_attrs(name)).drop_vars(
                 [c for c in da.coords if c not in coords], errors="ignore")
     ds = xr.Dataset(data, coords=coords)
@@ -329,7 +380,9 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         ``u_star``, ``Ca_star``, ``regime``, ``u_typical``, ``St``, ``e_w``,
         ``agglomerated``, ``stage``, ``propensity`` and ``margin``, each over the grid
         dimensions it depends on; coded outputs (``stage``, ``regime``, ``u_star_flag``,
-        ``agglomerated``) carry CF ``flag_values`` and ``flag_meanings``. Attributes
+        ``agglomerated``) carry CF ``flag_values`` and ``flag_meanings``. ``ds["U"]`` is
+        always the superficial gas velocity: the output ``U_Umf * Umf`` where ``U`` is not
+        swept, and the coordinate ``U`` where it is (the output would repeat it). Attributes
         (CF-1.8, see :mod:`agglomtool.maps.meta`) record the call (``source``), the agglomtool
         version, model tier, base scene, the provenance of every input (JSON), the database
         values that are assumptions and the materials' sources (JSON).

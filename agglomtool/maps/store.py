@@ -56,7 +56,8 @@ import xarray as xr
 from .cluster import _blocks, _owned, run_blocks
 
 __all__ = ["run_with_store", "open_store", "export_netcdf", "fingerprint", "progress_callback",
-           "Progress", "StoreWarning", "StoreLockedError", "FORMAT_VERSION"]
+           "Progress", "StoreWarning", "StoreLockedError", "StoreMismatchError",
+           "FORMAT_VERSION"]
 
 #: Version of the store layout; a store of another layout version is refused.
 FORMAT_VERSION = 2
@@ -69,6 +70,20 @@ _OURS = {_RECORD, _DATA, _DONE, _LOCK, _OWNER}
 
 class StoreWarning(UserWarning):
     """A store was repaired: unreadable or mismatching blocks or records are recomputed."""
+
+
+class StoreMismatchError(ValueError):
+    """A store holds a different sweep. ``str()`` gives the way out in the API's terms
+    (``overwrite=True``); :meth:`for_cli` in the command line's (``--overwrite``)."""
+
+    def __init__(self, what: str):
+        self.what = what
+        super().__init__(f"{what}. Use another store, or pass overwrite=True to discard it "
+                         "and start again")
+
+    def for_cli(self) -> str:
+        return (f"{self.what}. Give another --store (or -o), or add --overwrite to discard "
+                "it and start again")
 
 
 class StoreLockedError(ValueError):
@@ -200,7 +215,14 @@ def _sha(fp: dict) -> str:
     return hashlib.sha256(json.dumps(fp, sort_keys=True).encode()).hexdigest()
 
 
-def _short(value) -> str:
+def _short(value, path: str = "") -> str:
+    """A stored or new value as the refusal prints it: a dimension's chunk sizes counted,
+    with a few of them (``30 chunks [1, 1, 1, ..., 1]``); other values as JSON, cut at 80
+    characters."""
+    if path.startswith("chunks ") and isinstance(value, list):
+        n = len(value)
+        shown = value if n <= 4 else [*value[:3], "...", value[-1]]
+        return f"{n} chunk{'s' if n != 1 else ''} [{', '.join(str(v) for v in shown)}]"
     text = json.dumps(value, sort_keys=True)
     return text if len(text) <= 80 else text[:77] + "..."
 
@@ -213,9 +235,11 @@ def _differences(old: dict, new: dict) -> list[str]:
         if isinstance(a, dict) and isinstance(b, dict):
             for k in sorted(set(a) | set(b), key=str):
                 if k not in a:
-                    out.append((path, f"{path}{k}: not in the store, now {_short(b[k])}"))
+                    out.append((path, f"{path}{k}: not in the store, now "
+                                      f"{_short(b[k], f'{path}{k}')}"))
                 elif k not in b:
-                    out.append((path, f"{path}{k}: stored {_short(a[k])}, now absent"))
+                    out.append((path, f"{path}{k}: stored {_short(a[k], f'{path}{k}')}, "
+                                      "now absent"))
                 else:
                     walk(a[k], b[k], f"{path}{k} ")
         elif a != b:
@@ -226,7 +250,8 @@ def _differences(old: dict, new: dict) -> list[str]:
                         else f"stored from {fa}, now from {fb}")
                 out.append((leaf.rpartition(" ")[0], f"{leaf}: {what}"))
                 return
-            out.append((leaf.rpartition(" ")[0], f"{leaf}: stored {_short(a)}, now {_short(b)}"))
+            out.append((leaf.rpartition(" ")[0],
+                        f"{leaf}: stored {_short(a, leaf)}, now {_short(b, leaf)}"))
 
     walk(old, new, "")
     # a grid dimension's hash is only worth a line when its size, first and last agree
@@ -417,16 +442,14 @@ def _prepare(ds: xr.Dataset, path: Path, fp: dict, overwrite: bool) -> None:
         stored = record["fingerprint"]
     if stored is not None and _sha(stored) != sha:
         lines = _differences(stored, fp)
-        raise ValueError(
-            f"store '{path}' holds a different sweep; what differs: " + "; ".join(lines)
-            + ". Use another store, or pass overwrite=True to discard it and start again")
+        raise StoreMismatchError(
+            f"store '{path}' holds a different sweep; what differs: " + "; ".join(lines))
     zsha = _zarr_sha(path)
     if stored is None and zsha is not None and zsha != sha:
-        raise ValueError(
+        raise StoreMismatchError(
             f"store '{path}' holds a different sweep (its fingerprint {zsha[:12]} is not "
             f"this sweep's {sha[:12]}; its record {_RECORD} is missing or unreadable, so the "
-            "differences cannot be listed). Use another store, or pass overwrite=True to "
-            "discard it and start again")
+            "differences cannot be listed)")
     if zsha != sha:
         if (path / _DONE).exists() and any((path / _DONE).iterdir()):
             warnings.warn(f"store '{path}': the zarr layout is missing or unreadable; every "

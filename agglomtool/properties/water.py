@@ -25,6 +25,7 @@ __all__ = [
 
 _LIQUID = {CP.iphase_liquid, CP.iphase_supercritical_liquid}
 _T_CRIT = 647.096  # K, IAPWS
+_P_TRIPLE = 611.655  # Pa, IAPWS (CoolProp's ptriple for Water: 611.6548 Pa)
 
 
 @cache
@@ -111,7 +112,11 @@ def _from_tables(T, P, mu, rho) -> np.ndarray:
 
 def _liquid_states(T, P):
     T = check_range("T", T, 273.16, _T_CRIT, lo_open=False, hi_open=True, unit="K")
-    P = check_range("P", P, 0.0, 1e9, lo_open=True, unit="Pa")
+    try:
+        P = check_range("P", P, _P_TRIPLE, 1e9, unit="Pa")
+    except ValueError as exc:  # below the triple point CoolProp has no saturation state
+        raise ValueError(f"{exc}: below water's triple-point pressure ({_P_TRIPLE:g} Pa) no "
+                         "liquid water exists; pressures are absolute, in Pa") from None
     T, P = np.broadcast_arrays(T, P)
     mu = np.empty(T.shape)
     rho = np.empty(T.shape)

@@ -8,8 +8,14 @@ draws that fall outside are replaced by draws from the distribution conditioned 
 through the inverse CDF). The number of replaced draws is returned so that it can be
 reported.
 
-Values are given in ``units`` (default: the SI unit of the input they describe) and
-converted to SI once, at the boundary, by :func:`to_si`.
+Values are given in ``units`` (default: the SI unit of the input they describe), or each
+as a quantity with its unit (``Normal("50 degC", 5)``, ``Normal("500 um", "50 um")``, a
+pint Quantity), and converted to SI once, at the boundary, by :func:`to_si` through
+:mod:`agglomtool.units`, the one conversion every number a person types goes through.
+Locations (``mean``, ``low``, ``high``, ``lo``, ``hi``) are converted as values
+(``50 degC`` is 323.15 K), spreads (``sd``) as differences (``5 degC`` is 5 K). A bare
+number is in ``units``, or without ``units`` in the input's SI unit (so in
+``Normal("50 degC", 5)`` the ``sd`` is 5 K).
 """
 
 from __future__ import annotations
@@ -20,36 +26,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.special import ndtr, ndtri
 
-__all__ = ["Distribution", "Normal", "LogNormal", "Uniform", "UNIT_FACTORS", "to_si"]
+__all__ = ["Distribution", "Normal", "LogNormal", "Uniform", "to_si"]
 
-#: Units accepted in a distribution's ``units`` field: name -> (SI unit, factor to SI).
-UNIT_FACTORS: dict[str, tuple[str, float]] = {
-    "m": ("m", 1.0),
-    "mm": ("m", 1e-3),
-    "um": ("m", 1e-6),
-    "µm": ("m", 1e-6),
-    "micrometer": ("m", 1e-6),
-    "nm": ("m", 1e-9),
-    "kg/m3": ("kg/m^3", 1.0),
-    "kg/m^3": ("kg/m^3", 1.0),
-    "g/cm3": ("kg/m^3", 1e3),
-    "g/cm^3": ("kg/m^3", 1e3),
-    "Pa s": ("Pa s", 1.0),
-    "Pa*s": ("Pa s", 1.0),
-    "mPa s": ("Pa s", 1e-3),
-    "mPa*s": ("Pa s", 1e-3),
-    "cP": ("Pa s", 1e-3),
-    "N/m": ("N/m", 1.0),
-    "mN/m": ("N/m", 1e-3),
-    "m/s": ("m/s", 1.0),
-    "cm/s": ("m/s", 1e-2),
-    "mm/s": ("m/s", 1e-3),
-    "deg": ("degree", 1.0),
-    "degree": ("degree", 1.0),
-    "dimensionless": ("dimensionless", 1.0),
-    "1": ("dimensionless", 1.0),
-    "-": ("dimensionless", 1.0),
-}
+#: Parameters that are values (converted with a unit's offset) and spreads (differences).
+_LOCATIONS = ("mean", "low", "high", "lo", "hi")
+_SPREADS = ("sd",)
 
 
 def _check_bounds(kind: str, lo, hi) -> tuple[float, float]:
@@ -73,6 +54,36 @@ class Distribution:
 
     def _draw_into(self, rng: np.random.Generator, out: np.ndarray) -> None:
         out[...] = self._draw(rng, out.size)
+
+    def _params(self) -> dict:
+        return {k: getattr(self, k) for k in _LOCATIONS + _SPREADS if hasattr(self, k)}
+
+    def _with_units(self) -> bool:
+        """True where a parameter carries a unit (or ``units`` is given): the law is then
+        checked as numbers once :func:`to_si` has converted it, and each parameter with a
+        unit is checked to be a number with a unit pint knows now."""
+        from ..units import _parse, is_quantity
+
+        units = getattr(self, "units", None)  # (a user's law may have no units field)
+        given = {k: v for k, v in self._params().items() if isinstance(v, str) or is_quantity(v)}
+        if units is None and not given:
+            return False
+        if units is not None:
+            if not isinstance(units, str):
+                raise ValueError(f"{type(self).__name__}: units = {units!r} must be a "
+                                 "unit (a string such as \"um\" or \"degC\")")
+            from ..units import quantity
+
+            quantity("units", 1.0, units, units)
+        for k, v in given.items():
+            if isinstance(v, str):
+                _parse(k, v)
+        for k, v in self._params().items():
+            if k not in given and v is not None and (isinstance(v, bool) or not isinstance(
+                    v, int | float | np.integer | np.floating)):
+                raise ValueError(f"{type(self).__name__}: {k} = {v!r} is not a number or a "
+                                 "quantity with a unit")
+        return True
 
     def bounds(self) -> tuple[float, float]:
         """The user's truncation bounds ``(lo, hi)`` in the distribution's units."""
@@ -103,6 +114,9 @@ class Distribution:
         return self._ppf_trunc(u, lo, hi)
 
     def _effective_bounds(self, lo: float, hi: float) -> tuple[float, float]:
+        if self._with_units():
+            raise ValueError(f"{self!r} has units: its numbers are known once it describes an "
+                             "input (monte_carlo, sobol_indices, or to_si(name, law, unit))")
         s_lo, s_hi = self.bounds()
         lo, hi = max(lo, s_lo), min(hi, s_hi)
         if not lo < hi or self.mass(lo, hi) <= 0.0:
@@ -210,8 +224,9 @@ class Normal(Distribution):
         Truncation bounds, in ``units``. The input's physical range (e.g. a diameter > 0)
         always applies as well.
     units : str, optional
-        Units of ``mean``, ``sd``, ``lo``, ``hi`` (a key of :data:`UNIT_FACTORS`); default:
-        the SI unit of the input.
+        Units of the bare numbers among ``mean``, ``sd``, ``lo``, ``hi`` (any unit pint
+        knows: ``"um"``, ``"degC"``, ``"mPa s"``, ...); default: the SI unit of the input.
+        Each parameter may also be a quantity with its own unit (``"50 degC"``).
 
     Notes
     -----
@@ -227,6 +242,8 @@ class Normal(Distribution):
     units: str | None = None
 
     def __post_init__(self) -> None:
+        if self._with_units():
+            return  # checked in SI by to_si
         if not (math.isfinite(self.mean) and math.isfinite(self.sd) and self.sd >= 0.0):
             raise ValueError(
                 f"Normal: mean = {self.mean!r} must be finite and sd = {self.sd!r} in [0, inf)"
@@ -285,7 +302,8 @@ class LogNormal(Distribution):
     lo, hi : float, optional
         Truncation bounds, in ``units``.
     units : str, optional
-        Units of the parameters (a key of :data:`UNIT_FACTORS`); default SI.
+        Units of the bare numbers among the parameters (any unit pint knows); default SI.
+        Each parameter may also be a quantity with its own unit (``"40 degC"``).
     """
 
     mean: float
@@ -295,6 +313,8 @@ class LogNormal(Distribution):
     units: str | None = None
 
     def __post_init__(self) -> None:
+        if self._with_units():
+            return  # checked in SI by to_si
         if not (math.isfinite(self.mean) and self.mean > 0.0 and math.isfinite(self.sd)
                 and self.sd >= 0.0):
             raise ValueError(
@@ -366,7 +386,8 @@ class Uniform(Distribution):
     lo, hi : float, optional
         Truncation bounds, in ``units`` (rarely needed: narrow the support instead).
     units : str, optional
-        Units of the parameters (a key of :data:`UNIT_FACTORS`); default SI.
+        Units of the bare numbers among the parameters (any unit pint knows); default SI.
+        Each parameter may also be a quantity with its own unit (``"40 degC"``).
     """
 
     low: float
@@ -376,6 +397,8 @@ class Uniform(Distribution):
     units: str | None = None
 
     def __post_init__(self) -> None:
+        if self._with_units():
+            return  # checked in SI by to_si
         if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
             raise ValueError(
                 f"Uniform: low = {self.low!r} and high = {self.high!r} must be finite, low < high"
@@ -412,29 +435,40 @@ class Uniform(Distribution):
 
 
 def to_si(name: str, dist: Distribution, si_unit: str) -> Distribution:
-    """``dist`` with its parameters converted from ``dist.units`` to ``si_unit``.
+    """``dist`` with every parameter in ``si_unit``: parameters with a unit, and bare numbers
+    when ``dist.units`` is given, converted by :func:`agglomtool.units.to_si` (locations
+    as values, ``sd`` as a difference); bare numbers without ``units`` are SI already.
 
     Raises
     ------
     ValueError
-        If ``dist`` is not a :class:`Distribution`, or its ``units`` are unknown or of
-        another dimension than ``si_unit``.
+        If ``dist`` is not a :class:`Distribution`, a unit is unknown or of another
+        dimension than ``si_unit`` (naming the parameter), or the law in SI is not valid.
     """
+    from .. import units
+
     if not isinstance(dist, Distribution):
         raise ValueError(
             f"uncertain[{name!r}] must be a Normal, LogNormal or Uniform, got {dist!r}"
         )
-    if dist.units is None:
+    if not dist._with_units():
         return dist
+    out = {}
+    for key, value in dist._params().items():
+        if value is None:
+            out[key] = None
+            continue
+        if not (isinstance(value, str) or units.is_quantity(value)):
+            if dist.units is None:
+                out[key] = float(value)  # SI, as typed
+                continue
+            value = units.quantity(key, float(value), dist.units)
+        try:
+            out[key] = float(units.to_si(key, value, si_unit, delta=key in _SPREADS))
+        except ValueError as exc:
+            raise ValueError(f"uncertain[{name!r}]: {exc} (the unit of {name}: "
+                             f"{si_unit!r})") from None
     try:
-        unit, factor = UNIT_FACTORS[dist.units]
-    except KeyError:
-        raise ValueError(
-            f"uncertain[{name!r}]: units = {dist.units!r} is not one of {sorted(UNIT_FACTORS)}"
-        ) from None
-    if unit != si_unit:
-        raise ValueError(
-            f"uncertain[{name!r}]: units = {dist.units!r} is a {unit!r} unit; "
-            f"{name} is in {si_unit!r}"
-        )
-    return dist.in_units(factor)
+        return replace(dist, **out, units=None)
+    except ValueError as exc:
+        raise ValueError(f"uncertain[{name!r}] in {si_unit}: {exc}") from None
