@@ -138,3 +138,4 @@ def read_toml(path) -> dict:
     except RecursionError:
         raise ConfigError(f"{path}: nested too deeply to be a configuration") from None
     return data
+

@@ -139,6 +139,36 @@ def _parse_sel(items) -> dict:
     return sel
 
 
+def _cmd_compare(args: argparse.Namespace) -> int:
+    """Compare the options of one field under paired draws of the uncertain inputs."""
+    from .uncertainty.compare import compare
+    from .uncertainty.config import load_compare_config
+
+    cfg = load_compare_config(args.config)
+    n = args.n if args.n is not None else cfg.n
+    ds = compare(cfg.scene, uncertain=cfg.uncertain, n=n, seed=cfg.seed,
+                 **{cfg.field: cfg.options})
+    q = ds.propensity_quantile
+    what = ("the values the database assumes" if cfg.uncertain == "assumed"
+            else ds.attrs["uncertain_inputs"])
+    print(f"{cfg.field}: propensity over {n} plausible inputs (paired draws; uncertain: "
+          f"{what})")
+    print(f"  {'option':18s} {'mean':>6s} {'5 %':>6s} {'50 %':>6s} {'95 %':>6s}")
+    for opt in ds.option.values:
+        row = [float(ds.propensity_mean.sel(option=opt))] + [
+            float(q.sel(option=opt, quantile=p)) for p in (0.05, 0.5, 0.95)]
+        print(f"  {opt:18s} " + " ".join(f"{v:6.3f}" for v in row))
+    for line in ds.attrs["verdicts"].splitlines():
+        print(line)
+    if ds.attrs.get("assumed_not_drawn"):
+        print(f"assumed but not drawn: {ds.attrs['assumed_not_drawn']}")
+    if args.output:
+        ds.attrs["history"] = _command(args)
+        ds.to_netcdf(args.output)
+        print(f"wrote {args.output}")
+    return 0
+
+
 def _cmd_plot(args: argparse.Namespace) -> int:
     """Draw the operating window of a map file."""
     from .plots import operating_window
@@ -326,6 +356,15 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
                     "a name), e.g. --sel d_i=500e-6 --sel \"d_i=500 um\" --sel solid_j=ilmenite; "
                     "repeatable")
     pl.set_defaults(func=_cmd_plot)
+
+    cm = sub.add_parser("compare", help="which option sticks less, under the uncertain "
+                        "inputs: decided, or not? (TOML)")
+    cm.add_argument("config", help="TOML file with [scene], [compare], [uncertain], [options]")
+    cm.add_argument("-n", type=int, default=None, metavar="N",
+                    help="paired draws per option (default: the file's [options] n, else "
+                         "4096)")
+    cm.add_argument("-o", "--output", help="also write the comparison as netCDF")
+    cm.set_defaults(func=_cmd_compare)
 
     co = sub.add_parser("collide", help="one collision of a scene, as a readable report",
                         description="One collision of a scene: properties, outcome, u0*. "

@@ -26,7 +26,7 @@ from sphinx.util import logging
 logger = logging.getLogger(__name__)
 
 #: Sub-commands whose ``--help`` the CLI page shows, in the page's order.
-CLI_COMMANDS = ("reference", "map", "plot", "collide", "bed", "materials")
+CLI_COMMANDS = ("reference", "map", "plot", "collide", "compare", "bed", "materials")
 
 #: The gallery's order: the paper first, then the designer's questions.
 GALLERY_ORDER = (

@@ -1,0 +1,71 @@
+"""``agglomtool compare CONFIG``: a comparison a designer can act on, from a file."""
+
+import textwrap
+from pathlib import Path
+
+import pytest
+import xarray as xr
+
+from agglomtool.cli import main
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "configs" / "biomass_compare.toml"
+
+
+def test_the_example_comparison_prints_a_verdict_per_pair(capsys, tmp_path):
+    out = tmp_path / "cmp.nc"
+    assert main(["compare", str(EXAMPLE), "-n", "512", "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "propensity over 512 plausible inputs" in text
+    verdicts = [line for line in text.splitlines()
+                if line.startswith(("decided", "not decided", "no difference"))]
+    assert len(verdicts) == 3
+    assert "assumed but not drawn: k-silicate-ash-melt composition_wt" in text
+    ds = xr.open_dataset(out)
+    assert list(ds.option.values) == ["silica-sand", "ilmenite", "olivine"]
+    assert ds.attrs["history"].startswith(("agglomtool compare", "python"))
+    ds.close()
+
+
+SCENE = """
+[scene]
+liquid = "water"
+T = "25 degC"
+d_i = "300 um"
+h0 = "5 um"
+"""
+
+
+@pytest.mark.parametrize("body, match", [
+    (SCENE, r"\[compare\] must hold exactly one field"),
+    (SCENE + '[compare]\nsolid_j = ["ilmenite"]\n', "two or more options"),
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\nh0 = [1e-6, 2e-6]\n',
+     "exactly one field"),
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\n'
+     'h0 = { law = "gamma", mean = 1e-6, sd = 1e-7 }\n', "law = 'gamma' is not one of"),
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\n'
+     'h0 = { law = "normal", mean = "5 um" }\n', "missing: sd"),
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\nha = 1\n',
+     r"\[uncertain\] ha: not a numeric Scene field"),
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[options]\nn = 0\n',
+     r"\[options\] n: must be an integer >= 1"),
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "granite"]\n', "option 'granite'"),
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[extra]\n', "unknown table"),
+])
+def test_bad_files_get_one_line_naming_the_key(tmp_path, capsys, body, match):
+    path = tmp_path / "c.toml"
+    path.write_text(textwrap.dedent(body))
+    assert main(["compare", str(path), "-n", "16"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("agglomtool: error:") and len(err.strip().splitlines()) == 1
+    import re
+
+    assert re.search(match, err), err
+
+
+def test_a_user_law_with_units_from_the_file(tmp_path, capsys):
+    path = tmp_path / "c.toml"
+    path.write_text(textwrap.dedent(SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n'
+                                    '[uncertain]\nassumed = true\n'
+                                    'h0 = { law = "normal", mean = "5 um", sd = "1 um" }\n'))
+    assert main(["compare", str(path), "-n", "64"]) == 0
+    assert "h0" in capsys.readouterr().out
