@@ -212,8 +212,13 @@ def test_a_verdict_is_decided_only_past_the_threshold():
         "in 1 %."]
     assert fake(0.03, 0.6).pipe(verdicts)[0].startswith(
         "not decided (a decision needs 90 %): b sticks less than a in 60 %")
-    # a share just below the threshold is not printed as the threshold
-    assert "in 89.6 % of plausible" in fake(0.896, 0.05).pipe(verdicts)[0]
+    # a share just below the threshold is not printed as the threshold, and a verdict
+    # within Monte Carlo error of it says so (n = 4096: standard error 0.48 %)
+    near = fake(0.896, 0.05).assign_attrs(n_samples_per_option=4096)
+    assert "in 89.6 % of plausible" in verdicts(near)[0]
+    assert "within 3 Monte Carlo standard errors, 0.5 %, of 90 %" in verdicts(near)[0]
+    far = fake(0.70, 0.05).assign_attrs(n_samples_per_option=4096)
+    assert "Monte Carlo" not in verdicts(far)[0]
     assert "depends on h0 (first-order index 0.80)" in fake(0.03, 0.6).pipe(verdicts)[0]
 
 

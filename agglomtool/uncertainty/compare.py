@@ -239,5 +239,11 @@ def verdicts(ds: xr.Dataset) -> list[str]:
                        if name and idx >= INDEX_MIN else
                        "no single input explains the difference (largest first-order index "
                        f"{idx:.2f}{': ' + _input_text(name) if name else ''})")
-                out.append(f"not decided (a decision needs {_pct(DECIDED)}): {what}; {why}.")
+                n = int(ds.attrs.get("n_samples_per_option", 0))
+                se = (p_less * (1.0 - p_less) / n) ** 0.5 if n else 0.0
+                close = (f" ({_pct(p_less)} is within 3 Monte Carlo standard errors, "
+                         f"{100 * se:.1f} %, of {_pct(DECIDED)}: more draws would tell)"
+                         if n and abs(p_less - DECIDED) < 3.0 * se else "")
+                out.append(f"not decided (a decision needs {_pct(DECIDED)}): {what}; {why}"
+                           f"{close}.")
     return out
