@@ -755,11 +755,33 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                          ("Fixed: " + ", ".join(_fixed_items(ds, sub, scene)))
                          if _fixed_items(ds, sub, scene) else None,
                          _assumed_text(ds, sub, scene)) if t]
+    if contoured:
+        _labels_inside(fig, axs)
     _place_texts(fig, axs, title, legend, notes)
     fig.layout = layout
     if path is not None:
         fig.savefig(path, dpi=150, bbox_inches="tight")
     return fig
+
+
+def _labels_inside(fig, axs) -> None:
+    """Move a contour label that sticks out of its panel (a line next to an edge) inside,
+    beside its line, so that no label is clipped."""
+    from matplotlib.text import Text
+
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    for ax in axs.ravel():
+        box = ax.get_window_extent(r)
+        for t in ax.texts:
+            if not isinstance(t, Text) or t.get_transform() != ax.transData:
+                continue
+            ext = t.get_window_extent(r)
+            dx = max(0.0, box.x0 - ext.x0) - max(0.0, ext.x1 - box.x1)
+            dy = max(0.0, box.y0 - ext.y0) - max(0.0, ext.y1 - box.y1)
+            if dx or dy:
+                px, py = ax.transData.transform(t.get_position())
+                t.set_position(ax.transData.inverted().transform((px + dx, py + dy)))
 
 
 def _place_texts(fig, axs, title: str, legend: list, notes: list) -> None:

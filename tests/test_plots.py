@@ -275,3 +275,22 @@ def test_each_picture_is_a_new_figure(slag_maps):
     assert second is not first and len(_colorbars(second)) <= 1
     assert _all_text(first).count("all points") == 1
     plt.close("all")
+
+
+def test_contour_labels_are_not_clipped_at_a_panel_edge(cmp3):
+    ds = cmp3.copy()
+    # u0* of 0.05 m/s just inside the left edge (h0 = 1 um): its label would stick out
+    ds["u_star"] = ds["u_star"].copy(data=np.broadcast_to(
+        np.array([0.0499, 0.2, 0.5]), ds["u_star"].shape).copy())
+    fig = operating_window(ds, sel={"solid_j": "ilmenite"})
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    (ax,) = _panels(fig)
+    box = ax.get_window_extent(r)
+    labels = [t for t in ax.texts if t.get_text().endswith("m/s")]
+    assert labels
+    for t in labels:
+        ext = t.get_window_extent(r)
+        assert box.x0 - 0.5 <= ext.x0 and ext.x1 <= box.x1 + 0.5, t.get_text()
+        assert box.y0 - 0.5 <= ext.y0 and ext.y1 <= box.y1 + 0.5, t.get_text()
+    plt.close(fig)
