@@ -77,7 +77,7 @@ def test_missing_map_file_is_a_clear_error(tmp_path):
         operating_window(bad)
 
 
-# ---- what a picture shows is what the data has (issue 22) -----------------------------
+# ---- what a picture shows is what the data hold ----------------------------------------
 
 @pytest.fixture(scope="module")
 def cmp3():
