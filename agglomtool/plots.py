@@ -735,7 +735,7 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                 ax.set_ylabel(ya.label if ya is not None else _label(long_name, unit, width))
             if xa.categorical and i == nrow - 1:
                 ax.tick_params(axis="x", labelrotation=30 if ncol > 1 else 0)
-    fig.subplots_adjust(wspace=0.08 if y is not None else 0.12,
+    fig.subplots_adjust(wspace=0.15,
                         hspace=0.3 if not col and not row else 0.35)
     if mesh is not None and cats is None and note is None:
         cb = fig.colorbar(mesh, ax=axs.ravel().tolist(), pad=0.025,

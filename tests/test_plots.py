@@ -202,6 +202,11 @@ def test_labels_legend_and_notes_do_not_overlap(cmp3, kw):
     for i, n in enumerate(notes):
         assert not any(_overlap(n, b) for b in boxes)
         assert not any(_overlap(n, m) for m in notes[i + 1:])
+    ticks = [[t.get_window_extent(r) for t in ax.get_xticklabels() if t.get_text()]
+             for ax in _panels(fig)]  # the end ticks of neighbouring panels stay apart
+    for a in range(len(ticks)):
+        for b in range(a + 1, len(ticks)):
+            assert not any(_overlap(u, v) for u in ticks[a] for v in ticks[b])
     plt.close(fig)
 
 
