@@ -299,3 +299,15 @@ def test_contour_labels_are_not_clipped_at_a_panel_edge(cmp3):
         assert box.x0 - 0.5 <= ext.x0 and ext.x1 <= box.x1 + 0.5, t.get_text()
         assert box.y0 - 0.5 <= ext.y0 and ext.y1 <= box.y1 + 0.5, t.get_text()
     plt.close(fig)
+
+
+def test_end_ticks_of_neighbouring_panels_stay_apart(bed):
+    fig = operating_window(bed, "propensity_by_component")  # 0 ... 0.6 | 0 ... 0.6
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    left, right = ([t.get_window_extent(r) for t in ax.get_xticklabels() if t.get_text()]
+                   for ax in _panels(fig))
+    assert left and right
+    em = _panels(fig)[0].get_xticklabels()[0].get_fontsize() * fig.dpi / 72.0  # [px]
+    assert min(b.x0 for b in right) - max(b.x1 for b in left) >= em  # not "0.6 0"
+    plt.close(fig)
