@@ -749,11 +749,16 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
         legend.append(Line2D([], [], color="black", lw=0.9, label="u0* contours [m/s]"))
 
     # texts: title above everything, legend and notes below everything, none overlapping
-    if title is None:
-        title = _default_title(ds, var, sub, da, placed, scene)
+    phrase = _materials_phrase(ds, sub, placed, scene)
+    chosen = _selections(ds, da, placed)
+    fixed = _fixed_items(ds, sub, scene)
+    if title is None:  # the variable and the materials; below, the fixed selections
+        title = f"{long_name}: {phrase}" if phrase else long_name
+        title += "\n" + ", ".join(chosen) if chosen else ""
+    else:  # the caller's title: the materials and selections go to the notes
+        fixed = ([f"materials: {phrase}"] if phrase else []) + chosen + fixed
     notes = [t for t in (_component_text(ds, sub),
-                         ("Fixed: " + ", ".join(_fixed_items(ds, sub, scene)))
-                         if _fixed_items(ds, sub, scene) else None,
+                         ("Fixed: " + ", ".join(fixed)) if fixed else None,
                          _assumed_text(ds, sub, scene)) if t]
     if contoured:
         _labels_inside(fig, axs)
@@ -817,14 +822,9 @@ def _place_texts(fig, axs, title: str, legend: list, notes: list) -> None:
         y = to_fig.transform((0, t.get_window_extent(r).y0))[1] - gap
 
 
-def _default_title(ds, var, sub, da, placed, scene) -> str:
-    """The variable and the materials; below, the fixed selections not named above."""
-    what = ds[var].attrs.get("long_name", var)
-    phrase = _materials_phrase(ds, sub, placed, scene)
+def _selections(ds, da, placed) -> list[str]:
+    """``T = 25 degC`` for each dimension fixed by a selection or of one value (materials
+    are named by :func:`_materials_phrase`)."""
     named = {"liquid", "solid_i", "solid_j"}
-    fixed = [f"{d} = {_fmt_value(d, sub[d].values.item())}" for d in da.coords
-             if d in ds.dims and d not in named and sub[d].ndim == 0]
-    title = f"{what}: {phrase}" if phrase else what
-    if fixed:
-        title += "\n" + ", ".join(fixed)
-    return title
+    return [f"{d} = {_fmt_value(d, da[d].values.item())}" for d in da.coords
+            if d in ds.dims and d not in placed and d not in named and da[d].ndim == 0]

@@ -311,3 +311,16 @@ def test_end_ticks_of_neighbouring_panels_stay_apart(bed):
     em = _panels(fig)[0].get_xticklabels()[0].get_fontsize() * fig.dpi / 72.0  # [px]
     assert min(b.x0 for b in right) - max(b.x1 for b in left) >= em  # not "0.6 0"
     plt.close(fig)
+
+
+def test_a_single_valued_dimension_and_a_given_title_still_state_the_values():
+    s = at.Scene(liquid="water", d_i=300e-6)
+    ds = at.sweep(s, T=[298.15], U_Umf=[2.0, 3.0], h0=[1e-6, 3e-6])
+    assert ds.sizes["T"] == 1
+    fig = operating_window(ds)
+    assert "T = 25 degC" in _all_text(fig)
+    plt.close(fig)
+    fig = operating_window(ds, sel={"U_Umf": 3.0}, title="my title")
+    text = _all_text(fig)
+    assert "my title" in text and "T = 25 degC" in text and "U_Umf = 3" in text
+    plt.close(fig)
