@@ -503,11 +503,23 @@ def _contours(ax, xa: _Axis, ya: _Axis, z: np.ndarray) -> bool:
     if not levels.size:
         return False
     zz = np.where(np.isfinite(z) & (z > 0), z, np.nan)
-    cs = ax.contour(xa.pos, ya.pos, zz, levels=levels, colors="black", linewidths=0.9)
-    if not len(cs.allsegs) or not any(len(s) for s in cs.allsegs):
+
+    def draw(levels):
+        cs = ax.contour(xa.pos, ya.pos, zz, levels=levels, colors="black", linewidths=0.9)
+        labels = ax.clabel(cs, fmt=lambda v: f"{v:g} m/s", fontsize=7, inline_spacing=2)
+        return cs, labels
+
+    cs, labels = draw(levels)
+    # a line too short to carry its label (u0* finite in a strip a few cells wide) cannot
+    # be read: such levels are left out
+    labelled = levels[np.isin(levels, np.asarray(cs.labelCValues, dtype=float))]
+    if labelled.size < levels.size:
+        for t in labels:
+            t.remove()
         cs.remove()
-        return False
-    labels = ax.clabel(cs, fmt=lambda v: f"{v:g} m/s", fontsize=7, inline_spacing=2)
+        if not labelled.size:
+            return False
+        cs, labels = draw(labelled)
     for t in labels:
         t.set_path_effects([pe.withStroke(linewidth=2.5, foreground="white")])
     cs.set_path_effects([pe.Stroke(linewidth=2.2, foreground="white"), pe.Normal()])

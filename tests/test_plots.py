@@ -324,3 +324,25 @@ def test_a_single_valued_dimension_and_a_given_title_still_state_the_values():
     text = _all_text(fig)
     assert "my title" in text and "T = 25 degC" in text and "U_Umf = 3" in text
     plt.close(fig)
+
+
+def test_every_contour_drawn_carries_its_label():
+    """u0* finite in a strip two cells wide (a melt just thick enough to rebound from): a
+    contour line there is too short for its label and is left out, not drawn unreadable."""
+    import xarray as xr
+    from matplotlib.contour import ContourSet
+
+    T = np.linspace(1073.15, 1673.15, 30)
+    h0 = np.geomspace(0.05e-6, 2e-6, 30)
+    u = np.full((30, 30), np.inf)
+    u[20:, 8:10] = np.geomspace(9.0, 0.5, 10)[:, None] * [1.0, 1.3]
+    ds = xr.Dataset({"propensity": (("T", "h0"), np.where(np.isinf(u), 1.0, 0.9)),
+                     "u_star": (("T", "h0"), u)},
+                    coords={"T": ("T", T, {"units": "K", "long_name": "bed temperature"}),
+                            "h0": ("h0", h0, {"units": "m", "long_name": "coating"})})
+    fig = operating_window(ds)
+    sets = [c for ax in _panels(fig) for c in ax.collections if isinstance(c, ContourSet)]
+    for cs in sets:
+        assert sorted(cs.levels) == sorted(cs.labelCValues)
+    assert bool(sets) == any("contours" in t for t in _legend_labels(fig))
+    plt.close(fig)
