@@ -504,19 +504,20 @@ def _contours(ax, xa: _Axis, ya: _Axis, z: np.ndarray) -> bool:
         return False
     zz = np.where(np.isfinite(z) & (z > 0), z, np.nan)
 
+    def fmt(v):
+        return f"{v:g} m/s"
+
     def draw(levels):
         cs = ax.contour(xa.pos, ya.pos, zz, levels=levels, colors="black", linewidths=0.9)
-        labels = ax.clabel(cs, fmt=lambda v: f"{v:g} m/s", fontsize=7, inline_spacing=2)
-        return cs, labels
+        return cs, ax.clabel(cs, fmt=fmt, fontsize=7, inline_spacing=2)
 
     cs, labels = draw(levels)
     # a line too short to carry its label (u0* finite in a strip a few cells wide) cannot
     # be read: such levels are left out
-    labelled = levels[np.isin(levels, np.asarray(cs.labelCValues, dtype=float))]
+    placed = {t.get_text() for t in labels}
+    labelled = np.array([v for v in levels if fmt(v) in placed])
     if labelled.size < levels.size:
-        for t in labels:
-            t.remove()
-        cs.remove()
+        cs.remove()  # its labels with it
         if not labelled.size:
             return False
         cs, labels = draw(labelled)
