@@ -737,7 +737,8 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                 ya.apply(ax, "y")
             xa.apply(ax, "x")
             if note is not None:
-                ax.text(0.5, 0.5, _wrap(note, 34 if single else 28),
+                kept = note.replace(" m/s", "\u00a0m/s")  # a number and its unit together
+                ax.text(0.5, 0.5, _wrap(kept, 34 if single else 28),
                         transform=ax.transAxes, ha="center", va="center", fontsize=8,
                         bbox=dict(boxstyle="round", facecolor="white", alpha=0.9,
                                   edgecolor="0.6"))
