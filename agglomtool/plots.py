@@ -1,8 +1,12 @@
 """Pictures of sweeps: the operating window of a map.
 
-Thin: every function takes a Dataset from :func:`agglomtool.sweep` (or a netCDF file of one)
-and draws it with xarray's faceting and matplotlib. Nothing is computed here but unit
-conversions for display (K to degC, m to um, Pa to bar).
+Thin: every function takes a Dataset from :func:`agglomtool.sweep` or a bed map (or a netCDF
+file of one) and draws it with matplotlib, a panel per facet. Nothing is computed here but
+unit conversions for display (K to degC, m to um, Pa to bar).
+
+A picture draws only what the data hold: cells span the grid values, the colour bar the
+values shown (none for a field of one value, which a note states), the legend what is drawn;
+the title names the materials and the notes every fixed scene value.
 
 No dimension is ever hidden: the two axes, the facet columns and rows, and fixed selections
 are chosen by the caller or, where left open, by :func:`plan_layout`, which refuses (with the
