@@ -22,7 +22,9 @@ from .collision.fused import (
 )
 from .collision.outcome import (
     DETAIL_NAMES,
+    NO_BRIDGE_DESCRIPTION,
     STAGE_DESCRIPTIONS,
+    Path,
     Stage,
     path_names,
     stage_names,
@@ -96,19 +98,34 @@ class CollisionResult:
                 )
             index = (0,) * np.ndim(self.e_w)
         st = Stage(int(np.asarray(self.stage)[index]))
-        flags = path_names(int(np.asarray(self.path)[index]))
+        path = int(np.asarray(self.path)[index])
+        flags = path_names(path)
         ew = float(np.asarray(self.e_w)[index])
+        if path & Path.NO_BRIDGE:  # the stage code says how it ended; no bridge ruptured
+            decided = (f"no bridge (stage {st.name.lower()}): {NO_BRIDGE_DESCRIPTION} "
+                       + ("A dry collision: the pair rebounds with e_w = e." if ew > 0.0 else
+                          "A dry collision with e = 0: the pair stays together."))
+        else:
+            decided = f"{st.name.lower()}: {STAGE_DESCRIPTIONS[st]}"
         lines = [
             f"outcome: {'agglomerate' if ew == 0.0 else 'rebound'} (e_w = {ew:.6g})",
-            f"decided at: {st.name.lower()}: {STAGE_DESCRIPTIONS[st]}",
+            f"decided at: {decided}",
             f"special paths: {', '.join(flags) if flags else 'none'}",
         ]
         for name in DETAIL_NAMES:
             if name in self.details:
                 val = float(np.asarray(self.details[name])[index]) + 0.0  # no "-0"
-                if not np.isnan(val):
-                    unit = _detail_unit(name)
-                    lines.append(f"  {name:14s} = {val:.6g}{' ' + unit if unit else ''}")
+                if np.isnan(val):
+                    continue
+                if name.endswith("_frac") and val > 1.0:
+                    # a bound on a term's work over K_ini: above 1 it bounds nothing (it is
+                    # taken at the impact speed over the whole gap, ~1/St_app times K_ini
+                    # where viscosity stops the pair first); it only says "not negligible"
+                    lines.append(f"  {name:14s} > 1: not negligible (its work bound, taken "
+                                 f"at the impact speed, is {val:.3g} times K_ini)")
+                    continue
+                unit = _detail_unit(name)
+                lines.append(f"  {name:14s} = {val:.6g}{' ' + unit if unit else ''}")
         return "\n".join(lines)
 
     def __repr__(self) -> str:

@@ -1,8 +1,12 @@
 """Pictures of sweeps: the operating window of a map.
 
-Thin: every function takes a Dataset from :func:`agglomtool.sweep` (or a netCDF file of one)
-and draws it with xarray's faceting and matplotlib. Nothing is computed here but unit
-conversions for display (K to degC, m to um, Pa to bar).
+Thin: every function takes a Dataset from :func:`agglomtool.sweep` or a bed map (or a netCDF
+file of one) and draws it with matplotlib, a panel per facet. Nothing is computed here but
+unit conversions for display (K to degC, m to um, Pa to bar).
+
+A picture draws only what the data hold: cells span the grid values, the colour bar the
+values shown (none for a field of one value, which a note states), the legend what is drawn;
+the title names the materials and the notes every fixed scene value.
 
 No dimension is ever hidden: the two axes, the facet columns and rows, and fixed selections
 are chosen by the caller or, where left open, by :func:`plan_layout`, which refuses (with the
@@ -12,6 +16,7 @@ dims and sizes it could not place) rather than silently pick one slice of a dime
 from __future__ import annotations
 
 import json
+import textwrap
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -83,9 +88,12 @@ def _fmt_value(name: str, value, *, converted: bool = False) -> str:
     if isinstance(value, str | np.str_):
         return str(value)
     v = float(value)
-    scale, offset, unit = _DISPLAY.get(name, (1.0, 0.0, ""))
+    if name in _DISPLAY:
+        scale, offset, unit = _DISPLAY[name]
+    else:
+        scale, offset, unit = 1.0, 0.0, _unit_text(_field_unit(name))
     shown = v if converted else v * scale + offset
-    return f"{shown:.4g} {unit}".strip()
+    return f"{shown:.4g}" + ("" if unit == "-" else f" {unit}")
 
 
 def _sel(ds: xr.Dataset, var: str, sel: dict) -> xr.Dataset:
@@ -153,6 +161,7 @@ def plan_layout(ds: xr.Dataset, var: str = "propensity", *, x=None, y=None, col=
     if x is None:
         pick = next((d for d in _X_PREF if d in numeric), numeric[0] if numeric else None)
         if pick is None and y is not None:
+            chosen = [f"x = {y}" if c == f"y = {y}" else c for c in chosen]
             x, y = y, None  # one numeric dim: a line plot over it
         elif pick is None:
             raise ValueError(f"{var} has no dimension with more than one value to plot")
@@ -191,22 +200,19 @@ def _example_value(ds, name) -> str:
     return repr(str(v)) if isinstance(v, str | np.str_) else f"{float(v):g}"
 
 
-def _for_display(da: xr.DataArray) -> xr.DataArray:
-    """``da`` with its coordinates in display units (degC, um, bar) and labelled."""
-    new = {}
-    for name in da.coords:
-        c = da[name]
-        if name not in _DISPLAY or not np.issubdtype(c.dtype, np.number):
-            continue
-        scale, offset, unit = _DISPLAY[name]
-        label = c.attrs.get("long_name", name)
-        new[name] = (c.dims, c.values * scale + offset, {"long_name": label, "units": unit})
-    return da.assign_coords(new)
-
-
 def _logish(values) -> bool:
-    v = np.asarray(values, dtype=float)
-    return bool(v.size > 2 and np.all(v > 0) and v.max() / v.min() > 20.0)
+    """A log axis: positive values over more than a factor 20, or over a factor 5 or more
+    and spaced more evenly in their logarithm than in themselves (1, 3, 10)."""
+    v = np.sort(np.asarray(values, dtype=float))
+    if not (v.size > 2 and np.all(v > 0)):
+        return False
+    ratio = v[-1] / v[0]
+
+    def spread(d):
+        return np.std(d) / np.mean(d)
+
+    return bool(ratio > 20.0 or (ratio >= 5.0 and spread(np.diff(np.log(v)))
+                                 < spread(np.diff(v))))
 
 
 def _categories(da: xr.DataArray) -> dict | None:
@@ -222,6 +228,247 @@ def _categories(da: xr.DataArray) -> dict | None:
     return None
 
 
+#: Variables drawn on a logarithmic colour scale (their 0 and inf are flags, not colours).
+_LOG_VARS = ("u_star", "margin", "Ca_star", "St")
+#: Units a file may give a dimensionless quantity (CF's "1", older maps' "dimensionless").
+_DIMENSIONLESS = ("1", "dimensionless", "", "-")
+#: Units as a picture shows them.
+_UNIT_TEXT = {"degree": "deg", "m**2/s**2": "m2/s2", "kg/m**3": "kg/m3", "Pa*s": "Pa s"}
+#: Scene fields a bed map does not use: its components give the solids, sizes, coatings
+#: and asperities, and it averages over collision directions.
+_BED_UNUSED = ("solid_i", "solid_j", "d_i", "d_j", "h0_j", "ha_i", "ha_j", "beta_deg")
+#: Figure text sizes [pt].
+_TITLE_PT, _NOTE_PT = 10, 7
+
+
+def _wrap(text: str, width: int) -> str:
+    """``text`` in lines of at most ``width`` characters, names (silica-sand) kept whole."""
+    return textwrap.fill(text, width, break_on_hyphens=False, break_long_words=False)
+
+
+def _unit_text(units) -> str:
+    """A unit as shown: ``-`` for any spelling of dimensionless, ``deg``, ``kg/m3``."""
+    if units is None or str(units).strip() in _DIMENSIONLESS:
+        return "-"
+    return _UNIT_TEXT.get(str(units), str(units))
+
+
+def _label(long_name: str, units, width: int) -> str:
+    return _wrap(f"{long_name} [{_unit_text(units)}]", width)
+
+
+class _Axis:
+    """One axis of a panel grid: where each value sits, the cells' edges (midpoints between
+    values, the outer edges at the first and last value: no cell reaches beyond the data)
+    and the ticks."""
+
+    def __init__(self, da: xr.DataArray, name: str, width: int):
+        coord = da[name]
+        values = coord.values
+        self.name = name
+        self.categorical = not np.issubdtype(values.dtype, np.number)
+        self.log = False
+        if self.categorical:
+            self.order = np.arange(values.size)
+            self.pos = np.arange(values.size, dtype=float)
+            self.edges = np.arange(values.size + 1) - 0.5
+            self.ticks = (self.pos, [str(v) for v in values])
+            self.label = _wrap(coord.attrs.get("long_name", name), width)
+            return
+        scale, offset, unit = _DISPLAY.get(name, (1.0, 0.0, None))
+        shown = np.asarray(values, dtype=float) * scale + offset
+        self.order = np.argsort(shown, kind="stable")
+        self.pos = shown[self.order]
+        self.log = _logish(values)
+        v = np.log(self.pos) if self.log else self.pos
+        if v.size > 1:
+            mid = 0.5 * (v[1:] + v[:-1])
+            edges = np.concatenate([[v[0]], mid, [v[-1]]])
+            self.edges = np.exp(edges) if self.log else edges
+            self.edges[0], self.edges[-1] = self.pos[0], self.pos[-1]
+        else:  # one value: a narrow cell around it
+            half = 0.05 * abs(self.pos[0]) or 0.5
+            self.edges = np.array([self.pos[0] - half, self.pos[0] + half])
+        few = self.pos.size <= 6
+        self.ticks = (self.pos, [f"{p:.4g}" for p in self.pos]) if few else None
+        units = unit if unit is not None else coord.attrs.get("units", _field_unit(name))
+        self.label = _label(coord.attrs.get("long_name", name), units, width)
+
+    def apply(self, ax, which: str) -> None:
+        """Scale, limits (the data's range) and ticks on ``ax``'s ``which`` axis."""
+        from matplotlib.ticker import NullLocator
+
+        axis = ax.xaxis if which == "x" else ax.yaxis
+        if self.log:
+            (ax.set_xscale if which == "x" else ax.set_yscale)("log")
+        (ax.set_xlim if which == "x" else ax.set_ylim)(self.edges[0], self.edges[-1])
+        if self.ticks is not None:
+            axis.set_ticks(self.ticks[0], labels=self.ticks[1])
+            axis.set_minor_locator(NullLocator())
+
+
+def _field_unit(name: str):
+    from ._fields import FIELD_META
+
+    return FIELD_META.get(name, (None,))[0]
+
+
+def _scene(ds) -> dict:
+    try:
+        return json.loads(ds.attrs.get("scene", "{}"))
+    except (TypeError, ValueError):
+        return {}
+
+
+def _fmt_field(name: str, value) -> str:
+    """``name = value`` of a scene field in display units (``T = 25 degC``)."""
+    if isinstance(value, bool):
+        return f"{name} = {'on' if value else 'off'}"
+    if isinstance(value, str | np.str_):
+        return f"{name} = {value}"
+    if name in _DISPLAY:
+        return f"{name} = {_fmt_value(name, value)}"
+    unit = _unit_text(_field_unit(name))
+    return f"{name} = {float(value):.4g}" + ("" if unit == "-" else f" {unit}")
+
+
+def _shown_values(ds, sub, name, scene) -> list:
+    """The values of scene field ``name`` in the picture: a dimension's, a selection's, or
+    the scene's (``solid_j`` None: those of ``solid_i``)."""
+    if name in sub.dims:
+        return [str(v) for v in sub[name].values]
+    if name in sub.coords:
+        return [str(sub[name].values.item())]
+    if scene.get(name) is None and name == "solid_j":
+        return _shown_values(ds, sub, "solid_i", scene)
+    return [str(scene[name])] if scene.get(name) is not None else []
+
+
+def _components(ds) -> list | None:
+    try:
+        return json.loads(ds.attrs["components"]) if "components" in ds.attrs else None
+    except (TypeError, ValueError):
+        return None
+
+
+def _materials_phrase(ds, sub, placed, scene) -> str:
+    """``water on silica-sand / ilmenite``, ``water on a silica-sand + ilmenite bed``:
+    every material the picture shows, by name (a placed dimension by its name)."""
+
+    def name(field):
+        if field in placed:
+            return f"each {field}"
+        vals = _shown_values(ds, sub, field, scene)
+        return " / ".join(vals) if vals else None
+
+    liquid = name("liquid")
+    comps = _components(ds)
+    if comps is not None:
+        solids = " + ".join(c["solid"] for c in comps)
+        return (f"{liquid} on " if liquid else "") + f"a {solids} bed"
+    si, sj = name("solid_i"), name("solid_j")
+    pair = f"{si} / {sj}" if si and sj else (si or "")
+    return (f"{liquid} on {pair}" if liquid else pair).strip()
+
+
+def _fixed_items(ds, sub, scene) -> list[str]:
+    """``name = value`` for every scene value the picture's data depend on and that no
+    axis, panel, selection or title states."""
+    if not scene:
+        return []
+    dims = set(sub.dims) | {d for d in ds.dims if d in sub.coords}
+    bed = _components(ds) is not None
+    skip = set(dims) | {"liquid", "solid_i", "solid_j"} | (set(_BED_UNUSED) if bed else set())
+    speed = scene.get("speed")
+    any_speed = "speed" in dims or speed is None
+    uses = {
+        "U_Umf": scene.get("U") is None and "U" not in dims,
+        "sigma_ln": any_speed or speed == "lognormal",
+        "granular_temperature": any_speed or speed == "maxwellian",
+        "fluctuation_ratio": any_speed or speed == "excess-gas",
+        "u0": any_speed or speed in ("fixed", "lognormal"),
+    }
+    derived = {"d_j": "d_i", "h0_j": "h0"}
+    database = []
+    items = []
+    for field_name, value in scene.items():
+        if field_name in skip or not uses.get(field_name, True):
+            continue
+        if field_name == "h0" and bed and all(c.get("h0") is not None
+                                              for c in _components(ds)):
+            continue
+        if value is None:
+            if field_name in derived:
+                items.append(f"{field_name} = {derived[field_name]}")
+            elif field_name in ("ha_i", "ha_j", "e", "theta_deg"):
+                database.append(field_name)
+            continue
+        items.append(_fmt_field(field_name, value))
+    if database:
+        items.append(", ".join(database) + " from the materials database")
+    return items
+
+
+def _component_text(ds, sub) -> str | None:
+    """The bed's components with their fractions, sizes, coatings and asperities."""
+    comps = _components(ds)
+    if comps is None:
+        return None
+    mix = str(ds.attrs.get("mix", ""))
+    swept = "fraction" in ds.dims
+    parts = []
+    for k, c in enumerate(comps):
+        is_mix = swept and mix in (c["solid"], str(k))
+        if is_mix:
+            frac = ("mass fraction = " + _fmt_value("fraction", sub["fraction"].values.item())
+                    if "fraction" in sub.coords and sub["fraction"].ndim == 0
+                    else "mass fraction as shown")
+        elif swept:
+            frac = ("mass fraction: the rest" if len(comps) == 2 else
+                    f"the rest shared in proportion to {float(c['fraction']):.3g}")
+        else:
+            frac = f"mass fraction = {float(c['fraction']):.3g}"
+        size = []
+        if c.get("d") is not None:
+            size.append("d = " + ", ".join(f"{float(d) * 1e6:.4g}" for d in c["d"]) + " um")
+        if c.get("d50") is not None:
+            size.append(f"d50 = {float(c['d50']) * 1e6:.4g} um")
+            if float(c.get("gsd", 1.0)) != 1.0:
+                size.append(f"gsd = {float(c['gsd']):.3g}, {int(c.get('classes', 1))} classes")
+        if c.get("h0") is not None:
+            size.append(f"h0 = {float(c['h0']) * 1e6:.4g} um")
+        size.append(f"ha = {float(c['ha']) * 1e6:.4g} um" if c.get("ha") is not None
+                    else "ha from the materials database")
+        parts.append(f"{c['solid']} ({frac}; {', '.join(size)})")
+    return "Bed: " + " + ".join(parts)
+
+
+def _assumed_text(ds, sub, scene) -> str | None:
+    """The database assumptions the shown data depend on (materials not shown left out)."""
+    comps = _components(ds)
+    if comps is not None:  # a bed: every pair of its components, with their asperities
+        from .scene import assumed_inputs
+
+        items = []
+        for liquid in _shown_values(ds, sub, "liquid", scene):
+            for a in comps:
+                for b in comps:
+                    values = {**scene, "liquid": liquid, "solid_i": a["solid"],
+                              "solid_j": b["solid"], "ha_i": a.get("ha"), "ha_j": b.get("ha")}
+                    items += [t for t in assumed_inputs(values) if t not in items]
+    else:
+        text = str(ds.attrs.get("assumed_inputs", "none"))
+        if not text or text == "none":
+            return None
+        shown = set()
+        for name in ("solid_i", "solid_j", "liquid", "gas"):
+            shown.update(_shown_values(ds, sub, name, scene))
+        items = [t.strip() for t in text.split(";")]
+        if shown:
+            items = [t for t in items if t.split(" ", 1)[0] in shown]
+    return ("Assumed values (materials database): " + "; ".join(items)) if items else None
+
+
 def _nice_levels(lo: float, hi: float) -> np.ndarray:
     """1-2-5 levels within [lo, hi] (at most 8), for u0* contours [m/s]."""
     exps = np.arange(np.floor(np.log10(lo)) - 1, np.ceil(np.log10(hi)) + 1)
@@ -232,44 +479,116 @@ def _nice_levels(lo: float, hi: float) -> np.ndarray:
     return lev
 
 
-def _u_star_overlay(ax, us: xr.DataArray, x: str, y: str, ceiling_label: str) -> list:
-    """u0* contours (readable on any colour) and hatching where no finite u0* exists."""
+def _hatch_cells(ax, xa: _Axis, ya: _Axis, mask: np.ndarray, hatch: str) -> None:
+    """Hatch the cells (not the spaces between points) where ``mask`` (y, x) holds."""
+    from matplotlib.collections import PolyCollection
+
+    rows, cols = np.nonzero(mask)
+    x0, x1 = xa.edges[cols], xa.edges[cols + 1]
+    y0, y1 = ya.edges[rows], ya.edges[rows + 1]
+    verts = np.stack([np.stack([x0, y0], 1), np.stack([x1, y0], 1), np.stack([x1, y1], 1),
+                      np.stack([x0, y1], 1)], axis=1)
+    pc = PolyCollection(verts, facecolors="none", edgecolors="0.55", linewidths=0.0,
+                        hatch=hatch)
+    pc.set_hatchcolor("0.55")  # visible on dark and pale colours alike
+    ax.add_collection(pc)
+
+
+def _contours(ax, xa: _Axis, ya: _Axis, z: np.ndarray) -> bool:
+    """u0* contours (labelled, readable on any colour) where u0* is finite and varies;
+    True if any was drawn."""
     import matplotlib.patheffects as pe
 
-    us = us.transpose(y, x)
-    xv, yv, z = us[x].values, us[y].values, np.asarray(us.values, dtype=float)
-    handles = []
     finite = z[np.isfinite(z) & (z > 0)]
-    if finite.size and finite.max() > finite.min() * 1.05 and z.shape[0] > 1 and z.shape[1] > 1:
-        levels = _nice_levels(finite.min(), finite.max())
-        if levels.size:
-            zz = np.where(np.isfinite(z) & (z > 0), z, np.nan)
-            cs = ax.contour(xv, yv, zz, levels=levels, colors="black", linewidths=0.9)
-            labels = ax.clabel(cs, fmt=lambda v: f"{v:g} m/s", fontsize=7, inline_spacing=2)
-            halo = [pe.withStroke(linewidth=2.5, foreground="white")]
-            for t in labels:
-                t.set_path_effects(halo)
-            for c in getattr(cs, "collections", [cs]):
-                c.set_path_effects([pe.Stroke(linewidth=2.2, foreground="white"), pe.Normal()])
-    for mask, hatch, label in ((np.isinf(z), "//", ceiling_label),
-                               (z == 0.0, "..", "no bridge: coating thinner than asperities")):
-        if mask.any():
-            cf = ax.contourf(xv, yv, mask.astype(float), levels=[0.5, 1.5], colors="none",
-                             hatches=[hatch])
-            cf.set_edgecolor("0.55")  # hatch lines visible on dark and pale colours alike
-            cf.set_linewidth(0.0)
-            handles.append((hatch, label))
-    return handles
+    if (xa.categorical or ya.categorical or not finite.size or z.shape[0] < 2
+            or z.shape[1] < 2 or not finite.max() > finite.min() * 1.05):
+        return False
+    levels = _nice_levels(finite.min(), finite.max())
+    if not levels.size:
+        return False
+    zz = np.where(np.isfinite(z) & (z > 0), z, np.nan)
+
+    def fmt(v):
+        return f"{v:g} m/s"
+
+    def draw(levels):
+        cs = ax.contour(xa.pos, ya.pos, zz, levels=levels, colors="black", linewidths=0.9)
+        return cs, ax.clabel(cs, fmt=fmt, fontsize=7, inline_spacing=2)
+
+    cs, labels = draw(levels)
+    # a line too short to carry its label (u0* finite in a strip a few cells wide) cannot
+    # be read: such levels are left out
+    placed = {t.get_text() for t in labels}
+    labelled = np.array([v for v in levels if fmt(v) in placed])
+    if labelled.size < levels.size:
+        cs.remove()  # its labels with it
+        if not labelled.size:
+            return False
+        cs, labels = draw(labelled)
+    for t in labels:
+        t.set_path_effects([pe.withStroke(linewidth=2.5, foreground="white")])
+    cs.set_path_effects([pe.Stroke(linewidth=2.2, foreground="white"), pe.Normal()])
+    return True
+
+
+def _short(var: str) -> str:
+    return {"u_star": "u0*", "Ca_star": "Ca at u0*"}.get(var, var)
+
+
+def _special_reason(var: str, infinite: bool, ceiling: float) -> str:
+    """Why ``var`` is infinite (or 0) where it is: u0* and the quantities made of it."""
+    sticks = f"sticks at every speed up to the u0* ceiling ({ceiling:g} m/s)"
+    no_bridge = "no bridge: the coating is no thicker than the asperities"
+    reasons = {"u_star": (sticks, no_bridge), "Ca_star": (sticks, no_bridge),
+               "margin": (no_bridge, sticks)}
+    if var not in reasons:
+        return ""
+    return f": {reasons[var][0 if infinite else 1]}"
+
+
+def _uniform_note(var: str, long_name: str, unit: str, z: np.ndarray, ceiling: float,
+                  marked: bool) -> str:
+    """What a field without a range of colours holds: ``all points: ... = 1``, or which
+    values without a range it has."""
+    finite = z[np.isfinite(z) & ((z > 0) if var in _LOG_VARS else True)]
+    kinds = []
+    if np.isposinf(z).any():
+        kinds.append("infinite" + _special_reason(var, True, ceiling))
+    if var in _LOG_VARS and (z == 0.0).any():
+        kinds.append("0" + _special_reason(var, False, ceiling))
+    if finite.size:
+        kinds.append(f"{finite[0]:.4g}" + ("" if unit == "-" else f" {unit}"))
+    if np.isnan(z).any():
+        kinds.append("not computed (NaN)")
+    if len(kinds) == 1:
+        return f"all points: {long_name} " + ("" if kinds[0].startswith("inf") else "= ") \
+            + kinds[0]
+    head = (f"{long_name} = {kinds[-1]} where finite" if finite.size
+            else f"no point has a finite {long_name}")
+    if marked:
+        return head + (", the other points marked" if finite.size else ": the marks say why")
+    return head + "; " + ", ".join(kinds[:-1] if finite.size else kinds)
+
+
+def _panel_title(nd: dict) -> str:
+    return ", ".join(f"{k} = {_fmt_value(k, v)}" for k, v in nd.items())
 
 
 def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, row=None,
                      sel=None, path=None, title: str | None = None, contours: bool = True):
     """Operating-window picture: ``var`` coloured over two dims, faceted, ``u0*`` contours.
 
+    What is drawn is what the data hold: the cells span the grid values only (edges at the
+    midpoints between values, the outer edges at the first and last value), the colour bar
+    spans the shown values only, a field of one value gets no colour bar but a note in each
+    panel (``all points: ...``), and the legend lists only what is drawn. The title names
+    every material shown; notes below the panels state every fixed scene value the data
+    depend on and the database's assumptions about the materials shown.
+
     Parameters
     ----------
     ds : xarray.Dataset or path
-        A sweep result, or a netCDF file of one.
+        A sweep result or a bed map, or a netCDF file of one.
     var : str
         The variable to colour (default the agglomeration propensity, 0 to 1). Categorical
         variables (``stage``, ``regime``, ``u_star_flag``, ``agglomerated``) get discrete
@@ -282,7 +601,7 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
     path : path, optional
         Write the figure there (PNG, 150 dpi).
     title : str, optional
-        Figure title (default: the variable, the liquid and solids, and the fixed values).
+        Figure title (default: the variable, the materials, and the fixed selections).
     contours : bool
         Draw ``u0*`` contours (m/s) and hatch where ``u0*`` is above the ceiling or zero.
 
@@ -297,122 +616,233 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
         raise ImportError("pictures need matplotlib: pip install 'agglomtool[plot]'") from None
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
-    from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
+    from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
+
+    from ._fields import U_CEILING
 
     ds = open_map(ds)
     layout = plan_layout(ds, var, x=x, y=y, col=col, row=row, sel=sel)
     sub = _sel(ds, var, layout.sel)
     x, y, col, row = layout.x, layout.y, layout.col, layout.row
+    placed = [d for d in (x, y, col, row) if d is not None]
     da = sub[var]
-    for d in da.dims:  # single-valued dims: shown in the title, not as an axis
-        if d not in (x, y, col, row):
+    for d in da.dims:  # single-valued dims: stated in the title, not an axis
+        if d not in placed:
             da = da.isel({d: 0})
-    disp = _for_display(da.load())
+    da = da.load()
+    scene = _scene(ds)
+    ceiling = float(scene.get("u_ceiling") or U_CEILING)
+    long_name = ds[var].attrs.get("long_name", var)
+    unit = _unit_text(ds[var].attrs.get("units"))
     cats = _categories(ds[var])
-    kw = {}
+
+    ncol = sub.sizes[col] if col else 1
+    nrow = sub.sizes[row] if row else 1
+    single = ncol * nrow == 1
+    pw, ph = (4.6, 3.5) if single else (3.3, 2.6)
+    width = 40 if single else 34  # characters per axis-label line
+    fig, axs = plt.subplots(nrow, ncol, squeeze=False, sharex=True, sharey=True,
+                            figsize=(pw * ncol + 1.3, ph * nrow))
+    xa = _Axis(da, x, width)
+    ya = _Axis(da, y, width) if y is not None else None
+    order = [d for d in (row, col, y, x) if d is not None]
+    data = da.transpose(*order)
+    z_all = np.asarray(data.values, dtype=float)
+    us_all = None
+    if "u_star" in sub and (var == "u_star" or (contours and y is not None)):
+        us = sub["u_star"].broadcast_like(sub[var])
+        for d in us.dims:
+            if d not in placed:
+                us = us.isel({d: 0})
+        us_all = np.asarray(us.transpose(*order).values, dtype=float)
+
+    # colours: categories present, or the shown data's own range (none if one value)
+    norm, cmap, legend, note = None, None, [], None
     if cats is not None:
         codes = sorted(cats)
+        present = [c for c in codes if np.any(z_all == c)]
         palette = matplotlib.colormaps["tab10"]
-        cmap = ListedColormap([palette(i % 10) for i in range(len(codes))])
-        bounds = np.concatenate([[codes[0] - 0.5], np.asarray(codes[:-1]) + 0.5,
-                                 [codes[-1] + 0.5]])
-        kw = dict(cmap=cmap, norm=BoundaryNorm(bounds, cmap.N), add_colorbar=False)
-        disp = disp.astype(float)
-    elif var == "propensity":
-        kw = dict(cmap="magma_r", vmin=0.0, vmax=1.0)
-    elif var in ("u_star", "margin", "Ca_star", "St"):
-        z = np.asarray(disp.values, dtype=float)
-        good = z[np.isfinite(z) & (z > 0)]
-        if good.size and good.max() > good.min():
-            kw = dict(norm=LogNorm(good.min(), good.max()))
-        disp = disp.where(np.isfinite(disp) & (disp > 0))
-    facet = dict(col=col, row=row) if (col or row) else {}
-    if y is None:
-        plot = disp.plot.line(x=x, **facet) if facet else disp.plot.line(x=x)
+        cmap = ListedColormap([palette(codes.index(c) % 10) for c in present] or ["0.9"])
+        norm = BoundaryNorm(np.arange(len(present) + 1) - 0.5, max(cmap.N, 1))
+        index = {c: k for k, c in enumerate(present)}
+        z_plot = np.ma.masked_invalid(np.vectorize(lambda v: index.get(v, np.nan),
+                                                   otypes=[float])(z_all))
+        legend += [Patch(facecolor=cmap(index[c]), label=cats[c]) for c in present]
     else:
-        scales = {f"{a}scale": "log" for a, n in (("x", x), ("y", y))
-                  if np.issubdtype(ds[n].dtype, np.number) and _logish(ds[n].values)}
-        plot = disp.plot.pcolormesh(x=x, y=y, **scales, **facet, **kw)
-    if facet:
-        fig = plot.fig
-        for text in list(plot.row_labels) + list(plot.col_labels):
-            if text is not None:  # xarray's margin titles: replaced by one title per panel
-                text.set_visible(False)
-        panels = [(ax, nd) for ax, nd in zip(plot.axs.flat, plot.name_dicts.flat, strict=True)
-                  if nd is not None]
-    else:
-        fig = plt.gcf()
-        panels = [(plt.gca(), {})]
-    from ._fields import U_CEILING
+        log = var in _LOG_VARS
+        good = np.isfinite(z_all) & ((z_all > 0) if log else True)
+        vals = z_all[good]
+        z_plot = np.ma.masked_where(~good, z_all)
+        if vals.size and vals.max() > vals.min():
+            norm = (LogNorm if log else Normalize)(vals.min(), vals.max())
+            cmap = matplotlib.colormaps["magma_r" if "propensity" in var else "viridis"]
+        else:
+            cmap = ListedColormap(["0.88"])
+            norm = Normalize(0.0, 1.0)
+            z_plot = np.ma.masked_where(~good, np.full(z_all.shape, 0.5))
+            marked = var in _LOG_VARS and (y is None or us_all is not None)  # inf and 0
+            note = _uniform_note(var, long_name, unit, z_all, ceiling, marked)
 
-    scene = json.loads(ds.attrs.get("scene", "{}"))
-    ceiling_label = ("sticks at every speed up to the u0* ceiling "
-                     f"({scene.get('u_ceiling', U_CEILING):g} m/s)")
-    hatches = {}
-    for ax, nd in panels:
-        nd = nd or {}
-        if y is not None and contours and "u_star" in sub:
-            us = sub["u_star"].broadcast_like(sub[var])
-            for d in us.dims:
-                if d not in (x, y, col, row):
-                    us = us.isel({d: 0})
-            us = _for_display(us).sel(nd)
-            for hatch, label in _u_star_overlay(ax, us, x, y, ceiling_label):
-                hatches[hatch] = label
-        if y is None and np.issubdtype(ds[x].dtype, np.number) and _logish(ds[x].values):
-            ax.set_xscale("log")
-        if nd:
-            ax.set_title(", ".join(f"{k} = {_fmt_value(k, v, converted=True)}"
-                                   for k, v in nd.items()), fontsize=9)
-            ax.title.set_visible(True)
-    legend = []
-    if cats is not None:
-        present = set(np.unique(np.asarray(ds[var].values, dtype=int)).tolist())
-        legend += [Patch(facecolor=cmap(i), label=cats[c]) for i, c in enumerate(codes)
-                   if c in present]
-    legend += [Patch(facecolor="white", edgecolor="black", hatch=h, label=lab)
+    hatches, edge_marks = {}, {}
+    contoured = False
+    mesh = None
+    for i in range(nrow):
+        for j in range(ncol):
+            ax = axs[i, j]
+            idx = tuple(k for k, d in ((i, row), (j, col)) if d is not None)
+            z = z_plot[idx]
+            nd = {d: sub[d].values[k] for k, d in ((i, row), (j, col)) if d is not None}
+            if y is None:
+                zz = np.ma.filled(np.ma.asarray(z, dtype=float), np.nan)[xa.order]
+                raw = z_all[idx][xa.order]
+                if note is not None and cats is None:  # one value or none: no y range
+                    zz = np.where(np.ma.getmaskarray(z)[xa.order], np.nan, 0.5)
+                    one = raw[np.isfinite(raw) & ((raw > 0) if var in _LOG_VARS else True)]
+                    ax.set_ylim(0.0, 1.0)
+                    ax.set_yticks([0.5] if one.size else [],
+                                  labels=[f"{one[0]:.4g}"] if one.size else [])
+                ax.plot(xa.pos, zz, marker="o", ms=3, color="k", lw=1.0, clip_on=False)
+                if note is None:
+                    ax.margins(y=0.06)
+                if cats is not None:
+                    ax.set_yticks(range(len(index)), labels=[cats[c] for c in index])
+                elif var in _LOG_VARS:
+                    if note is None:
+                        ax.set_yscale("log")
+                    # points with no finite value: marked at the panel's top or bottom edge
+                    for mask, at_y, marker, label in (
+                            (np.isposinf(raw), 1.0, "^", f"{_short(var)} infinite"
+                             + _special_reason(var, True, ceiling)),
+                            (raw == 0.0, 0.0, "v", f"{_short(var)} = 0"
+                             + _special_reason(var, False, ceiling))):
+                        if mask.any():
+                            ax.plot(xa.pos[mask], np.full(mask.sum(), at_y), ls="none",
+                                    marker=marker, ms=6, color="0.35", clip_on=False,
+                                    transform=ax.get_xaxis_transform())
+                            edge_marks[marker] = label
+            else:
+                zz = z[np.ix_(ya.order, xa.order)]
+                mesh = ax.pcolormesh(xa.edges, ya.edges, zz, cmap=cmap, norm=norm,
+                                     shading="flat")
+                if us_all is not None:
+                    u = us_all[idx][np.ix_(ya.order, xa.order)]
+                    masks = ((np.isposinf(u), "//", "u0* infinite"
+                              + _special_reason("u_star", True, ceiling)),
+                             (u == 0.0, "..", "u0* = 0" + _special_reason("u_star", False,
+                                                                          ceiling)))
+                    for mask, hatch, label in masks:
+                        if mask.any():
+                            _hatch_cells(ax, xa, ya, mask, hatch)
+                            hatches[hatch] = label
+                    if contours:
+                        contoured |= _contours(ax, xa, ya, u)
+                ya.apply(ax, "y")
+            xa.apply(ax, "x")
+            if note is not None:
+                kept = note.replace(" m/s", "\u00a0m/s")  # a number and its unit together
+                ax.text(0.5, 0.5, _wrap(kept, 34 if single else 28),
+                        transform=ax.transAxes, ha="center", va="center", fontsize=8,
+                        bbox=dict(boxstyle="round", facecolor="white", alpha=0.9,
+                                  edgecolor="0.6"))
+            ax.set_title(_panel_title(nd), fontsize=9)
+            if i == nrow - 1:
+                ax.set_xlabel(xa.label)
+            if j == 0:
+                ax.set_ylabel(ya.label if ya is not None else _label(long_name, unit, width))
+            if xa.categorical and i == nrow - 1:
+                ax.tick_params(axis="x", labelrotation=30 if ncol > 1 else 0)
+    fig.subplots_adjust(wspace=0.15,
+                        hspace=0.3 if not col and not row else 0.35)
+    if mesh is not None and cats is None and note is None:
+        cb = fig.colorbar(mesh, ax=axs.ravel().tolist(), pad=0.025,
+                          fraction=0.05 if single else 0.035)
+        cb.set_label(_label(long_name, unit, 30))
+    legend += [Patch(facecolor="white", edgecolor="0.4", hatch=h, label=lab)
                for h, lab in hatches.items()]
-    if contours and y is not None and "u_star" in sub:
-        from matplotlib.lines import Line2D
-
+    legend += [Line2D([], [], ls="none", marker=m, ms=6, color="0.35", label=lab)
+               for m, lab in edge_marks.items()]
+    if contoured:
         legend.append(Line2D([], [], color="black", lw=0.9, label="u0* contours [m/s]"))
-    if legend:  # below the panels; saved with a tight bounding box
-        fig.legend(handles=legend, loc="upper center", ncol=min(3, len(legend)), fontsize=8,
-                   frameon=False, bbox_to_anchor=(0.5, 0.0))
-    assumed = ds.attrs.get("assumed_inputs", "none")
-    if assumed and assumed != "none":  # the answer depends on these: say so on the picture
-        import textwrap
 
-        note = textwrap.fill("Assumed values (materials database): " + assumed, 140)
-        fig.text(0.5, -0.03 - 0.05 * (-(-len(legend) // 3)), note, ha="center", va="top",
-                 fontsize=7, color="0.3")
-    if title is None:
-        title = _default_title(ds, var, sub, da)
-    fig.suptitle(title, fontsize=10, y=1.0 + 0.03 * title.count("\n"), va="bottom")
+    # texts: title above everything, legend and notes below everything, none overlapping
+    phrase = _materials_phrase(ds, sub, placed, scene)
+    chosen = _selections(ds, da, placed)
+    fixed = _fixed_items(ds, sub, scene)
+    if title is None:  # the variable and the materials; below, the fixed selections
+        title = f"{long_name}: {phrase}" if phrase else long_name
+        title += "\n" + ", ".join(chosen) if chosen else ""
+    else:  # the caller's title: the materials and selections go to the notes
+        fixed = ([f"materials: {phrase}"] if phrase else []) + chosen + fixed
+    notes = [t for t in (_component_text(ds, sub),
+                         ("Fixed: " + ", ".join(fixed)) if fixed else None,
+                         _assumed_text(ds, sub, scene)) if t]
+    if contoured:
+        _labels_inside(fig, axs)
+    _place_texts(fig, axs, title, legend, notes)
     fig.layout = layout
     if path is not None:
         fig.savefig(path, dpi=150, bbox_inches="tight")
     return fig
 
 
-def _default_title(ds, var, sub, da) -> str:
-    scene = json.loads(ds.attrs.get("scene", "{}"))
-    swept = set(ds.dims)
+def _labels_inside(fig, axs) -> None:
+    """Move a contour label that sticks out of its panel (a line next to an edge) inside,
+    beside its line, so that no label is clipped."""
+    from matplotlib.text import Text
 
-    def name(field):
-        return None if field in swept else scene.get(field)
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    for ax in axs.ravel():
+        box = ax.get_window_extent(r)
+        for t in ax.texts:
+            if not isinstance(t, Text) or t.get_transform() != ax.transData:
+                continue
+            ext = t.get_window_extent(r)
+            dx = max(0.0, box.x0 - ext.x0) - max(0.0, ext.x1 - box.x1)
+            dy = max(0.0, box.y0 - ext.y0) - max(0.0, ext.y1 - box.y1)
+            if dx or dy:
+                px, py = ax.transData.transform(t.get_position())
+                t.set_position(ax.transData.inverted().transform((px + dx, py + dy)))
 
-    what = ds[var].attrs.get("long_name", var)
-    liquid, si, sj = name("liquid"), name("solid_i"), name("solid_j")
-    parts = [what]
-    if liquid:
-        temp = name("T")
-        parts.append(f"{liquid}" + (f" at {_fmt_value('T', temp)}" if temp else "")
-                     + (f" on {si}" if si else "") + (f" / {sj}" if sj else ""))
-    fixed = [f"{d} = {_fmt_value(d, sub[d].values.item())}" for d in da.coords
-             if d in ds.dims and sub[d].ndim == 0]
-    title = ": ".join(parts[:1]) + (f" ({parts[1]})" if len(parts) > 1 else "")
-    if fixed:
-        title += "\n" + ", ".join(fixed)
-    return title
+
+def _place_texts(fig, axs, title: str, legend: list, notes: list) -> None:
+    """The title above the panels' titles, the legend below the lowest label, each note
+    below the one before; measured on the drawn figure, so nothing overlaps."""
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    to_fig = fig.transFigure.inverted()
+    boxes = [ax.get_tightbbox(r) for ax in fig.axes if ax.get_visible()]
+    lo = min(to_fig.transform((0, b.y0))[1] for b in boxes)
+    hi = max(to_fig.transform((0, b.y1))[1] for b in boxes)
+    panels = [ax.get_window_extent(r) for ax in axs.ravel()]
+    x0 = to_fig.transform((min(b.x0 for b in panels), 0))[0]
+    x1 = to_fig.transform((max(b.x1 for b in panels), 0))[0]
+    cx = 0.5 * (x0 + x1)
+    fig_w = fig.get_figwidth()
+    gap = 0.08 / fig.get_figheight()  # inches to figure fraction
+    fig.suptitle("\n".join(_wrap(line, int(fig_w * 13)) for line in
+                           title.split("\n")),
+                 fontsize=_TITLE_PT, x=cx, y=hi + 2 * gap, va="bottom")
+    y = lo - gap
+    if legend:
+        longest = max(len(h.get_label()) for h in legend)
+        ncol = next(k for k in range(min(3, len(legend)), 0, -1)
+                    if k == 1 or k * (0.065 * longest + 0.6) <= fig_w)  # inches at 8 pt
+        lg = fig.legend(handles=legend, loc="upper center", ncol=ncol,
+                        fontsize=8, frameon=False, bbox_to_anchor=(cx, y),
+                        bbox_transform=fig.transFigure)
+        y = to_fig.transform((0, lg.get_window_extent(r).y0))[1] - gap
+    for text in notes:
+        t = fig.text(cx, y, _wrap(text, int(fig_w * 19)), ha="center", va="top",
+                     fontsize=_NOTE_PT, color="0.3")
+        y = to_fig.transform((0, t.get_window_extent(r).y0))[1] - gap
+
+
+def _selections(ds, da, placed) -> list[str]:
+    """``T = 25 degC`` for each dimension fixed by a selection or of one value (materials
+    are named by :func:`_materials_phrase`)."""
+    named = {"liquid", "solid_i", "solid_j"}
+    return [f"{d} = {_fmt_value(d, da[d].values.item())}" for d in da.coords
+            if d in ds.dims and d not in placed and d not in named and da[d].ndim == 0]

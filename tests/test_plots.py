@@ -1,6 +1,7 @@
 """Pictures that never hide a dimension (a facet or an axis for each, or an error)."""
 
 import matplotlib
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
@@ -74,3 +75,280 @@ def test_missing_map_file_is_a_clear_error(tmp_path):
     bad.write_text("not a netcdf")
     with pytest.raises(ValueError, match="not a readable netCDF map"):
         operating_window(bad)
+
+
+# ---- what a picture shows is what the data hold ----------------------------------------
+
+@pytest.fixture(scope="module")
+def cmp3():
+    """Three partner materials, a 3-value log axis (1-10 um) and a 3-value linear axis."""
+    s = at.Scene(liquid="water", T=298.15, d_i=300e-6)
+    return at.sweep(s, solid_j=["silica-sand", "ilmenite", "olivine"], U_Umf=[2.0, 3.0, 5.0],
+                    h0=[1e-6, 3e-6, 10e-6])
+
+
+@pytest.fixture(scope="module")
+def slag_maps():
+    """Two maps of uniform u0*: infinite everywhere (a melt far too viscous to rebound
+    from) and 0 everywhere (coatings thinner than the 0.1 um asperities)."""
+    s = at.Scene(liquid="k-silicate-ash-melt", gas="biomass-flue-gas")
+    T = [1073.15, 1173.15, 1273.15]
+    inf = at.sweep(s, T=T, h0=[0.3e-6, 1e-6, 3e-6])
+    zero = at.sweep(s, T=T, h0=[0.02e-6, 0.05e-6, 0.08e-6])
+    assert np.isinf(inf.u_star).all() and (zero.u_star == 0.0).all()
+    return inf, zero
+
+
+@pytest.fixture(scope="module")
+def bed():
+    from agglomtool.bed import Component, bed_sweep
+
+    s = at.Scene(liquid="water", T=298.15, h0=5e-6, U_Umf=2.0)
+    comps = [Component("silica-sand", 0.7, d50=1000e-6, gsd=1.3, classes=3, ha=0.1e-6),
+             Component("ilmenite", 0.3, d50=1000e-6, ha=0.1e-6)]
+    return bed_sweep(s, comps, mix="ilmenite", U_Umf=[1.5, 2.0, 3.0],
+                     fraction=[0.0, 0.3, 0.6], directions=2)
+
+
+def _colorbars(fig):
+    return [ax for ax in fig.axes if ax.get_label() == "<colorbar>"]
+
+
+def _legend_labels(fig):
+    return [t.get_text() for lg in fig.legends for t in lg.get_texts()]
+
+
+def _all_text(fig):
+    """Every visible text of the figure: titles, labels, tick labels, legends, notes."""
+    import matplotlib.text
+
+    return "\n".join(" ".join(t.get_text().split()) for t in fig.findobj(matplotlib.text.Text)
+                     if t.get_visible() and t.get_text())  # lines wrapped: joined again
+
+
+def _panels(fig):
+    return [ax for ax in fig.axes if ax.get_label() != "<colorbar>" and ax.get_visible()]
+
+
+def test_uniform_u_star_gets_no_colour_range_and_says_what_it_is(slag_maps):
+    inf, zero = slag_maps
+    for ds, words in ((inf, ("all points", "infinite", "ceiling")),
+                      (zero, ("all points", "no bridge"))):
+        fig = operating_window(ds, "u_star")
+        assert _colorbars(fig) == []
+        assert not any("contours" in t for t in _legend_labels(fig))
+        text = _all_text(fig)
+        assert all(w in text for w in words), text
+        plt.close(fig)
+
+
+def test_uniform_propensity_is_stated_not_given_a_range(slag_maps):
+    fig = operating_window(slag_maps[0])  # propensity 1 everywhere (u0* infinite)
+    assert _colorbars(fig) == []
+    assert "all points: agglomeration propensity = 1" in _all_text(fig)
+    assert not any("contours" in t for t in _legend_labels(fig))
+    assert any("ceiling" in t for t in _legend_labels(fig))  # the hatching is drawn
+    plt.close(fig)
+
+
+def test_colour_bar_spans_the_shown_data(bed, cmp3):
+    fig = operating_window(bed)
+    (cb,) = _colorbars(fig)
+    p = bed.propensity.values
+    np.testing.assert_allclose(sorted(cb.get_ylim()), [p.min(), p.max()], rtol=1e-12)
+    plt.close(fig)
+    fig = operating_window(cmp3, "St", sel={"solid_j": "ilmenite"})  # a log colour scale
+    (cb,) = _colorbars(fig)
+    st = cmp3.St.sel(solid_j="ilmenite").values
+    np.testing.assert_allclose(sorted(cb.get_ylim()), [st.min(), st.max()], rtol=1e-12)
+    plt.close(fig)
+
+
+def test_contour_legend_entry_only_where_contours_are_drawn(cmp3):
+    from matplotlib.contour import ContourSet
+
+    fig = operating_window(cmp3, col="solid_j")
+    drawn = [c for ax in _panels(fig) for c in ax.collections if isinstance(c, ContourSet)
+             and len(c.levels)]
+    assert len(drawn) == 3 and any("u0* contours" in t for t in _legend_labels(fig))
+    assert all(_labelled(c) for c in drawn)
+    plt.close(fig)
+
+
+def test_a_selection_is_titled_once(cmp3):
+    fig = operating_window(cmp3, sel={"solid_j": "ilmenite"})
+    titles = [fig._suptitle.get_text()] + [ax.get_title() for ax in _panels(fig)]
+    assert sum(t.count("ilmenite") for t in titles) == 1, titles
+    plt.close(fig)
+
+
+def _overlap(a, b):
+    return a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1
+
+
+@pytest.mark.parametrize("kw", [dict(sel={"solid_j": "ilmenite"}), dict(col="solid_j")])
+def test_labels_legend_and_notes_do_not_overlap(cmp3, kw):
+    fig = operating_window(cmp3, **kw)
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    axis_parts = []
+    for ax in _panels(fig) + _colorbars(fig):
+        axis_parts += [ax.xaxis.label, ax.yaxis.label, ax.title]
+        axis_parts += ax.get_xticklabels() + ax.get_yticklabels()
+    boxes = [t.get_window_extent(r) for t in axis_parts if t.get_visible() and t.get_text()]
+    boxes += [ax.get_window_extent(r) for ax in _panels(fig) + _colorbars(fig)]
+    notes = [lg.get_window_extent(r) for lg in fig.legends]
+    notes += [t.get_window_extent(r) for t in fig.texts if t.get_text()]  # and the title
+    assert fig._suptitle in fig.texts and len(notes) >= 4
+    for i, n in enumerate(notes):
+        assert not any(_overlap(n, b) for b in boxes)
+        assert not any(_overlap(n, m) for m in notes[i + 1:])
+    ticks = [[t.get_window_extent(r) for t in ax.get_xticklabels() if t.get_text()]
+             for ax in _panels(fig)]  # the end ticks of neighbouring panels stay apart
+    for a in range(len(ticks)):
+        for b in range(a + 1, len(ticks)):
+            assert not any(_overlap(u, v) for u in ticks[a] for v in ticks[b])
+    plt.close(fig)
+
+
+def test_notes_list_only_the_materials_shown(cmp3):
+    assert "olivine" in cmp3.attrs["assumed_inputs"]
+    fig = operating_window(cmp3, sel={"solid_j": "ilmenite"})
+    notes = " ".join(" ".join(t.get_text().split()) for t in fig.texts)
+    assert "ilmenite asperity_height = 1 um" in notes
+    assert "olivine" not in _all_text(fig)
+    plt.close(fig)
+    fig = operating_window(cmp3, col="solid_j")
+    assert "olivine asperity_height = 1 um" in " ".join(" ".join(t.get_text().split())
+                                                       for t in fig.texts)
+    plt.close(fig)
+
+
+def test_bed_picture_names_every_component(bed):
+    fig = operating_window(bed)
+    title = fig._suptitle.get_text()
+    assert "silica-sand" in title and "ilmenite" in title
+    text = _all_text(fig)
+    assert "d50 = 1000 um" in text and "gsd = 1.3" in text  # the components' sizes
+    assert "h0 = 5 um" in text and "T = 25 degC" in text
+    plt.close(fig)
+
+
+def test_cells_span_the_data_only(cmp3, bed):
+    fig = operating_window(cmp3, col="solid_j")
+    for ax in _panels(fig):
+        np.testing.assert_allclose(ax.get_xlim(), (1.0, 10.0), rtol=1e-9)  # h0 [um]
+        np.testing.assert_allclose(ax.get_ylim(), (2.0, 5.0), rtol=1e-9)   # U/U_mf
+        ticks = [float(t) for t in ax.get_xticks() if 1.0 <= t <= 10.0]
+        np.testing.assert_allclose(ticks, [1.0, 3.0, 10.0])  # few values: each marked
+    plt.close(fig)
+    fig = operating_window(bed)
+    (ax,) = _panels(fig)
+    np.testing.assert_allclose(ax.get_xlim(), (0.0, 0.6), atol=1e-12)
+    np.testing.assert_allclose(ax.get_ylim(), (1.5, 3.0), rtol=1e-12)
+    plt.close(fig)
+
+
+def test_every_fixed_scene_value_is_stated(cmp3):
+    fig = operating_window(cmp3, sel={"solid_j": "ilmenite"})
+    text = _all_text(fig)
+    for item in ("T = 25 degC", "P = 1.013 bar", "gas = air", "d_i = 300 um", "d_j = d_i",
+                 "eps = 0.55", "U_e_Umf = 1.1", "beta_deg = 0 deg", "mode = relative",
+                 "speed = excess-gas", "fluctuation_ratio = 1", "drag_slip = emulsion",
+                 "umf_method = wen-yu", "u_ceiling = 10 m/s", "body_forces = on",
+                 "water", "silica-sand"):
+        assert item in text, item
+    assert "h0 = 0.2 um" not in text  # the scene's h0 is swept: the axis says it
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("units", ["dimensionless", "1"])
+def test_one_convention_for_dimensionless_units(cmp3, units):
+    ds = cmp3.copy()
+    for name in list(ds.variables):
+        if ds[name].attrs.get("units") == "dimensionless":
+            ds[name].attrs["units"] = units
+    fig = operating_window(ds, col="solid_j")
+    text = _all_text(fig)
+    assert "dimensionless" not in text and "[1]" not in text
+    assert "U/U_mf [-]" in text and "propensity [-]" in text
+    plt.close(fig)
+
+
+def test_each_picture_is_a_new_figure(slag_maps):
+    first = operating_window(slag_maps[0], "u_star")
+    second = operating_window(slag_maps[1], contours=False)
+    assert second is not first and len(_colorbars(second)) <= 1
+    assert _all_text(first).count("all points") == 1
+    plt.close("all")
+
+
+def test_contour_labels_are_not_clipped_at_a_panel_edge(cmp3):
+    ds = cmp3.copy()
+    # u0* of 0.05 m/s just inside the left edge (h0 = 1 um): its label would stick out
+    ds["u_star"] = ds["u_star"].copy(data=np.broadcast_to(
+        np.array([0.0499, 0.2, 0.5]), ds["u_star"].shape).copy())
+    fig = operating_window(ds, sel={"solid_j": "ilmenite"})
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    (ax,) = _panels(fig)
+    box = ax.get_window_extent(r)
+    labels = [t for t in ax.texts if t.get_text().endswith("m/s")]
+    assert labels
+    for t in labels:
+        ext = t.get_window_extent(r)
+        assert box.x0 - 0.5 <= ext.x0 and ext.x1 <= box.x1 + 0.5, t.get_text()
+        assert box.y0 - 0.5 <= ext.y0 and ext.y1 <= box.y1 + 0.5, t.get_text()
+    plt.close(fig)
+
+
+def test_end_ticks_of_neighbouring_panels_stay_apart(bed):
+    fig = operating_window(bed, "propensity_by_component")  # 0 ... 0.6 | 0 ... 0.6
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    left, right = ([t.get_window_extent(r) for t in ax.get_xticklabels() if t.get_text()]
+                   for ax in _panels(fig))
+    assert left and right
+    em = _panels(fig)[0].get_xticklabels()[0].get_fontsize() * fig.dpi / 72.0  # [px]
+    assert min(b.x0 for b in right) - max(b.x1 for b in left) >= em  # not "0.6 0"
+    plt.close(fig)
+
+
+def test_a_single_valued_dimension_and_a_given_title_still_state_the_values():
+    s = at.Scene(liquid="water", d_i=300e-6)
+    ds = at.sweep(s, T=[298.15], U_Umf=[2.0, 3.0], h0=[1e-6, 3e-6])
+    assert ds.sizes["T"] == 1
+    fig = operating_window(ds)
+    assert "T = 25 degC" in _all_text(fig)
+    plt.close(fig)
+    fig = operating_window(ds, sel={"U_Umf": 3.0}, title="my title")
+    text = _all_text(fig)
+    assert "my title" in text and "T = 25 degC" in text and "U_Umf = 3" in text
+    plt.close(fig)
+
+
+def test_every_contour_drawn_carries_its_label():
+    """u0* finite in a strip two cells wide (a melt just thick enough to rebound from): a
+    contour line there is too short for its label and is left out, not drawn unreadable."""
+    import xarray as xr
+    from matplotlib.contour import ContourSet
+
+    T = np.linspace(1073.15, 1673.15, 30)
+    h0 = np.geomspace(0.05e-6, 2e-6, 30)
+    u = np.full((30, 30), np.inf)
+    u[20:, 8:10] = np.geomspace(9.0, 0.5, 10)[:, None] * [1.0, 1.3]
+    ds = xr.Dataset({"propensity": (("T", "h0"), np.where(np.isinf(u), 1.0, 0.9)),
+                     "u_star": (("T", "h0"), u)},
+                    coords={"T": ("T", T, {"units": "K", "long_name": "bed temperature"}),
+                            "h0": ("h0", h0, {"units": "m", "long_name": "coating"})})
+    fig = operating_window(ds)
+    sets = [c for ax in _panels(fig) for c in ax.collections if isinstance(c, ContourSet)]
+    for cs in sets:
+        assert _labelled(cs)
+    assert bool(sets) == any("contours" in t for t in _legend_labels(fig))
+    plt.close(fig)
+
+
+def _labelled(cs) -> bool:
+    """Every level of the contour set has a label on the panel."""
+    return {f"{v:g} m/s" for v in cs.levels} <= {t.get_text() for t in cs.labelTexts}

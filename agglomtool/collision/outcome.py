@@ -9,7 +9,8 @@ import enum
 
 import numpy as np
 
-__all__ = ["Stage", "Path", "DETAIL_NAMES", "STAGE_DESCRIPTIONS", "stage_names", "path_names"]
+__all__ = ["Stage", "Path", "DETAIL_NAMES", "STAGE_DESCRIPTIONS", "NO_BRIDGE_DESCRIPTION",
+           "stage_names", "path_names"]
 
 
 class Stage(enum.IntEnum):
@@ -67,6 +68,12 @@ STAGE_DESCRIPTIONS = {
 }
 
 
+#: What a collision flagged :attr:`Path.NO_BRIDGE` went through, whatever its stage code
+#: (``REBOUND`` with ``e_w = e``, or ``CONTACT`` when ``e = 0``): no bridge formed to rupture.
+NO_BRIDGE_DESCRIPTION = ("The coatings are no thicker than the asperities (H0 <= Ha): no "
+                         "liquid bridge forms.")
+
+
 class Path(enum.IntFlag):
     """Special-case paths taken (bit flags; 0 = the ordinary path)."""
 
@@ -104,7 +111,9 @@ DETAIL_NAMES = (
     "St_app",                      # viscous Stokes number of the approach, m v0 / c
     # Modes other than "paper": work bounds of optional terms over the initial relative
     # kinetic energy [-] (agglomtool.collision.relative.term_work_fractions); a term is
-    # negligible below relative.NEGLIGIBLE_FRACTION.
+    # negligible below relative.NEGLIGIBLE_FRACTION. Taken at the impact speed over the whole
+    # gap, a bound can exceed 1 (by ~1/St_app where viscosity stops the pair first): it then
+    # says only "not negligible" (CollisionResult.explain prints it so).
     "W_body_frac", "W_volcorr_frac",
 )  # fmt: skip
 
