@@ -531,6 +531,47 @@ def _contours(ax, xa: _Axis, ya: _Axis, z: np.ndarray) -> bool:
     return True
 
 
+#: Colour of a robust map's boundary and band (visible on the propensity's colours).
+_BAND = "#1f9bd1"
+#: P(unsafe) between these bounds: not decided (agglomtool.maps.robust.UNDECIDED).
+_UNDECIDED = (0.1, 0.9)
+
+
+def _robust_band(ax, xa: _Axis, ya: _Axis, p: np.ndarray) -> set:
+    """The window's boundary (P(unsafe) = 0.5), its band (0.1, 0.9) and the undecided
+    cells of a robust map; the names of what was drawn."""
+    drawn = set()
+    lo, hi = _UNDECIDED
+    undecided = (p > lo) & (p < hi)
+    if undecided.any():
+        _hatch_cells(ax, xa, ya, undecided, "xx")
+        drawn.add("undecided")
+    if xa.categorical or ya.categorical or p.shape[0] < 2 or p.shape[1] < 2:
+        return drawn
+    for level, style, lw, name in ((0.5, "-", 2.0, "boundary"), (lo, "--", 1.2, "band"),
+                                   (hi, "--", 1.2, "band")):
+        if np.nanmin(p) < level < np.nanmax(p):
+            ax.contour(xa.pos, ya.pos, p, levels=[level], colors=_BAND, linewidths=lw,
+                       linestyles=style)
+            drawn.add(name)
+    return drawn
+
+
+def _regime_text(sub) -> str | None:
+    """What decides the shown data where it has no finite u0* (agglomtool.maps.regime)."""
+    from .maps.regime import deciding_regime
+
+    return deciding_regime(sub) or None
+
+
+def _robust_text(ds) -> str:
+    n = ds.attrs.get("robust_samples")
+    inputs = ds.attrs.get("robust_uncertain_inputs", "")
+    names = "; ".join(part.split(" = ")[0] for part in inputs.split("; ") if part)
+    return (f"Robust map: {n} draws per point, the same at every point, of {names}; P is "
+            "the share of draws whose propensity exceeds the threshold.")
+
+
 def _short(var: str) -> str:
     return {"u_star": "u0*", "Ca_star": "Ca at u0*"}.get(var, var)
 
@@ -658,6 +699,19 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                 us = us.isel({d: 0})
         us_all = np.asarray(us.transpose(*order).values, dtype=float)
 
+    # a robust map (sweep(..., uncertain=...)): the window's boundary where the propensity
+    # exceeds its threshold with probability 1/2, its band (0.1 and 0.9) and the cells
+    # where the answer is not decided
+    pu_all = None
+    if ("p_unsafe" in sub and y is not None and cats is None
+            and var in ("propensity", "propensity_mean")):
+        pu = sub["p_unsafe"].broadcast_like(sub[var])
+        for d in pu.dims:
+            if d not in placed:
+                pu = pu.isel({d: 0})
+        pu_all = np.asarray(pu.transpose(*order).values, dtype=float)
+    robust_drawn = set()
+
     # colours: categories present, or the shown data's own range (none if one value)
     norm, cmap, legend, note = None, None, [], None
     if cats is not None:
@@ -738,6 +792,9 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                             hatches[hatch] = label
                     if contours:
                         contoured |= _contours(ax, xa, ya, u)
+                if pu_all is not None:
+                    robust_drawn |= _robust_band(ax, xa, ya,
+                                                 pu_all[idx][np.ix_(ya.order, xa.order)])
                 ya.apply(ax, "y")
             xa.apply(ax, "x")
             if note is not None:
@@ -765,6 +822,18 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                for m, lab in edge_marks.items()]
     if contoured:
         legend.append(Line2D([], [], color="black", lw=0.9, label="u0* contours [m/s]"))
+    if robust_drawn:
+        thr = float(sub["p_unsafe"].attrs.get("threshold", 0.5))
+        lo, hi = _UNDECIDED
+        if "boundary" in robust_drawn:
+            legend.append(Line2D([], [], color=_BAND, lw=2.0, label=(
+                f"window boundary: P(propensity > {thr:g}) = 0.5")))
+        if "band" in robust_drawn:
+            legend.append(Line2D([], [], color=_BAND, lw=1.2, ls="--", label=(
+                f"confidence band: P = {lo:g} and {hi:g}")))
+        if "undecided" in robust_drawn:
+            legend.append(Patch(facecolor="none", edgecolor=_BAND, hatch="xx", label=(
+                f"not decided ({lo:g} < P < {hi:g})")))
 
     # texts: title above everything, legend and notes below everything, none overlapping
     phrase = _materials_phrase(ds, sub, placed, scene)
@@ -777,7 +846,9 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
         fixed = ([f"materials: {phrase}"] if phrase else []) + chosen + fixed
     notes = [t for t in (_component_text(ds, sub),
                          ("Fixed: " + ", ".join(fixed)) if fixed else None,
-                         _assumed_text(ds, sub, scene)) if t]
+                         _assumed_text(ds, sub, scene),
+                         _robust_text(ds) if robust_drawn else None,
+                         _regime_text(sub)) if t]
     if contoured:
         _labels_inside(fig, axs)
     _place_texts(fig, axs, title, legend, notes)

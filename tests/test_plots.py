@@ -352,3 +352,37 @@ def test_every_contour_drawn_carries_its_label():
 def _labelled(cs) -> bool:
     """Every level of the contour set has a label on the panel."""
     return {f"{v:g} m/s" for v in cs.levels} <= {t.get_text() for t in cs.labelTexts}
+
+
+def test_a_robust_map_draws_its_boundary_band_and_undecided_cells():
+    import warnings
+
+    import agglomtool as at
+    from agglomtool.plots import operating_window
+
+    warnings.simplefilter("ignore", at.PlausibilityWarning)
+    scene = at.Scene(liquid="water", T=298.15, solid_i="silica-sand", d_i=300e-6)
+    grid = dict(U_Umf=np.linspace(1.2, 8.0, 8), h0=np.geomspace(1e-6, 30e-6, 8))
+    robust = at.sweep(scene, uncertain="assumed", samples=32, **grid)
+    assert robust.undecided.any()  # the test needs undecided cells to draw
+    fig = operating_window(robust)
+    labels = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+    assert "window boundary: P(propensity > 0.5) = 0.5" in labels
+    assert "not decided (0.1 < P < 0.9)" in labels
+    texts = " ".join(t.get_text() for t in fig.texts)
+    assert "Robust map: 32 draws per point" in texts
+    plain = operating_window(at.sweep(scene, **grid))
+    labels = [t.get_text() for leg in plain.legends for t in leg.get_texts()]
+    assert not any("window boundary" in t or "not decided" in t for t in labels)
+
+
+def test_a_map_without_finite_u_star_says_what_decides_it():
+    import agglomtool as at
+    from agglomtool.plots import operating_window
+
+    melt = at.Scene(gas="biomass-flue-gas", liquid="k-silicate-ash-melt", T=1123.15,
+                    solid_i="silica-sand", d_i=300e-6)
+    fig = operating_window(at.sweep(melt, T=[1073.15, 1173.15, 1223.15],
+                                    h0=[0.05e-6, 0.5e-6, 1e-6]))
+    texts = " ".join(t.get_text() for t in fig.texts).replace("\n", " ")
+    assert "what decides is whether a bridge forms" in texts
