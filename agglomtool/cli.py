@@ -224,8 +224,37 @@ def _cmd_collide(args: argparse.Namespace) -> int:
         lines += [f"critical impact speed u0* = {us:.4g} m/s (margin u0/u0* = {u0 / us:.3g})",
                   f"capillary number at u0*: Ca = {ca:.3g} -> "
                   + ("viscous-limited" if ca > 1.0 else "capillary-limited")]
+    lines += _assumed_lines(scene)
     print("\n".join(lines))
     return 0
+
+
+def _assumed_lines(scene) -> list[str]:
+    """The database values the report used that are assumptions, with their plausible
+    laws (``agglomtool compare`` and ``uncertain="assumed"`` draw from them)."""
+    from . import materials
+    from .uncertainty.assumed import assumed_draws
+
+    values = scene.values()
+    inputs, not_drawn = assumed_draws(values)
+    if not inputs and not not_drawn:
+        return []
+    scale = {"asperity_height": (1e6, "um"), "restitution_dry": (1.0, ""),
+             "theta_deg": (1.0, "deg")}
+    out = ["assumed values used (the materials database's, with their plausible ranges):"]
+    for a in inputs.values():
+        f, unit = scale.get(a.field, (1.0, ""))
+        lo, hi = (v * f for v in a.law.params)
+        what = ("lognormal, 5-95 %" if a.law.law == "lognormal" else "uniform on")
+        entry = (materials.solid(a.entry) if a.kind == "solid"
+                 else materials.liquid_entry(a.entry))
+        value = getattr(entry, a.field) * f
+        out.append(f"  {a.entry} {a.field} = {value:g} {unit}".rstrip()
+                   + f" ({what} {lo:g}-{hi:g} {unit})".replace(" )", ")"))
+    out += [f"  {t}" for t in not_drawn]
+    out.append("  (agglomtool compare, or uncertain=\"assumed\" in Python, says how much the "
+               "answer depends on them)")
+    return out
 
 
 def _cmd_materials(args: argparse.Namespace) -> int:

@@ -67,3 +67,18 @@ def test_work_fractions_are_fractions_or_say_why_not():
     vol = next(line for line in _frac_lines(small.explain()) if "W_volcorr_frac" in line)
     assert np.isclose(float(re.search(r"=\s*([0-9.eE+-]+)", vol).group(1)), expected,
                       rtol=1e-5)
+
+
+def test_the_report_lists_the_assumed_values_with_their_ranges(capsys):
+    from agglomtool.cli import main
+
+    assert main(["collide", "--liquid", "water", "--T", "25 degC", "--h0", "5 um",
+                 "--solid-j", "ilmenite", "--d-i", "300 um"]) == 0
+    out = capsys.readouterr().out
+    assert "ilmenite asperity_height = 1 um (lognormal, 5-95 % 0.1-10 um)" in out
+    assert "ilmenite restitution_dry = 0.85 (uniform on 0.7-0.95)" in out
+    assert "water theta_deg = 0 deg (uniform on 0-30 deg)" in out
+    # a value the user sets is not an assumption of the database
+    assert main(["collide", "--liquid", "water", "--T", "25 degC", "--h0", "5 um",
+                 "--ha-i", "0.3 um", "--ha-j", "0.3 um", "--theta-deg", "5", "--e", "0.9"]) == 0
+    assert "assumed values used" not in capsys.readouterr().out
