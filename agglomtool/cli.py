@@ -241,14 +241,18 @@ def _assumed_lines(scene) -> list[str]:
         return []
     scale = {"asperity_height": (1e6, "um"), "restitution_dry": (1.0, ""),
              "theta_deg": (1.0, "deg")}
-    out = ["assumed values used (the materials database's, with their plausible ranges):"]
+    out = ["assumed values used (the materials database's and the speed estimate's, with "
+           "their plausible ranges):"]
     for a in inputs.values():
         f, unit = scale.get(a.field, (1.0, ""))
         lo, hi = (v * f for v in a.law.params)
         what = ("lognormal, 5-95 %" if a.law.law == "lognormal" else "uniform on")
-        entry = (materials.solid(a.entry) if a.kind == "solid"
-                 else materials.liquid_entry(a.entry))
-        value = getattr(entry, a.field) * f
+        if a.kind == "model":
+            value = float(values[a.field])
+        else:
+            entry = (materials.solid(a.entry) if a.kind == "solid"
+                     else materials.liquid_entry(a.entry))
+            value = getattr(entry, a.field) * f
         out.append(f"  {a.entry} {a.field} = {value:g} {unit}".rstrip()
                    + f" ({what} {lo:g}-{hi:g} {unit})".replace(" )", ")"))
     out += [f"  {t}" for t in not_drawn]

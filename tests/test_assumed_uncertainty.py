@@ -98,11 +98,16 @@ def test_assumed_draws_follow_the_scene():
     assert list(inputs) == ["solid silica-sand asperity_height",
                             "solid ilmenite asperity_height",
                             "solid ilmenite restitution_dry",
-                            "liquid k-silicate-ash-melt theta_deg"]
+                            "liquid k-silicate-ash-melt theta_deg",
+                            "model excess-gas fluctuation_ratio"]
     assert not_drawn == ["k-silicate-ash-melt composition_wt (not a number: no law yet)"]
     # values the scene sets, or the caller makes uncertain, are not drawn
-    inputs, _ = assumed_draws({**base, "ha_i": 1e-6}, given=("theta_deg",))
+    inputs, _ = assumed_draws({**base, "ha_i": 1e-6, "fluctuation_ratio": 2.0},
+                              given=("theta_deg",))
     assert list(inputs) == ["solid ilmenite asperity_height", "solid ilmenite restitution_dry"]
+    # the speed estimate's coefficient only where the scene uses that estimate
+    inputs, _ = assumed_draws({**base, "speed": "lognormal", "u0": 0.1})
+    assert "model excess-gas fluctuation_ratio" not in inputs
     # e is the mean of the two solids' values, drawn or from the database (sand: 0.9)
     out = scene_fields(base, {"solid ilmenite restitution_dry": np.array([0.7, 0.95])})
     np.testing.assert_allclose(out["e"], [0.8, 0.925])
@@ -149,7 +154,7 @@ def test_bad_uncertain_is_refused_naming_it(uncertain, match):
 
 
 def test_assumed_with_nothing_to_draw_is_refused():
-    scene = GLASS.replace(ha_i=0.5e-6, ha_j=0.5e-6, theta_deg=10.0)
+    scene = GLASS.replace(ha_i=0.5e-6, ha_j=0.5e-6, theta_deg=10.0, fluctuation_ratio=1.5)
     with pytest.raises(ValueError, match="uses no assumed database value"):
         at.monte_carlo(scene, uncertain="assumed", n=10)
 

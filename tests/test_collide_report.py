@@ -78,7 +78,9 @@ def test_the_report_lists_the_assumed_values_with_their_ranges(capsys):
     assert "ilmenite asperity_height = 1 um (lognormal, 5-95 % 0.1-10 um)" in out
     assert "ilmenite restitution_dry = 0.85 (uniform on 0.7-0.95)" in out
     assert "water theta_deg = 0 deg (uniform on 0-30 deg)" in out
+    assert "excess-gas fluctuation_ratio = 1 (lognormal, 5-95 % 0.3-3)" in out
     # a value the user sets is not an assumption of the database
     assert main(["collide", "--liquid", "water", "--T", "25 degC", "--h0", "5 um",
-                 "--ha-i", "0.3 um", "--ha-j", "0.3 um", "--theta-deg", "5", "--e", "0.9"]) == 0
+                 "--ha-i", "0.3 um", "--ha-j", "0.3 um", "--theta-deg", "5", "--e", "0.9",
+                 "--fluctuation-ratio", "1.5"]) == 0
     assert "assumed values used" not in capsys.readouterr().out

@@ -18,6 +18,9 @@ laws become uncertain inputs of a Scene:
   neither is one named uncertain by the caller: the caller's law wins;
 - draws are truncated (by resampling, as for any uncertain input) to the Scene's valid
   range and, for asperity heights, to the range the tool finds plausible;
+- the default impact-speed estimate's free coefficient (``fluctuation_ratio`` of the
+  ``excess-gas`` model, :data:`SPEED_COEFFICIENT`) is drawn too where the scene leaves it at
+  its default: the stream ``"model excess-gas fluctuation_ratio"``;
 - an assumed value that is not a number (a melt's composition) has no law yet: it is
   listed as assumed but not drawn.
 """
@@ -30,12 +33,14 @@ import numpy as np
 from scipy.special import ndtri
 
 from .. import materials
+from .._fields import DEFAULTS
 from ..materials import AssumedLaw
 from ..plausibility import ASPERITY_RANGE
 from ..scene import FIELD_RANGES
 from .distributions import Distribution, LogNormal, Uniform
 
-__all__ = ["AssumedInput", "assumed_draws", "law_distribution", "scene_fields", "ASSUMED"]
+__all__ = ["AssumedInput", "assumed_draws", "law_distribution", "scene_fields", "ASSUMED",
+           "SPEED_COEFFICIENT"]
 
 #: The word that asks for every assumed value of the database.
 ASSUMED = "assumed"
@@ -43,6 +48,16 @@ ASSUMED = "assumed"
 #: The standard normal's 95 % quantile: a lognormal's 5-95 % band spans 2 x this many
 #: standard deviations of its log.
 _Z95 = float(ndtri(0.95))
+
+#: The free coefficient of the default impact-speed estimate ("excess-gas": an r.m.s.
+#: particle velocity of ``fluctuation_ratio`` (U - U_mf)), drawn where a scene leaves it at
+#: its default. Not a database value, so stated here.
+SPEED_COEFFICIENT = AssumedLaw(
+    field="fluctuation_ratio", law="lognormal", params=(0.3, 3.0),
+    reason=("The excess-gas estimate takes the r.m.s. particle velocity equal to "
+            "k (U - U_mf) with k = 1: an order-of-magnitude assumption, not a fitted "
+            "correlation. k is drawn within a factor of about 3 either way (5-95 %: "
+            "0.3-3; engineering judgement)."))
 
 #: database field -> the Scene field it sets, per side (None: the field has no Scene field).
 _SOLID_FIELDS = {"asperity_height": ("ha_i", "ha_j"), "restitution_dry": ("e", "e")}
@@ -149,6 +164,13 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
         if values.get(scene_field) is not None or scene_field in given:
             continue
         add("liquid", liquid, field_name, scene_field)
+    if (values.get("speed") == "excess-gas" and "fluctuation_ratio" not in given
+            and values.get("fluctuation_ratio") == DEFAULTS["fluctuation_ratio"]):
+        key = "model excess-gas fluctuation_ratio"
+        bounds, text = _scene_range("fluctuation_ratio")
+        inputs[key] = AssumedInput(key, "model", "excess-gas", "fluctuation_ratio",
+                                   SPEED_COEFFICIENT, law_distribution(SPEED_COEFFICIENT),
+                                   bounds, text)
     return inputs, list(dict.fromkeys(not_drawn))
 
 
@@ -173,4 +195,7 @@ def scene_fields(values: dict, draws: dict[str, np.ndarray]) -> dict[str, np.nda
     key = f"liquid {liquid.name} theta_deg"
     if key in draws:
         out["theta_deg"] = draws[key]
+    key = "model excess-gas fluctuation_ratio"
+    if key in draws:
+        out["fluctuation_ratio"] = draws[key]
     return out

@@ -198,6 +198,9 @@ def _input_text(name: str) -> str:
     asperity height of ilmenite, which the database assumes"``; a Scene field stays its
     name. Entry names hold no underscore (they are normalised to hyphens)."""
     kind, _, rest = name.partition("_")
+    if kind == "model" and "_" in rest:
+        model, _, field = rest.partition("_")
+        return f"the {field.replace('_', ' ')} of the {model} speed estimate, which is assumed"
     if kind in ("solid", "liquid") and "_" in rest:
         entry, _, field = rest.partition("_")
         words = _WORDS.get(field, field.replace("_", " "))

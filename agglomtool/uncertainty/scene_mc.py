@@ -151,7 +151,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
         e_w[sl], propensity[sl], u_star[sl] = out["e_w"], out["propensity"], out["u_star"]
         if keep_samples:
             stage[sl] = out["stage"]
-            for k in ("e", "ha_i", "ha_j", "theta_deg"):
+            for k in ("e", "ha_i", "ha_j", "theta_deg", "fluctuation_ratio"):
                 if k in drawn and k not in fields:
                     scene_values.setdefault(k, np.empty(n))[sl] = drawn[k]
         e_max = max(e_max, float(np.max(out["e"])))
@@ -223,7 +223,8 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
 
 
 #: database field -> the Scene field whose unit its draws carry
-_SCENE_FIELD_OF = {"asperity_height": "ha_i", "restitution_dry": "e", "theta_deg": "theta_deg"}
+_SCENE_FIELD_OF = {"asperity_height": "ha_i", "restitution_dry": "e", "theta_deg": "theta_deg",
+                   "fluctuation_ratio": "fluctuation_ratio"}
 
 
 def _map_outputs(base: dict, drawn: dict, nodes: int) -> dict:
