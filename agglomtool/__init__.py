@@ -19,7 +19,7 @@ _LAZY = {
     "Path": ".collision.outcome", "Stage": ".collision.outcome",
     "sweep": ".maps.grid", "write_map": ".maps.export",
     "gas_properties": ".properties", "umf": ".properties",
-    "Scene": ".scene",
+    "Scene": ".scene", "impact_speed_methods": ".scene",
     "PlausibilityWarning": ".plausibility",
     "LogNormal": ".uncertainty", "Normal": ".uncertainty", "Uniform": ".uncertainty",
     "monte_carlo": ".uncertainty", "sobol_indices": ".uncertainty", "compare": ".uncertainty",

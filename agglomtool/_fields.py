@@ -30,7 +30,8 @@ CATEGORICAL_FIELDS = ("gas", "solid_i", "solid_j", "liquid", "speed", "mode", "d
 #: Fields holding numbers (swept as numeric coordinates).
 NUMERIC_FIELDS = ("T", "P", "U", "U_Umf", "eps", "U_e_Umf", "d_i", "d_j", "h0", "h0_j",
                   "ha_i", "ha_j", "e", "theta_deg", "beta_deg", "u0", "sigma_ln",
-                  "granular_temperature", "fluctuation_ratio", "u_ceiling")
+                  "granular_temperature", "fluctuation_ratio", "bed_height", "column_diameter",
+                  "orifice_area", "height", "wake_fraction", "u_ceiling")
 
 #: Units and long names of the numeric fields (pint-parsable units).
 FIELD_META = {
@@ -53,6 +54,11 @@ FIELD_META = {
     "sigma_ln": ("dimensionless", "lognormal shape of the impact-speed distribution"),
     "granular_temperature": ("m**2/s**2", "granular temperature (Maxwellian speeds)"),
     "fluctuation_ratio": ("dimensionless", "r.m.s. particle velocity over U - U_mf"),
+    "bed_height": ("m", "static (settled) bed height"),
+    "column_diameter": ("m", "column diameter"),
+    "orifice_area": ("m**2", "distributor area per orifice (0: porous plate)"),
+    "height": ("m", "height of interest above the distributor"),
+    "wake_fraction": ("dimensionless", "bubble wake volume over bubble volume"),
     "u_ceiling": ("m/s", "u0* ceiling: above it the pair sticks at every bed speed"),
 }
 
@@ -60,7 +66,8 @@ def short_unit(name: str) -> str:
     """The unit of numeric field ``name`` as messages and help texts print it: ``"deg"``,
     ``"m2/s2"``, and ``""`` for a dimensionless field."""
     unit = FIELD_META[name][0]
-    return {"dimensionless": "", "degree": "deg", "m**2/s**2": "m2/s2"}.get(unit, unit)
+    return {"dimensionless": "", "degree": "deg", "m**2/s**2": "m2/s2",
+            "m**2": "m2"}.get(unit, unit)
 
 
 #: Default of every Scene field; ``None`` means "derived" (see the Scene's docstring).
@@ -70,6 +77,8 @@ DEFAULTS = {
     "liquid": "hypothetical-slag", "h0": 0.2e-6, "h0_j": None, "ha_i": None, "ha_j": None,
     "e": None, "theta_deg": None, "beta_deg": 0.0, "u0": None, "speed": None,
     "sigma_ln": 0.5, "granular_temperature": None, "fluctuation_ratio": 1.0,
+    "bed_height": 0.3, "column_diameter": 0.3, "orifice_area": 0.0, "height": None,
+    "wake_fraction": 0.25,
     "mode": DEFAULT_MODE,
     "body_forces": True, "drag_slip": "emulsion", "umf_method": "wen-yu",
     "u_ceiling": U_CEILING,
@@ -77,7 +86,8 @@ DEFAULTS = {
 
 #: Allowed names of the categorical fields that are not database entries.
 CHOICES = {
-    "speed": ("fixed", "lognormal", "maxwellian", "excess-gas"),
+    "speed": ("fixed", "lognormal", "maxwellian", "excess-gas", "bubble-darton",
+              "bubble-mori-wen", "collisional-balance"),
     "mode": ("stokes", "paper", "relative", "ode", "ode_selfconsistent", "auto"),
     "drag_slip": ("emulsion", "particle"),
     "umf_method": ("wen-yu", "richardson", "saxena-vogel", "babu", "grace", "chitester"),
@@ -96,4 +106,5 @@ DERIVED = {
     "u0": "none: the speed distribution is then estimated (see speed)",
     "speed": "fixed with u0, maxwellian with granular_temperature, else excess-gas",
     "granular_temperature": "none",
+    "height": "half the bed height",
 }

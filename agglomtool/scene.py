@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -33,15 +34,16 @@ from ._fields import (
 )
 from ._validate import check_range
 from .api import MODES, collide, critical_impact_speed
+from .bed.speed_models import IMPACT_SPEED_MODELS, speed_law
 from .bed.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
 from .inputs import Bed, Liquid, Particle
 from .pair import DRAG_SLIP_MODES, wet_mass
-from .plausibility import scene_findings, warn_findings
+from .plausibility import PlausibilityWarning, scene_findings, warn_findings
 from .properties import gas_properties, umf, umf_methods
 from .properties.fluidization import umf_coated
 from .units import to_si
 
-__all__ = ["Scene", "evaluate", "provenance", "assumed_inputs", "CATEGORICAL_FIELDS",
+__all__ = ["Scene", "evaluate", "provenance", "assumed_inputs", "impact_speed_methods", "CATEGORICAL_FIELDS",
            "NUMERIC_FIELDS", "CA_VISCOUS", "U_CEILING", "U_STAR_FLAGS"]
 
 #: Capillary number at ``u0*`` above which the outcome is called viscous-limited.
@@ -96,8 +98,11 @@ class Scene:
     u0 : float, optional
         Impact speed [m/s], head-on in the lab frame (relative speed ``2 u0``): the value
         for ``speed="fixed"``, the median for ``speed="lognormal"``.
-    speed : {"fixed", "lognormal", "maxwellian", "excess-gas"}, optional
-        Impact-speed distribution (see :mod:`agglomtool.bed.speeds`). ``None`` picks
+    speed : str, optional
+        Impact-speed distribution (``"fixed"``, ``"lognormal"``, ``"maxwellian"``: see
+        :mod:`agglomtool.bed.speeds`) or model (``"excess-gas"``, ``"bubble-darton"``,
+        ``"bubble-mori-wen"``, ``"collisional-balance"``: see
+        :mod:`agglomtool.bed.speed_models` and :func:`impact_speed_methods`). ``None`` picks
         ``"fixed"`` when ``u0`` is given, ``"maxwellian"`` when ``granular_temperature``
         is, and otherwise the default estimate ``"excess-gas"``.
     sigma_ln : float
@@ -106,6 +111,20 @@ class Scene:
         Granular temperature [m2/s2] of the Maxwellian.
     fluctuation_ratio : float
         For ``"excess-gas"``: r.m.s. particle velocity per component over ``U - U_mf`` [-].
+    bed_height : float
+        Static (settled) bed height [m] (the bubble models; default 0.3 m).
+    column_diameter : float
+        Column diameter [m] (the bubble models: slugging, wall effect, Mori and Wen's
+        maximum bubble; default 0.3 m).
+    orifice_area : float
+        Distributor area per orifice [m2], the column's cross-section over the number of
+        orifices; 0 (the default) for a porous plate.
+    height : float, optional
+        Height above the distributor where the collisions are evaluated [m], in
+        ``(0, bed_height]``; ``None`` takes half the bed height.
+    wake_fraction : float
+        Bubble wake volume over bubble volume [-] for the bubble models (default 0.25: an
+        assumed value, see the speed models' docs page).
     mode : str
         Model tier (``agglomtool.MODES``).
     body_forces : bool
@@ -151,6 +170,11 @@ class Scene:
     sigma_ln: float = DEFAULTS["sigma_ln"]
     granular_temperature: float | None = DEFAULTS["granular_temperature"]
     fluctuation_ratio: float = DEFAULTS["fluctuation_ratio"]
+    bed_height: float = DEFAULTS["bed_height"]
+    column_diameter: float = DEFAULTS["column_diameter"]
+    orifice_area: float = DEFAULTS["orifice_area"]
+    height: float | None = DEFAULTS["height"]
+    wake_fraction: float = DEFAULTS["wake_fraction"]
     mode: str = DEFAULTS["mode"]
     body_forces: bool = DEFAULTS["body_forces"]
     drag_slip: str = DEFAULTS["drag_slip"]
@@ -227,6 +251,9 @@ FIELD_RANGES = {
     "beta_deg": (-90.0, 90.0, False, False), "u0": (0.0, None, True, False),
     "sigma_ln": (0.0, None, True, False), "granular_temperature": (0.0, None, True, False),
     "fluctuation_ratio": (0.0, None, True, False), "u_ceiling": (0.0, None, True, False),
+    "bed_height": (0.0, None, True, False), "column_diameter": (0.0, None, True, False),
+    "orifice_area": (0.0, None, False, False), "height": (0.0, None, True, False),
+    "wake_fraction": (0.0, None, True, False),
 }
 
 
@@ -266,11 +293,73 @@ def validate(values: dict) -> None:
         if v is None:
             continue
         check_range(name, v, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=short_unit(name))
+    _check_geometry(values)
     speed = values["speed"]
     if speed in ("fixed", "lognormal") and values.get("u0") is None:
         raise ValueError(f"speed = {speed!r} needs u0 [m/s] (the value, or the median)")
     if speed == "maxwellian" and values.get("granular_temperature") is None:
         raise ValueError("speed = 'maxwellian' needs granular_temperature [m2/s2]")
+
+
+def _check_geometry(values: dict) -> None:
+    """The bed's geometry against itself and the particles: a bed no deeper than its
+    particles, a height of interest above the bed, fewer than one orifice: a
+    ``ValueError`` naming the fields."""
+    def extreme(name, how):
+        v = values.get(name)
+        return None if v is None else float(how(np.asarray(v, dtype=float)))
+
+    H = extreme("bed_height", np.min)
+    if H is None:
+        return
+    d = max(x for x in (extreme("d_i", np.max), extreme("d_j", np.max), 0.0)
+            if x is not None)
+    if H <= d:
+        raise ValueError(f"bed_height = {H:g} m is not above the particle size (d = {d:g} "
+                         "m): no bed; bed_height is the static bed height in m")
+    h = extreme("height", np.max)
+    if h is not None and h > H:
+        raise ValueError(f"height = {h:g} m is above the bed (bed_height = {H:g} m): the "
+                         "height of interest must lie in (0, bed_height]")
+    D = extreme("column_diameter", np.min)
+    a0 = extreme("orifice_area", np.max)
+    if D is not None and a0 is not None and a0 > 0.25 * math.pi * D * D:
+        raise ValueError(f"orifice_area = {a0:g} m2 is larger than the column's cross-"
+                         f"section (column_diameter = {D:g} m): fewer than one orifice")
+
+
+def impact_speed_methods(scene: Scene, *, calibrated: bool = True) -> list[str]:
+    """The ``speed`` names usable at ``scene``, in the order of the registry.
+
+    The distributions given by their own parameters come first where the scene gives them
+    (``"fixed"`` and ``"lognormal"`` with ``u0``, ``"maxwellian"`` with
+    ``granular_temperature``); then every model of
+    :data:`agglomtool.bed.speed_models.IMPACT_SPEED_MODELS` that evaluates at the scene
+    without a ``ValueError`` (outside its domain: a bed that is not fluidized, a
+    restitution of 1, ...) and, with ``calibrated`` (the default), without a
+    :class:`~agglomtool.PlausibilityWarning` (outside the data its correlations were
+    fitted to: the Geldart group, the column, a slugging bed).
+    """
+    values = scene.values()
+    out = []
+    if values.get("u0") is not None:
+        out += ["fixed", "lognormal"]
+    if values.get("granular_temperature") is not None:
+        out.append("maxwellian")
+    r = Resolved(values)
+    get = r._speed_inputs()
+    for name, model in IMPACT_SPEED_MODELS.items():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlausibilityWarning)  # the scene's own, said
+            inputs = {k: get[k]() for k in model.needs}
+        with warnings.catch_warnings():
+            warnings.simplefilter("error" if calibrated else "ignore", PlausibilityWarning)
+            try:
+                speed_law(name, inputs)
+            except (ValueError, PlausibilityWarning):
+                continue
+        out.append(name)
+    return out
 
 
 def provenance(values: dict) -> dict:
@@ -558,19 +647,26 @@ class Resolved:
     @cached_property
     def speeds(self) -> SpeedModel:
         family = self.v["speed"]
-        if family == "excess-gas":
-            excess = self.U - self.Umf
-            if np.any(excess <= 0.0):
-                bad = float(np.broadcast_to(self.U, excess.shape)[excess <= 0.0][0])
-                raise ValueError(
-                    f"U = {bad:g} m/s does not exceed U_mf: the excess-gas speed estimate "
-                    "needs a fluidized bed (U_Umf > 1 or U > U_mf), or give u0 or "
-                    "granular_temperature"
-                )
-            theta = (self.num("fluctuation_ratio") * excess) ** 2
-            return SpeedModel("maxwellian", granular_temperature=theta)
+        if family in IMPACT_SPEED_MODELS:
+            get = self._speed_inputs()
+            return speed_law(family, {k: get[k]() for k in IMPACT_SPEED_MODELS[family].needs})
         return SpeedModel(family, u0=self.num("u0"), sigma_ln=self.num("sigma_ln"),
                           granular_temperature=self.num("granular_temperature"))
+
+    def _speed_inputs(self) -> dict:
+        """How to get each input of the impact-speed models (computed only when a model
+        needs it): the bed's hydrodynamics use particle i's solid and size."""
+        H = self.num("bed_height")
+        return {
+            "U": lambda: self.U, "Umf": lambda: self.Umf, "d_p": lambda: self.num("d_i"),
+            "rho_p": lambda: np.asarray(self.solids[0].density, dtype=float),
+            "rho_g": lambda: self.rho_g, "eps": lambda: self.num("eps"), "e": lambda: self.e,
+            "fluctuation_ratio": lambda: self.num("fluctuation_ratio"),
+            "column_diameter": lambda: self.num("column_diameter"),
+            "orifice_area": lambda: self.num("orifice_area"),
+            "height": lambda: self.num("height", 0.5 * H),
+            "wake_fraction": lambda: self.num("wake_fraction"),
+        }
 
     @property
     def u_typical(self):

@@ -18,7 +18,9 @@ Families
     ``F(u) = 1 - exp(-u^2 / Theta)`` and median ``sqrt(Theta ln 2)``. (Kinetic theory of
     granular flow, e.g. Gidaspow (1994), Multiphase Flow and Fluidization, Academic Press,
     ch. 9.)
-``"excess-gas"`` (the default estimate)
+``"excess-gas"`` (the default estimate; one of the models of
+:mod:`agglomtool.bed.speed_models`, which also holds ``"bubble-darton"``,
+``"bubble-mori-wen"`` and ``"collisional-balance"``)
     The Maxwellian with ``sqrt(Theta) = k (U - U_mf)``, ``k = fluctuation_ratio`` (1 by
     default): the r.m.s. particle velocity per component is taken equal to the excess gas
     velocity that drives the bubbles. This is an order-of-magnitude assumption, not a
@@ -47,8 +49,11 @@ from scipy.special import ndtr, ndtri
 
 __all__ = ["SPEED_FAMILIES", "SpeedModel", "sticking_probability"]
 
-#: The impact-speed families a scene may name.
-SPEED_FAMILIES = ("fixed", "lognormal", "maxwellian", "excess-gas")
+#: The impact-speed names a scene may take: the three distributions given by their own
+#: parameters, then the models of :mod:`agglomtool.bed.speed_models` (the tests check that
+#: the two lists agree).
+SPEED_FAMILIES = ("fixed", "lognormal", "maxwellian", "excess-gas", "bubble-darton",
+                  "bubble-mori-wen", "collisional-balance")
 
 
 class SpeedModel:

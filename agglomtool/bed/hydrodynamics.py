@@ -1,0 +1,507 @@
+"""Bubbling-bed hydrodynamics: bubble size, rise velocity, bubble fraction, solids circulation
+and the granular temperatures they imply.
+
+Every function is named after the authors of its correlation, takes numpy arrays that
+broadcast together (SI units) and returns an array. Input outside a correlation's domain
+(a gas velocity below ``U_mf``, a negative height) raises a ``ValueError`` naming the
+parameter, its value and the allowed range; input inside the domain but outside the data a
+correlation was fitted to warns with :class:`agglomtool.PlausibilityWarning` naming what is
+out of range (the Geldart group, ``U - U_mf``, the column diameter, a slugging bed).
+
+The correlations are those compiled by Kunii and Levenspiel (1991), *Fluidization
+Engineering*, 2nd ed., Butterworth-Heinemann, ch. 5-6, from their original papers, cited
+in each function.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from .._validate import PlausibilityWarning, check_range
+from ..constants import GRAVITY
+
+__all__ = [
+    "geldart_group", "bubble_diameter_darton", "bubble_diameter_mori_wen",
+    "bubble_rise_velocity_davidson_harrison", "bubble_velocity_davidson_harrison",
+    "bubble_fraction_kunii_levenspiel", "solids_downflow_kunii_levenspiel",
+    "granular_temperature_bubble_wake", "radial_distribution_carnahan_starling",
+    "granular_temperature_collisional_balance", "SLUGGING_RATIO",
+]
+
+#: A bubble wider than this fraction of the column diameter fills it: the bed slugs, and the
+#: bubbling-bed correlations no longer hold (Kunii and Levenspiel 1991, ch. 5).
+SLUGGING_RATIO = 0.6
+
+#: Geldart (1973) group boundaries, with ``d_p`` in um and the density difference in g/cm3:
+#: A/B where ``(rho_p - rho_g) d_p = 225``, B/D where ``(rho_p - rho_g) d_p**2 = 1e6``.
+_GELDART_AB = 225.0
+_GELDART_BD = 1.0e6
+
+
+def _warn(message: str, stacklevel: int = 3) -> None:
+    warnings.warn(message, PlausibilityWarning, stacklevel=stacklevel)
+
+
+def _excess(U, Umf):
+    """``U - U_mf`` [m/s] after checking both, with the ``ValueError`` a bubbling-bed
+    correlation gives where the bed is not fluidized."""
+    U = check_range("U", U, 0.0, None, unit="m/s")
+    Umf = check_range("Umf", Umf, 0.0, None, lo_open=True, unit="m/s")
+    excess = U - Umf
+    if np.any(excess <= 0.0):
+        bad = excess <= 0.0
+        u = float(np.broadcast_to(U, bad.shape)[bad].flat[0])
+        umf = float(np.broadcast_to(Umf, bad.shape)[bad].flat[0])
+        raise ValueError(f"U = {u:g} m/s does not exceed Umf = {umf:g} m/s: a bubbling-bed "
+                         "correlation needs a fluidized bed (U > Umf)")
+    return excess
+
+
+def geldart_group(d_p, rho_p, rho_g=0.0) -> np.ndarray:
+    """Geldart's (1973) powder group: ``"A"``, ``"B"`` or ``"D"`` (an array of strings).
+
+    Parameters
+    ----------
+    d_p : array_like
+        Particle diameter [m].
+    rho_p, rho_g : array_like
+        Particle and gas densities [kg/m3].
+
+    Notes
+    -----
+    The boundaries of Geldart's diagram as straight lines, with ``d_p`` in um and
+    ``rho_p - rho_g`` in g/cm3: group B where ``(rho_p - rho_g) d_p >= 225`` and
+    ``(rho_p - rho_g) d_p**2 < 1e6``; below, A (aeratable: bubbles only above a minimum
+    bubbling velocity; the cohesive group C, of the finest powders, is not told apart
+    here); above, D (spoutable, large or dense). Quartz sand (2650 kg/m3) is B from about
+    85 um to 615 um.
+
+    References
+    ----------
+    D. Geldart (1973), Types of gas fluidization, Powder Technol. 7:285-292,
+    doi:10.1016/0032-5910(73)80037-3.
+    """
+    d_p = check_range("d_p", d_p, 0.0, None, lo_open=True, unit="m")
+    rho_p = check_range("rho_p", rho_p, 0.0, None, lo_open=True, unit="kg/m3")
+    rho_g = check_range("rho_g", rho_g, 0.0, None, unit="kg/m3")
+    drho = (rho_p - rho_g) * 1e-3  # g/cm3
+    if np.any(drho <= 0.0):
+        raise ValueError("rho_p must exceed rho_g: a particle lighter than the gas does not "
+                         "fluidize")
+    d_um = d_p * 1e6
+    return np.where(drho * d_um < _GELDART_AB, "A",
+                    np.where(drho * d_um * d_um >= _GELDART_BD, "D", "B"))
+
+
+def _check_group(name: str, d_p, rho_p, rho_g, allowed=("B",)) -> None:
+    """Warn where the powder is outside the Geldart groups ``allowed`` of correlation
+    ``name``."""
+    if d_p is None or rho_p is None:
+        return
+    group = geldart_group(d_p, rho_p, rho_g)
+    outside = ~np.isin(group, allowed)
+    if np.any(outside):
+        g = str(np.broadcast_to(group, outside.shape)[outside].flat[0])
+        d = float(np.broadcast_to(np.asarray(d_p, float), outside.shape)[outside].flat[0])
+        _warn(f"{name}: d_p = {d:g} m is a Geldart group {g} powder; the correlation was "
+              f"fitted to group {'/'.join(allowed)} powders", stacklevel=4)
+
+
+def bubble_diameter_darton(U, Umf, h, A0=0.0, *, d_p=None, rho_p=None, rho_g=0.0):
+    """Bubble diameter at height ``h`` above the distributor, Darton et al. (1977) [m].
+
+    Parameters
+    ----------
+    U, Umf : array_like
+        Superficial gas velocity and minimum fluidization velocity [m/s], ``U > Umf``.
+    h : array_like
+        Height above the distributor [m], ``>= 0``.
+    A0 : array_like
+        Distributor area per orifice [m2]; 0 for a porous plate.
+    d_p, rho_p, rho_g : array_like, optional
+        Particle diameter [m], particle and gas densities [kg/m3]: given, a powder outside
+        Geldart group B warns.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``d_b`` [m], the diameter of the sphere of the bubble's volume.
+
+    Notes
+    -----
+    Bubbles grow by coalescence as they rise::
+
+        d_b = 0.54 (U - Umf)**0.4 (h + 4 sqrt(A0))**0.8 / g**0.2
+
+    (SI units; ``4 sqrt(A0)`` is the height at which bubbles from neighbouring orifices
+    have merged). Fitted to Geldart group B beds; no maximum size: where ``d_b`` exceeds
+    0.6 of the column diameter the bed slugs (see
+    :func:`bubble_rise_velocity_davidson_harrison`).
+
+    References
+    ----------
+    R. C. Darton, R. D. LaNauze, J. F. Davidson, D. Harrison (1977), Bubble growth due to
+    coalescence in fluidised beds, Trans. IChemE 55:274-280; Kunii and Levenspiel (1991),
+    Fluidization Engineering, 2nd ed., ch. 6.
+    """
+    excess = _excess(U, Umf)
+    h = check_range("h", h, 0.0, None, unit="m")
+    A0 = check_range("A0", A0, 0.0, None, unit="m2")
+    _check_group("bubble_diameter_darton", d_p, rho_p, rho_g)
+    return 0.54 * excess**0.4 * (h + 4.0 * np.sqrt(A0)) ** 0.8 * GRAVITY**-0.2
+
+
+#: The data of Mori and Wen (1975), as they state them (SI): column diameters up to 1.3 m,
+#: U_mf 0.5-20 cm/s, particle diameters 60-450 um, U - U_mf up to 48 cm/s. Secondary
+#: sources differ on the smallest column in the data (7 cm or 30 cm); 0.3 m is used here.
+MORI_WEN_RANGE = {"D_t": (0.3, 1.3), "Umf": (0.005, 0.20), "d_p": (60e-6, 450e-6),
+                  "excess": (0.0, 0.48)}
+
+
+#: Mori and Wen's coefficients, stated in cm, cm/s and cm2, in SI: a length in cm is 100 x
+#: the one in m, and (area x velocity) in cm2 cm/s is 1e6 x the one in m2 m/s.
+_MW_MAX = 0.652 * 1e6**0.4 / 100.0         # 1.6378
+_MW_PERFORATED = 0.347 * 1e6**0.4 / 100.0  # 0.87163
+_MW_POROUS = 0.00376 * 100.0**2 / 100.0    # 0.376, (cm/s)**2 -> (m/s)**2, cm -> m
+
+
+def bubble_diameter_mori_wen(U, Umf, h, D_t, A0=0.0, *, d_p=None):
+    """Bubble diameter at height ``h`` above the distributor, Mori and Wen (1975) [m].
+
+    Parameters
+    ----------
+    U, Umf : array_like
+        Superficial gas velocity and minimum fluidization velocity [m/s], ``U > Umf``.
+    h : array_like
+        Height above the distributor [m], ``>= 0``.
+    D_t : array_like
+        Column diameter [m].
+    A0 : array_like
+        Distributor area per orifice [m2] (the bed's cross-section over the number of
+        orifices); 0 for a porous plate.
+    d_p : array_like, optional
+        Particle diameter [m]: given, a size outside the data warns.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``d_b`` [m].
+
+    Notes
+    -----
+    Bubbles start at ``d_b0`` on the distributor and grow towards a maximum ``d_bm``, the
+    size all the excess gas would make as one bubble::
+
+        d_b  = d_bm - (d_bm - d_b0) exp(-0.3 h / D_t)
+        d_bm = 1.6378 (A_t (U - Umf))**0.4             A_t = pi D_t**2 / 4
+        d_b0 = 0.87163 (A0 (U - Umf))**0.4             perforated plate
+        d_b0 = 0.376 (U - Umf)**2                      porous plate (A0 = 0)
+
+    in SI units; the paper states them in cm, cm/s and cm2 with the coefficients 0.652,
+    0.347 and 0.00376 (0.652 x 10**2.4 / 100 = 1.6378, 0.347 x 10**2.4 / 100 = 0.87163,
+    0.00376 x 100 = 0.376). Calibrated range (:data:`MORI_WEN_RANGE`): column diameters
+    up to 1.3 m, ``U_mf`` 0.5-20 cm/s, ``d_p`` 60-450 um, ``U - U_mf`` up to 48 cm/s;
+    outside it a :class:`~agglomtool.PlausibilityWarning`.
+
+    References
+    ----------
+    S. Mori, C. Y. Wen (1975), Estimation of bubble diameter in gaseous fluidized beds,
+    AIChE J. 21:109-115, doi:10.1002/aic.690210114.
+    """
+    excess = _excess(U, Umf)
+    h = check_range("h", h, 0.0, None, unit="m")
+    D_t = check_range("D_t", D_t, 0.0, None, lo_open=True, unit="m")
+    A0 = check_range("A0", A0, 0.0, None, unit="m2")
+    A_t = 0.25 * math.pi * D_t * D_t
+    if np.any(A0 > A_t):
+        raise ValueError(f"A0 = {float(np.max(A0)):g} m2 is larger than the column's "
+                         "cross-section: fewer than one orifice")
+    rng = MORI_WEN_RANGE
+    checks = [("D_t", D_t, "m"), ("Umf", np.asarray(Umf, float), "m/s"),
+              ("U - Umf", excess, "m/s")] + ([("d_p", np.asarray(d_p, float), "m")]
+                                             if d_p is not None else [])
+    for name, val, unit in checks:
+        lo, hi = rng["excess" if name == "U - Umf" else name]
+        if np.any(val < lo) or np.any(val > hi):
+            out = float(np.min(val)) if np.any(val < lo) else float(np.max(val))
+            _warn(f"bubble_diameter_mori_wen: {name} = {out:g} {unit} is outside the data "
+                  f"of Mori and Wen (1975), {lo:g}-{hi:g} {unit}", stacklevel=3)
+    d_bm = _MW_MAX * (A_t * excess) ** 0.4
+    d_b0 = np.where(A0 > 0.0, _MW_PERFORATED * (A0 * excess) ** 0.4, _MW_POROUS * excess**2)
+    return d_bm - (d_bm - d_b0) * np.exp(-0.3 * h / D_t)
+
+
+def bubble_rise_velocity_davidson_harrison(d_b, D_t=None):
+    """Rise velocity of a single bubble in a fluidized bed, Davidson and Harrison [m/s].
+
+    Parameters
+    ----------
+    d_b : array_like
+        Bubble diameter [m].
+    D_t : array_like, optional
+        Column diameter [m]: given, the wall slows bubbles wider than 0.125 ``D_t``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``u_br`` [m/s].
+
+    Notes
+    -----
+    A bubble rises like a spherical-cap bubble in a liquid::
+
+        u_br = 0.711 sqrt(g d_b)                              d_b / D_t < 0.125
+        u_br = 0.711 sqrt(g d_b) 1.2 exp(-1.49 d_b / D_t)     0.125 <= d_b / D_t < 0.6
+
+    (the wall factor is Wallis's, as Kunii and Levenspiel give it). Where
+    ``d_b >= 0.6 D_t`` the bed slugs: a :class:`~agglomtool.PlausibilityWarning`, and the
+    rise velocity of a slug, ``0.35 sqrt(g D_t)``, is returned instead.
+
+    References
+    ----------
+    J. F. Davidson, D. Harrison (1963), Fluidised Particles, Cambridge University Press;
+    Kunii and Levenspiel (1991), Fluidization Engineering, 2nd ed., ch. 5 (wall effect,
+    after G. B. Wallis (1969), One-dimensional Two-phase Flow, McGraw-Hill).
+    """
+    d_b = check_range("d_b", d_b, 0.0, None, lo_open=True, unit="m")
+    free = 0.711 * np.sqrt(GRAVITY * d_b)
+    if D_t is None:
+        return free
+    D_t = check_range("D_t", D_t, 0.0, None, lo_open=True, unit="m")
+    ratio = d_b / D_t
+    slug = ratio >= SLUGGING_RATIO
+    if np.any(slug):
+        worst = float(np.max(ratio))
+        _warn(f"bubbles of d_b = {worst:.3g} D_t: the bed slugs (d_b >= {SLUGGING_RATIO:g} "
+              "D_t), outside the bubbling-bed correlations; the rise velocity of slugs, "
+              "0.35 sqrt(g D_t), is used there. A wider column, a lower U or a shallower "
+              "height of interest gives bubbling", stacklevel=3)
+    wall = np.where(ratio < 0.125, 1.0, 1.2 * np.exp(-1.49 * ratio))
+    return np.where(slug, 0.35 * np.sqrt(GRAVITY * D_t), free * wall)
+
+
+def bubble_velocity_davidson_harrison(U, Umf, d_b, D_t=None):
+    """Rise velocity of bubbles in a bubbling bed, Davidson and Harrison [m/s].
+
+    ``u_b = U - Umf + u_br(d_b)``: a single bubble's rise velocity
+    (:func:`bubble_rise_velocity_davidson_harrison`) plus the excess gas's upflow.
+
+    Parameters
+    ----------
+    U, Umf : array_like
+        Superficial and minimum fluidization velocities [m/s], ``U > Umf``.
+    d_b : array_like
+        Bubble diameter [m].
+    D_t : array_like, optional
+        Column diameter [m] (wall effect and slugging).
+
+    References
+    ----------
+    J. F. Davidson, D. Harrison (1963), Fluidised Particles, Cambridge University Press;
+    Kunii and Levenspiel (1991), ch. 6.
+    """
+    return _excess(U, Umf) + bubble_rise_velocity_davidson_harrison(d_b, D_t)
+
+
+def bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps_mf):
+    """Fraction of the bed's volume in bubbles, Kunii and Levenspiel [-].
+
+    Parameters
+    ----------
+    U, Umf : array_like
+        Superficial and minimum fluidization velocities [m/s], ``U > Umf``.
+    u_b : array_like
+        Bubble rise velocity [m/s].
+    eps_mf : array_like
+        Voidage at minimum fluidization [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``delta`` in (0, 1).
+
+    Notes
+    -----
+    The excess gas flows as bubbles; how much gas the bubbles carry through their clouds
+    depends on how fast they rise against the emulsion gas ``u_f = Umf / eps_mf``::
+
+        delta = (U - Umf) / (u_b + 2 Umf)    u_b < u_f          (slow, cloudless)
+        delta = (U - Umf) / (u_b + Umf)      u_b ~ u_f          (u_f <= u_b < 5 u_f)
+        delta = (U - Umf) / (u_b - Umf)      u_b ~ 5 u_f        (5 u_f <= u_b < 10 u_f)
+        delta = (U - Umf) / u_b              u_b >> u_f         (10 u_f <= u_b)
+
+    (the regime limits between the named cases are this function's choice). A fraction
+    of 1 or more (the gas cannot pass as bubbles this slow) raises a ``ValueError``.
+
+    References
+    ----------
+    D. Kunii, O. Levenspiel (1991), Fluidization Engineering, 2nd ed., Butterworth-
+    Heinemann, ch. 6 (bubble fraction in the bubbling-bed model).
+    """
+    excess = _excess(U, Umf)
+    Umf = np.asarray(Umf, dtype=float)
+    u_b = check_range("u_b", u_b, 0.0, None, lo_open=True, unit="m/s")
+    eps_mf = check_range("eps_mf", eps_mf, 0.0, 1.0, lo_open=True, hi_open=True)
+    u_f = Umf / eps_mf
+    denom = np.where(u_b < u_f, u_b + 2.0 * Umf,
+                     np.where(u_b < 5.0 * u_f, u_b + Umf,
+                              np.where(u_b < 10.0 * u_f, u_b - Umf, u_b)))
+    delta = excess / denom
+    if np.any(delta >= 1.0):
+        raise ValueError(f"bubble fraction delta = {float(np.max(delta)):.3g} >= 1: bubbles "
+                         "rising this slowly cannot carry U - Umf; outside the bubbling-bed "
+                         "model")
+    return delta
+
+
+def solids_downflow_kunii_levenspiel(delta, u_b, wake_fraction):
+    """Downflow velocity of the emulsion solids, Kunii and Levenspiel [m/s].
+
+    Solids carried up in the bubbles' wakes (volume ``wake_fraction`` of each bubble's)
+    return down through the emulsion; with no net flow of solids::
+
+        u_s = f_w delta u_b / (1 - delta - f_w delta)
+
+    Parameters
+    ----------
+    delta : array_like
+        Bubble fraction [-].
+    u_b : array_like
+        Bubble rise velocity [m/s].
+    wake_fraction : array_like
+        ``f_w``, wake volume over bubble volume [-].
+
+    References
+    ----------
+    Kunii and Levenspiel (1991), Fluidization Engineering, 2nd ed., ch. 6.
+    """
+    delta = check_range("delta", delta, 0.0, 1.0, hi_open=True)
+    f_w = check_range("wake_fraction", wake_fraction, 0.0, None, lo_open=True)
+    emulsion = 1.0 - delta - f_w * delta
+    if np.any(emulsion <= 0.0):
+        raise ValueError(f"wake_fraction = {float(np.max(f_w)):g}: bubbles and their wakes "
+                         f"fill the bed (delta = {float(np.max(delta)):.3g}); no emulsion "
+                         "is left for the solids' downflow")
+    return f_w * delta * np.asarray(u_b, float) / emulsion
+
+
+def granular_temperature_bubble_wake(delta, u_b, wake_fraction):
+    """Granular temperature of the solids' circulation by bubble wakes [m2/s2].
+
+    Parameters
+    ----------
+    delta : array_like
+        Bubble fraction [-].
+    u_b : array_like
+        Bubble rise velocity [m/s].
+    wake_fraction : array_like
+        Wake volume over bubble volume [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``Theta_b`` [m2/s2], the variance per velocity component.
+
+    Notes
+    -----
+    In the bubbling-bed model of Kunii and Levenspiel a fraction
+    ``phi = f_w delta / (1 - delta)`` of the solids rides up in the wakes at ``u_b`` and the
+    rest sinks at ``u_s = phi u_b / (1 - phi)``
+    (:func:`solids_downflow_kunii_levenspiel`). The variance of the solids' vertical
+    velocity is then ``phi u_b**2 / (1 - phi)``; this function returns a third of it, the
+    granular temperature ``<C.C>/3`` of a velocity field that moves only vertically. It is
+    the "bubble-like" granular temperature of Jung, Gidaspow and Gamwo (2005) (the
+    variance of the solids' mean motion by bubbles) computed from the bubbling-bed model
+    rather than measured; they found it much larger than the particles' own
+    ("laminar") granular temperature, and the vertical normal stress about 8 times the
+    lateral one.
+
+    References
+    ----------
+    Kunii and Levenspiel (1991), Fluidization Engineering, 2nd ed., ch. 6; J. Jung,
+    D. Gidaspow, I. K. Gamwo (2005), Measurement of two kinds of granular temperatures,
+    stresses, and dispersion in bubbling beds, Ind. Eng. Chem. Res. 44:1329-1341,
+    doi:10.1021/ie0496838.
+    """
+    delta = check_range("delta", delta, 0.0, 1.0, hi_open=True)
+    f_w = check_range("wake_fraction", wake_fraction, 0.0, None, lo_open=True)
+    u_b = check_range("u_b", u_b, 0.0, None, unit="m/s")
+    if np.any(1.0 - delta - f_w * delta <= 0.0):
+        solids_downflow_kunii_levenspiel(delta, u_b, f_w)  # raises, naming the cause
+    phi = f_w * delta / (1.0 - delta)
+    return phi * u_b * u_b / (3.0 * (1.0 - phi))
+
+
+def radial_distribution_carnahan_starling(eps_s):
+    """Radial distribution function at contact of hard spheres, Carnahan and Starling [-].
+
+    ``g0 = (1 - eps_s / 2) / (1 - eps_s)**3`` for the solids fraction ``eps_s`` in [0, 1).
+
+    References
+    ----------
+    N. F. Carnahan, K. E. Starling (1969), Equation of state for nonattracting rigid
+    spheres, J. Chem. Phys. 51:635-636, doi:10.1063/1.1672048.
+    """
+    eps_s = check_range("eps_s", eps_s, 0.0, 1.0, hi_open=True)
+    return (1.0 - 0.5 * eps_s) / (1.0 - eps_s) ** 3
+
+
+def granular_temperature_collisional_balance(U, Umf, d_p, rho_p, rho_g, eps_mf, e):
+    """Granular temperature at which collisions dissipate the excess gas's power [m2/s2].
+
+    Parameters
+    ----------
+    U, Umf : array_like
+        Superficial and minimum fluidization velocities [m/s], ``U > Umf``.
+    d_p : array_like
+        Particle diameter [m].
+    rho_p, rho_g : array_like
+        Particle and gas densities [kg/m3].
+    eps_mf : array_like
+        Voidage of the emulsion (at minimum fluidization) [-].
+    e : array_like
+        Restitution coefficient of particle collisions [-], below 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``Theta`` [m2/s2].
+
+    Notes
+    -----
+    The gas in excess of ``U_mf`` crosses the bed against its weight: it delivers the
+    power ``(U - Umf) (1 - eps_mf) (rho_p - rho_g) g`` per unit bed volume. The kinetic
+    theory of granular flow dissipates fluctuation energy in inelastic collisions at the
+    rate ``12 (1 - e**2) eps_s**2 rho_p g0 Theta**1.5 / (d_p sqrt(pi))`` (Lun et al. 1984,
+    as in Gidaspow 1994, ch. 9), ``eps_s = 1 - eps_mf``, ``g0`` of Carnahan and Starling.
+    Equating the two::
+
+        Theta**1.5 = (U - Umf) (1 - rho_g/rho_p) g d_p sqrt(pi) / (12 (1 - e**2) eps_s g0)
+
+    This balance is this package's construction from the two cited pieces, not a published
+    correlation: it puts all of the excess gas's power into particle-scale fluctuations,
+    while part of it drives the bed's mean circulation and part is lost to the gas's
+    viscous damping of the fluctuations (neglected; small for Geldart B and D particles,
+    large for fine ones): an upper bound of the particles' own granular temperature.
+
+    References
+    ----------
+    C. K. K. Lun, S. B. Savage, D. J. Jeffrey, N. Chepurniy (1984), Kinetic theories for
+    granular flow, J. Fluid Mech. 140:223-256, doi:10.1017/S0022112084000586;
+    D. Gidaspow (1994), Multiphase Flow and Fluidization, Academic Press, ch. 9.
+    """
+    excess = _excess(U, Umf)
+    d_p = check_range("d_p", d_p, 0.0, None, lo_open=True, unit="m")
+    rho_p = check_range("rho_p", rho_p, 0.0, None, lo_open=True, unit="kg/m3")
+    rho_g = check_range("rho_g", rho_g, 0.0, None, unit="kg/m3")
+    e = check_range("e", e, 0.0, 1.0, hi_open=True)
+    eps_s = 1.0 - check_range("eps_mf", eps_mf, 0.0, 1.0, lo_open=True, hi_open=True)
+    if np.any(rho_p <= rho_g):
+        raise ValueError("rho_p must exceed rho_g: a particle lighter than the gas does not "
+                         "fluidize")
+    g0 = radial_distribution_carnahan_starling(eps_s)
+    power = excess * (1.0 - rho_g / rho_p) * GRAVITY * d_p * math.sqrt(math.pi)
+    return (power / (12.0 * (1.0 - e * e) * eps_s * g0)) ** (2.0 / 3.0)

@@ -1,0 +1,143 @@
+"""Impact-speed models: the impact-speed law of a pair from the bed's operating conditions.
+
+Each model turns what a scene knows of the bed (gas velocities, the bed material, the
+bed's geometry, the height of interest) into one of the distributions of
+:mod:`agglomtool.bed.speeds` with its parameters. The registry
+:data:`IMPACT_SPEED_MODELS` lists them by the name a scene's ``speed`` field takes;
+:func:`speed_law` evaluates one; :func:`agglomtool.impact_speed_methods` lists those valid
+at a scene.
+
+``"excess-gas"``
+    An order-of-magnitude estimate: a Maxwellian whose r.m.s. velocity per component is
+    ``fluctuation_ratio (U - U_mf)``. No correlation behind it.
+``"bubble-darton"``, ``"bubble-mori-wen"``
+    The circulation that bubble wakes drive: bubble size at the height of interest
+    (Darton et al. 1977, or Mori and Wen 1975), their rise velocity (Davidson and
+    Harrison), bubble fraction and solids downflow (Kunii and Levenspiel 1991); the
+    Maxwellian with the granular temperature of that vertical velocity field
+    (:func:`.hydrodynamics.granular_temperature_bubble_wake`).
+``"collisional-balance"``
+    The Maxwellian with the granular temperature at which inelastic collisions dissipate
+    the excess gas's power (kinetic theory of granular flow:
+    :func:`.hydrodynamics.granular_temperature_collisional_balance`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import hydrodynamics as hd
+from .speeds import SpeedModel
+
+__all__ = ["ImpactSpeedModel", "IMPACT_SPEED_MODELS", "speed_law", "bubble_state"]
+
+
+@dataclass(frozen=True)
+class ImpactSpeedModel:
+    """One impact-speed model of the registry.
+
+    ``needs`` names the inputs :func:`speed_law` reads (keys of its ``inputs``);
+    ``law(inputs)`` returns the :class:`~agglomtool.bed.speeds.SpeedModel`.
+    """
+
+    name: str
+    summary: str
+    reference: str
+    needs: tuple[str, ...]
+    law: Callable[[dict], SpeedModel]
+
+
+def _excess_gas(x) -> SpeedModel:
+    U, Umf = np.asarray(x["U"], float), np.asarray(x["Umf"], float)
+    excess = U - Umf
+    if np.any(excess <= 0.0):
+        bad = float(np.broadcast_to(U, excess.shape)[excess <= 0.0][0])
+        raise ValueError(
+            f"U = {bad:g} m/s does not exceed U_mf: the excess-gas speed estimate "
+            "needs a fluidized bed (U_Umf > 1 or U > U_mf), or give u0 or "
+            "granular_temperature"
+        )
+    theta = (np.asarray(x["fluctuation_ratio"], float) * excess) ** 2
+    return SpeedModel("maxwellian", granular_temperature=theta)
+
+
+def bubble_state(x: dict, correlation: str) -> dict:
+    """The bubbles at the height of interest: ``d_b`` [m], ``u_b`` [m/s], ``delta`` [-].
+
+    ``x`` holds ``U``, ``Umf``, ``d_p``, ``rho_p``, ``rho_g``, ``eps`` (the emulsion's
+    voidage), ``column_diameter``, ``orifice_area`` and ``height`` (SI);
+    ``correlation`` is ``"darton"`` or ``"mori-wen"``.
+    """
+    U, Umf, h = x["U"], x["Umf"], x["height"]
+    D_t, A0 = x["column_diameter"], x["orifice_area"]
+    if correlation == "darton":
+        d_b = hd.bubble_diameter_darton(U, Umf, h, A0, d_p=x["d_p"], rho_p=x["rho_p"],
+                                        rho_g=x["rho_g"])
+    else:
+        d_b = hd.bubble_diameter_mori_wen(U, Umf, h, D_t, A0, d_p=x["d_p"])
+    u_b = hd.bubble_velocity_davidson_harrison(U, Umf, d_b, D_t)
+    delta = hd.bubble_fraction_kunii_levenspiel(U, Umf, u_b, x["eps"])
+    return {"d_b": d_b, "u_b": u_b, "delta": delta}
+
+
+def _bubble(correlation: str):
+    def law(x) -> SpeedModel:
+        state = bubble_state(x, correlation)
+        theta = hd.granular_temperature_bubble_wake(state["delta"], state["u_b"],
+                                                    x["wake_fraction"])
+        return SpeedModel("maxwellian", granular_temperature=theta)
+
+    return law
+
+
+def _collisional(x) -> SpeedModel:
+    theta = hd.granular_temperature_collisional_balance(
+        x["U"], x["Umf"], x["d_p"], x["rho_p"], x["rho_g"], x["eps"], x["e"])
+    return SpeedModel("maxwellian", granular_temperature=theta)
+
+
+_BUBBLE_NEEDS = ("U", "Umf", "d_p", "rho_p", "rho_g", "eps", "column_diameter",
+                 "orifice_area", "height", "wake_fraction")
+_BUBBLE_REF = ("Darton et al. (1977) Trans. IChemE 55:274; Mori and Wen (1975) AIChE J. "
+               "21:109; Davidson and Harrison (1963); Kunii and Levenspiel (1991), "
+               "Fluidization Engineering, ch. 5-6")
+
+#: The impact-speed models by name (the ``speed`` names that need no speed of their own).
+IMPACT_SPEED_MODELS = {
+    "excess-gas": ImpactSpeedModel(
+        "excess-gas",
+        "Maxwellian, r.m.s. velocity per component = fluctuation_ratio (U - U_mf): an "
+        "order-of-magnitude assumption, not a correlation",
+        "none (an assumption)", ("U", "Umf", "fluctuation_ratio"), _excess_gas),
+    "bubble-darton": ImpactSpeedModel(
+        "bubble-darton",
+        "Maxwellian with the granular temperature of the solids' circulation by bubble "
+        "wakes; bubbles of Darton et al. (1977) at the height of interest",
+        _BUBBLE_REF, _BUBBLE_NEEDS, _bubble("darton")),
+    "bubble-mori-wen": ImpactSpeedModel(
+        "bubble-mori-wen",
+        "as bubble-darton, with the bubbles of Mori and Wen (1975) (a maximum size set by "
+        "the column)",
+        _BUBBLE_REF, _BUBBLE_NEEDS, _bubble("mori-wen")),
+    "collisional-balance": ImpactSpeedModel(
+        "collisional-balance",
+        "Maxwellian with the granular temperature at which inelastic collisions dissipate "
+        "the power of the excess gas (kinetic theory of granular flow): an upper bound",
+        "Lun et al. (1984) J. Fluid Mech. 140:223; Gidaspow (1994), Multiphase Flow and "
+        "Fluidization, ch. 9; Carnahan and Starling (1969)",
+        ("U", "Umf", "d_p", "rho_p", "rho_g", "eps", "e"), _collisional),
+}
+
+
+def speed_law(name: str, inputs: dict) -> SpeedModel:
+    """The impact-speed law of model ``name`` (a key of :data:`IMPACT_SPEED_MODELS`) with
+    the ``inputs`` it needs (SI arrays that broadcast; see each model's ``needs``)."""
+    try:
+        model = IMPACT_SPEED_MODELS[name]
+    except KeyError:
+        raise ValueError(f"speed model {name!r} is not one of "
+                         f"{sorted(IMPACT_SPEED_MODELS)}") from None
+    return model.law(inputs)
