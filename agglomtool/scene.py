@@ -43,8 +43,8 @@ from .properties import gas_properties, umf, umf_methods
 from .properties.fluidization import umf_coated
 from .units import to_si
 
-__all__ = ["Scene", "evaluate", "provenance", "assumed_inputs", "impact_speed_methods", "CATEGORICAL_FIELDS",
-           "NUMERIC_FIELDS", "CA_VISCOUS", "U_CEILING", "U_STAR_FLAGS"]
+__all__ = ["Scene", "evaluate", "provenance", "assumed_inputs", "impact_speed_methods",
+           "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CA_VISCOUS", "U_CEILING", "U_STAR_FLAGS"]
 
 #: Capillary number at ``u0*`` above which the outcome is called viscous-limited.
 CA_VISCOUS = 1.0

@@ -28,7 +28,7 @@ __all__ = [
     "bubble_rise_velocity_davidson_harrison", "bubble_velocity_davidson_harrison",
     "bubble_fraction_kunii_levenspiel", "solids_downflow_kunii_levenspiel",
     "granular_temperature_bubble_wake", "radial_distribution_carnahan_starling",
-    "granular_temperature_collisional_balance", "SLUGGING_RATIO",
+    "granular_temperature_collisional_balance", "SLUGGING_RATIO", "MORI_WEN_RANGE",
 ]
 
 #: A bubble wider than this fraction of the column diameter fills it: the bed slugs, and the
@@ -384,7 +384,8 @@ def solids_downflow_kunii_levenspiel(delta, u_b, wake_fraction):
     if np.any(emulsion <= 0.0):
         raise ValueError(f"wake_fraction = {float(np.max(f_w)):g}: bubbles and their wakes "
                          f"fill the bed (delta = {float(np.max(delta)):.3g}); no emulsion "
-                         "is left for the solids' downflow")
+                         "is left for the solids' downflow: U - Umf is beyond a bubbling "
+                         "bed (lower U, a smaller wake_fraction, or another speed model)")
     return f_w * delta * np.asarray(u_b, float) / emulsion
 
 

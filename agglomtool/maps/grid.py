@@ -47,7 +47,8 @@ __all__ = ["sweep", "build", "GROUPS", "DEFAULT_BLOCK", "GridError", "grid_findi
 DEFAULT_BLOCK = 2**18
 
 SPEED_FIELDS = ("u0", "speed", "sigma_ln", "granular_temperature", "fluctuation_ratio",
-                "U", "U_Umf")
+                "U", "U_Umf", "bed_height", "column_diameter", "orifice_area", "height",
+                "wake_fraction")
 _ALL = tuple(CATEGORICAL_FIELDS) + tuple(NUMERIC_FIELDS)
 
 #: group name -> (fields it depends on, output names, output dtypes)
