@@ -387,6 +387,9 @@ def _fixed_items(ds, sub, scene) -> list[str]:
         "granular_temperature": any_speed or speed == "maxwellian",
         "fluctuation_ratio": any_speed or speed == "excess-gas",
         "u0": any_speed or speed in ("fixed", "lognormal"),
+        **{f: any_speed or str(speed).startswith("bubble-")
+           for f in ("bed_height", "column_diameter", "orifice_area", "height",
+                     "wake_fraction")},
     }
     derived = {"d_j": "d_i", "h0_j": "h0"}
     database = []
