@@ -302,9 +302,14 @@ def validate(values: dict) -> None:
 
 
 def _check_geometry(values: dict) -> None:
-    """The bed's geometry against itself and the particles: a bed no deeper than its
-    particles, a height of interest above the bed, fewer than one orifice: a
-    ``ValueError`` naming the fields."""
+    """The bed's geometry against itself and the particles, where the speed model uses it:
+    a bed no deeper than its particles, a height of interest above the bed, fewer than one
+    orifice: a ``ValueError`` naming the fields. (A model that ignores the geometry leaves
+    it unchecked: a unit slip in ``d_i`` is then the plausibility check's to name.)"""
+    model = IMPACT_SPEED_MODELS.get(values.get("speed"))
+    if model is None or "height" not in model.needs:
+        return
+
     def extreme(name, how):
         v = values.get(name)
         return None if v is None else float(how(np.asarray(v, dtype=float)))
