@@ -21,7 +21,7 @@ Every error names the file, the table and the key.
 
 from __future__ import annotations
 
-from .._config import ConfigError, _axis, parse_scene, read_toml, warn_scene_findings
+from .._config import ConfigError, _axis, check_tables, parse_scene, read_toml, warn_scene_findings
 from ..scene import CATEGORICAL_FIELDS, Scene, field_names
 
 __all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "parse_scene",
@@ -37,10 +37,7 @@ class MapConfig:
 
 def parse_config(data: dict, source: str = "config") -> MapConfig:
     """Build a :class:`MapConfig` from a parsed TOML mapping."""
-    unknown = sorted(set(data) - {"scene", "grid", "options"})
-    if unknown:
-        raise ConfigError(f"{source}: unknown table [{unknown[0]}]; allowed: [scene], [grid], "
-                          "[options]")
+    check_tables(data, source, ("[scene]", "[grid]", "[options]"))
     scene = parse_scene(data.get("scene", {}), source)
     fields = field_names()
     grid_data = data.get("grid", {})
