@@ -1,17 +1,20 @@
 """Sweeps: a scene evaluated over a grid of its fields, as an ``xarray.Dataset``.
 
-The grid is chunked with dask and every block is evaluated by
-``xarray.apply_ufunc(..., dask="parallelized")``. Outputs are computed in groups, each
-over the dimensions it depends on only: gas properties over (T, P), ``u0*`` over every
-field except the impact-speed ones, the collisions over the whole grid. ``u0*`` is the
-expensive part (about 1e5 solves/s), so a grid whose speed axes are long is cheap.
+The grid is cut into blocks and every block is evaluated on its own slice of the
+coordinates (:class:`agglomtool.maps.plan.SweepPlan`): in memory, into a store, on a
+cluster's workers, or as the tasks of the lazy Dataset of :func:`build`. Outputs are
+computed in groups, each over the dimensions it depends on only: gas properties over (T, P),
+``u0*`` over every field except the impact-speed ones, the collisions over the whole grid.
+``u0*`` is the expensive part (about 1e5 solves/s), so a grid whose speed axes are long is
+cheap. Before it starts, a sweep says what it will take (:mod:`agglomtool.maps.estimate`)
+and refuses an in-memory result larger than the memory available.
 """
 
 from __future__ import annotations
 
 import json
+import logging
 
-import dask
 import numpy as np
 import xarray as xr
 
@@ -32,6 +35,8 @@ from ..units import to_si_array
 from .meta import FIELD_META, field_attrs, variable_attrs
 
 __all__ = ["sweep", "build", "GROUPS", "DEFAULT_BLOCK"]
+
+logger = logging.getLogger("agglomtool.maps")
 
 #: Default number of grid points per dask block (bounded memory: about 30 MB of
 #: temporaries per collision batch).
@@ -179,47 +184,98 @@ def _block_function(scene_values: dict, names: tuple, group: str, nodes: int):
     return func
 
 
-def build(scene: Scene, *, chunks="auto", nodes: int = 16, **grid) -> xr.Dataset:
-    """The lazy (dask-backed) Dataset of a sweep: nothing is computed yet.
+def _split(n: int, c: int) -> tuple:
+    """Block sizes of an axis of ``n`` values in blocks of ``c``."""
+    return (c,) * (n // c) + ((n % c,) if n % c else ())
 
-    Parameters are those of :func:`sweep`; compute it with the synchronous scheduler
-    (the collision kernel is itself parallel, and its threading layer does not allow
-    concurrent calls from several threads).
-    """
+
+def _plan(scene: Scene, chunks, nodes, grid: dict):
+    """The validated :class:`~agglomtool.maps.plan.SweepPlan` of a sweep's arguments."""
+    from .plan import SweepPlan
+
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be an agglomtool Scene, got {type(scene).__name__}")
     if not isinstance(nodes, int | np.integer) or nodes < 1:
         raise ValueError(f"nodes = {nodes!r} must be an integer >= 1")
-    grid = _grid_values(scene, grid)
-    sizes = _chunks(grid, chunks)
-    coords = {k: xr.DataArray(v, dims=[k], attrs=field_attrs(k)) for k, v in grid.items()}
-    inputs = {k: c.chunk({k: sizes[k]}) for k, c in coords.items()}
-    base = scene.values()
-    data = {}
-    for group, (deps, outs, dtypes) in GROUPS.items():
-        names = tuple(k for k in grid if k in deps)
-        args = [inputs[k] for k in names]
-        func = _block_function(base, names, group, int(nodes))
-        if group == "collision":
-            args.append(data["u_star"])
-        if names:
-            res = xr.apply_ufunc(
-                func, *args, dask="parallelized", output_dtypes=list(dtypes),
-                output_core_dims=[[] for _ in outs],
-            )
-        else:
-            vals = func(*[a.values for a in args])
-            res = tuple(xr.DataArray(v) for v in vals)
-        for name, da in zip(outs, res, strict=True):
-            data[name] = da.assign_attrs(variable_attrs(name)).drop_vars(
-                [c for c in da.coords if c not in coords], errors="ignore")
-    ds = xr.Dataset(data, coords=coords)
-    ds.attrs.update(_dataset_attrs(scene, grid, nodes))
+    values = _grid_values(scene, grid)
+    sizes = _chunks(values, chunks)
+    return SweepPlan(scene.values(), values,
+                     {k: _split(len(v), sizes[k]) for k, v in values.items()}, int(nodes))
+
+
+def _dataset(plan, data: dict) -> xr.Dataset:
+    """The sweep's Dataset: ``data`` (``{name: array}``, numpy or dask) for the variables
+    over grid dimensions, the plan's 0-d values for the others; coordinates and attributes."""
+    coords = {k: xr.DataArray(v, dims=[k], attrs=field_attrs(k)) for k, v in plan.grid.items()}
+    variables = {name: xr.Variable(dims, data[name] if dims else plan.eager[name],
+                                   attrs=variable_attrs(name))
+                 for name, (dims, _, _) in plan.variables.items()}
+    ds = xr.Dataset(variables, coords=coords)
+    ds.attrs.update(_dataset_attrs(plan.base, plan.grid, plan.nodes))
     return ds
 
 
-def _dataset_attrs(scene: Scene, grid: dict, nodes: int) -> dict:
-    base = scene.values()
+def _block_task(plan, idx):
+    """One block of the lazy Dataset: ``{name: array}`` of the variables it owns."""
+    idx = tuple(idx)
+    return plan.evaluate(plan.block_slices(idx), plan.owned(idx))
+
+
+def _lazy_arrays(plan) -> dict:
+    """``{name: dask array}``: one task per block (:func:`_block_task`), and each variable's
+    chunk taken from the block that owns it. The graph is written block by block, so no
+    small input is broadcast into the block structure (which dask warns about)."""
+    import itertools
+    import operator
+
+    import dask.array as da
+    from dask.base import tokenize
+    from dask.highlevelgraph import HighLevelGraph
+
+    token = tokenize(json.dumps(plan.base, sort_keys=True), list(plan.grid),
+                     [plan.grid[k] for k in plan.grid], plan.chunks, plan.nodes, __version__)
+    bname, pkey = f"agglomtool-sweep-{token}", f"agglomtool-sweep-plan-{token}"
+    blocks = {pkey: plan}
+    for idx, _ in plan.blocks():
+        blocks[(bname, *idx)] = (_block_task, pkey, list(idx))
+    out = {}
+    for name in plan.lazy_names:
+        dims, dtype, _ = plan.variables[name]
+        vname = f"{name}-{token}"
+        layer = {}
+        for j in itertools.product(*[range(len(plan.chunks[d])) for d in dims]):
+            at = dict(zip(dims, j, strict=True))
+            owner = tuple(at.get(d, 0) for d in plan.dims)
+            layer[(vname, *j)] = (operator.getitem, (bname, *owner), name)
+        graph = HighLevelGraph({bname: blocks, vname: layer}, {bname: set(), vname: {bname}})
+        out[name] = da.Array(graph, vname, chunks=tuple(plan.chunks[d] for d in dims),
+                             dtype=dtype, meta=np.empty((0,) * len(dims), dtype=dtype))
+    return out
+
+
+def _template(plan) -> xr.Dataset:
+    """The sweep's Dataset with unwritten (never computed) arrays: a store's layout."""
+    import dask.array as da
+
+    empty = {name: da.empty(plan.var_shape(name), dtype=plan.variables[name][1], chunks=-1)
+             for name in plan.lazy_names}
+    return _dataset(plan, empty)
+
+
+def build(scene: Scene, *, chunks="auto", nodes: int = 16, **grid) -> xr.Dataset:
+    """The lazy (dask-backed) Dataset of a sweep: nothing is computed yet.
+
+    Parameters are those of :func:`sweep`. Each block is one task (evaluating the block's
+    variables, :meth:`~agglomtool.maps.plan.SweepPlan.evaluate`); compute it with the
+    synchronous scheduler (the collision kernel is itself parallel, and its threading layer
+    does not allow concurrent calls from several threads). :func:`sweep` runs the same
+    blocks without building this graph.
+    """
+    plan = _plan(scene, chunks, nodes, grid)
+    return _dataset(plan, _lazy_arrays(plan))
+
+
+def _dataset_attrs(base: dict, grid: dict, nodes: int) -> dict:
     first = _first_point(base, grid)  # properties are described where the grid has them
     tiers = list(grid["mode"]) if "mode" in grid else [base["mode"]]
     sources = {}
@@ -266,7 +322,7 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     scene : Scene
         The operating point; fields not in ``grid`` keep its values.
     chunks : "auto", int, dict or None
-        Dask block size: ``"auto"`` (about 2.6e5 points per block), a number of points per
+        Block size: ``"auto"`` (about 2.6e5 points per block), a number of points per
         block, a ``{dim: size}`` dict, or ``None`` (one block per category combination).
         Dimensions holding names (solids, liquid, gas, mode, ...) are always chunked by 1.
     nodes : int
@@ -281,7 +337,8 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         writes a store at a time. The result is opened lazily from the store (bounded
         memory for grids larger than memory); ``.to_netcdf(path)`` writes one file.
     progress : bool
-        Show progress on stderr (``tqdm`` if installed, else a text bar).
+        Show a progress bar on stderr (tqdm): points and blocks done, rate, time left;
+        and, on a first run, a line saying that the kernels are being compiled.
     compute : bool
         ``False`` returns the lazy dask-backed Dataset (ignored with ``store``).
     overwrite : bool
@@ -307,8 +364,23 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         dimensions it depends on. Attributes record the agglomtool version, model tier,
         base scene and material sources.
 
+    Raises
+    ------
+    agglomtool.maps.estimate.SweepTooLargeError
+        A :class:`ValueError`, before any work, where the result would be held in memory
+        (no ``store``) and is larger than the memory available; its message gives both
+        sizes. Pass ``store=`` to write the sweep block by block to disk.
+
     Notes
     -----
+    **Before it starts** a sweep counts its points, blocks and bytes (in memory and, with
+    ``store``, in the store) and, from 1e5 points on, times a sample of its own points to
+    estimate its compute time (:func:`agglomtool.maps.estimate_sweep` gives the same
+    without running). It logs this in one line to the ``agglomtool.maps`` logger: at
+    WARNING (shown on stderr by default) for big sweeps (more than 1e6 points or 10 s),
+    else at INFO. The kernels are compiled on their first use (tens of seconds, once: they
+    are cached on disk); a note says so, on stderr with ``progress``, else at INFO.
+
     **Running on a cluster.** The collision kernel is compiled (Numba) and already uses
     every core of the process running it, and its threading layer does not allow calls
     from several threads; so give a cluster process workers with one thread each. A block
@@ -338,33 +410,67 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     >>> import numpy as np, agglomtool as at                         # doctest: +SKIP
     >>> ds = at.sweep(at.Scene(), T=np.linspace(1000, 1300, 31), h0=[0.2e-6, 1e-6])
     """
+    from . import estimate as _est
     from .checks import check_chunks
+    from .progress import compile_notice, say_on_stderr
 
     check_chunks(chunks)
     if store is not None:
         from .store import _check_path
 
         _check_path(store)  # before any work: a file is not a store
-    ds = build(scene, chunks=chunks, nodes=nodes, **grid)
-    if client is None and (store is not None or compute):
+    plan = _plan(scene, chunks, nodes, grid)
+    if store is None and not compute:
+        return _dataset(plan, _lazy_arrays(plan))
+    if client is None:
         from .store import _active_client
 
         client = _active_client()
-    if store is not None:
-        from .store import run_with_store
+    on_cluster = client is not None and client is not False
+    if store is None:  # before any work: nothing is computed, nothing grows
+        _est.check_memory(_est.estimate_plan(plan))
+    announce = _est.announcer(plan, store)
+    if on_cluster:
+        announce(None, "not measured for a cluster")
+    say = say_on_stderr if progress else logger.info
+    with compile_notice(say, _est.compile_seconds(plan)):
+        if store is not None:
+            from .store import _run_store
 
-        return run_with_store(ds, store, progress=progress, overwrite=overwrite,
-                              client=client)
-    if not compute:
-        return ds
-    if client is not None and client is not False:
-        from .cluster import compute_on_cluster
+            return _run_store(plan, store, progress=progress, overwrite=overwrite,
+                              client=client, announce=None if on_cluster else announce)
+        if on_cluster:
+            from .cluster import _compute_plan
 
-        return compute_on_cluster(ds, client)
-    with dask.config.set(scheduler="synchronous"):
-        if progress:
-            from .store import progress_callback
+            return _dataset(plan, _compute_plan(plan, client, progress))
+        return _dataset(plan, _compute_here(plan, progress, announce))
 
-            with progress_callback():
-                return ds.compute()
-        return ds.compute()
+
+def _compute_here(plan, progress: bool, announce) -> dict:
+    """``{name: numpy array}`` of the sweep, block by block in this process; the estimate is
+    announced after a few timed blocks (:func:`agglomtool.maps.estimate.run_blocks_here`),
+    the progress bar follows."""
+    from .estimate import run_blocks_here
+    from .progress import SweepBar
+
+    out = {k: np.empty(plan.var_shape(k), dtype=plan.variables[k][1])
+           for k in plan.lazy_names}
+    bar = None
+
+    def start(seconds, method):
+        nonlocal bar
+        announce(seconds, method)
+        bar = SweepBar(plan.points, plan.n_blocks, "sweep", progress)
+
+    def done(idx, sl, values):
+        for name, a in values.items():
+            out[name][tuple(sl[d] for d in plan.variables[name][0])] = a
+        bar.update(plan.block_points(sl))
+
+    try:
+        run_blocks_here(plan, lambda idx, sl: plan.evaluate(sl, plan.owned(idx)), done,
+                        start)
+    finally:
+        if bar is not None:
+            bar.close()
+    return out
