@@ -32,7 +32,8 @@ class SweepBar:
 
     def __init__(self, points: int, blocks: int, desc: str = "sweep", enabled: bool = True):
         self.blocks, self.blocks_done, self.enabled = int(blocks), 0, bool(enabled)
-        self._bar = tqdm(total=int(points), desc=desc, unit="pt", unit_scale=True,
+        self._bar = tqdm(total=int(points), desc=desc, unit="pt",
+                         unit_scale=points >= 10_000,  # 2.6M; below, whole numbers
                          disable=not self.enabled, file=sys.stderr, dynamic_ncols=True)
         self._postfix()
 
