@@ -51,11 +51,11 @@ SAMPLE_POINTS, SMALL_POINTS, MAX_COMBOS = 512, 16, 4
 TIMED_BLOCKS = 3
 
 #: Seconds to compile the kernels of a model tier from an empty cache, for the compile
-#: note: ``python -m agglomtool map`` of a small grid in each mode, on the 2-core machine of
-#: the README's figures (the fused tiers share their kernels).
-COMPILE_SECONDS = {"paper": 20.0, "relative": 20.0, "stokes": 5.0, "ode": 20.0,
-                   "ode_selfconsistent": 20.0, "auto": 40.0}
-_FUSED = ("paper", "relative")
+#: note: Numba's compile time in ``python -m agglomtool map`` of the README's example in each
+#: mode, on the 2-core machine of the README's figures (2026-11-25). A grid over several
+#: modes adds them up (their shared kernels make that an overestimate).
+COMPILE_SECONDS = {"relative": 11.0, "paper": 16.0, "stokes": 5.0, "ode": 9.0,
+                   "ode_selfconsistent": 9.0, "auto": 26.0}
 
 
 class SweepTooLargeError(ValueError):
@@ -356,11 +356,8 @@ def announcer(plan, store=None):
 
 def compile_seconds(plan) -> float:
     """The compile note's figure for the sweep's tiers (:data:`COMPILE_SECONDS`)."""
-    modes = [str(m) for m in plan.grid.get("mode", [plan.base["mode"]])]
-    fused = [m for m in modes if m in _FUSED]
-    total = max((COMPILE_SECONDS[m] for m in fused), default=0.0)
-    total += sum(COMPILE_SECONDS.get(m, 20.0) for m in dict.fromkeys(modes) if m not in _FUSED)
-    return total
+    modes = dict.fromkeys(str(m) for m in plan.grid.get("mode", [plan.base["mode"]]))
+    return sum(COMPILE_SECONDS.get(m, max(COMPILE_SECONDS.values())) for m in modes)
 
 
 def estimate_sweep(scene, *, chunks="auto", nodes: int = 16, store=None, calibrate=None,
