@@ -19,7 +19,7 @@ from .plausibility import PlausibilityWarning, scene_findings
 from .scene import Scene, field_names
 from .units import to_si
 
-__all__ = ["ConfigError", "parse_scene", "read_toml", "warn_scene_findings"]
+__all__ = ["ConfigError", "check_tables", "parse_scene", "read_toml", "warn_scene_findings"]
 
 
 class ConfigError(ValueError):
@@ -81,6 +81,16 @@ def _axis(where: str, value, key: str = ""):
         return [value]
     raise ConfigError(f"{where}: must be a list of values or a table start/stop/num, "
                       f"got {value!r}")
+
+
+def check_tables(data: dict, source: str, allowed: tuple[str, ...]) -> None:
+    """Refuse a table the file kind does not know; ``allowed`` as a reader writes them
+    (``"[scene]"``, ``"[[component]]"``)."""
+    names = {a.strip("[]") for a in allowed}
+    unknown = sorted(set(data) - names)
+    if unknown:
+        raise ConfigError(f"{source}: unknown table [{unknown[0]}]; allowed: "
+                          f"{', '.join(allowed)}")
 
 
 def parse_scene(scene_data, source: str = "config") -> Scene:

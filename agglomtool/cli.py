@@ -31,6 +31,33 @@ def _cmd_reference(args: argparse.Namespace) -> int:
     return 0
 
 
+def _show_progress(args: argparse.Namespace) -> bool:
+    """The progress bar: asked for (--progress), else where stderr is a terminal, never with
+    --quiet."""
+    return bool(args.progress or (not args.quiet and sys.stderr.isatty()))
+
+
+class _LogToStderr:
+    """While open, the ``agglomtool.maps`` logger's INFO and above go to stderr as
+    ``agglomtool: MESSAGE`` lines (a sweep's estimate, the compile note), and only there."""
+
+    def __enter__(self):
+        import logging
+
+        self.logger = logging.getLogger("agglomtool.maps")
+        self.handler = logging.StreamHandler(sys.stderr)
+        self.handler.setFormatter(logging.Formatter("agglomtool: %(message)s"))
+        self.saved = self.logger.level, self.logger.propagate
+        self.logger.addHandler(self.handler)
+        self.logger.setLevel(logging.INFO)
+        self.logger.propagate = False
+        return self
+
+    def __exit__(self, *exc):
+        self.logger.removeHandler(self.handler)
+        self.logger.level, self.logger.propagate = self.saved
+
+
 def _cmd_map(args: argparse.Namespace) -> int:
     """Sweep the scene and grid of a TOML file; write the map as compressed netCDF."""
     import shutil
@@ -54,19 +81,38 @@ def _cmd_map(args: argparse.Namespace) -> int:
             raise ImportError("--scheduler needs dask.distributed: pip install "
                               "'agglomtool[cluster]'") from None
         client = Client(args.scheduler)
+    robust = cfg.uncertain is not None
+    if robust and (args.store or args.scheduler):
+        raise CommandError("a robust map ([uncertain] in the file) is computed in memory, "
+                           "here: --store and --scheduler are not for it")
     try:
-        ds = sweep(cfg.scene, chunks=cfg.options["chunks"], nodes=cfg.options["nodes"],
-                   store=store, progress=not args.quiet, overwrite=args.overwrite,
-                   client=client if client is not None else False, **cfg.grid)
+        with _LogToStderr():  # the estimate line, always; the compile note without a bar
+            if robust:
+                ds = sweep(cfg.scene, chunks=cfg.options["chunks"], nodes=cfg.options["nodes"],
+                           progress=_show_progress(args), uncertain=cfg.uncertain,
+                           samples=cfg.options["samples"], threshold=cfg.options["threshold"],
+                           seed=cfg.options["seed"], **cfg.grid)
+            else:
+                ds = sweep(cfg.scene, chunks=cfg.options["chunks"], nodes=cfg.options["nodes"],
+                           store=store, progress=_show_progress(args),
+                           overwrite=args.overwrite,
+                           client=client if client is not None else False, **cfg.grid)
     finally:
         if client is not None:
             client.close()
     write_map(ds, out, complevel=0 if args.no_compress else 4, history=_command(args))
     ds.close()
-    if not args.keep_parts:
+    if not args.keep_parts and not robust:
         shutil.rmtree(store, ignore_errors=True)
     sizes = " x ".join(f"{k} {v}" for k, v in ds["propensity"].sizes.items())
     print(f"wrote {out} ({sizes}; {out.stat().st_size / 1e6:.3g} MB)")
+    if robust:
+        und = float(ds["undecided"].mean())
+        print(f"robust map: {ds.attrs['robust_samples']} draws per point; the answer is not "
+              f"decided at {100 * und:.0f} % of the points (0.1 < P(propensity > "
+              f"{ds.attrs['robust_threshold']:g}) < 0.9)")
+    if ds.attrs.get("deciding_regime"):
+        print(f"note: {ds.attrs['deciding_regime']}")
     return 0
 
 
@@ -88,7 +134,8 @@ def _cmd_bed(args: argparse.Namespace) -> int:
         if args.efficiency:
             raise CommandError("--efficiency needs a bed without [grid] (one operating point)")
         ds = bed_sweep(cfg.scene, cfg.components, mix=opts["mix"], nodes=opts["nodes"],
-                       directions=opts["directions"], **cfg.grid)
+                       directions=opts["directions"], progress=_show_progress(args),
+                       **cfg.grid)
         p = ds["propensity"]
         sizes = " x ".join(f"{k} {v}" for k, v in p.sizes.items())
         print(f"bed propensity {float(p.min()):.4g}-{float(p.max()):.4g} over {sizes}")
@@ -325,6 +372,14 @@ def _add_scene_options(p: argparse.ArgumentParser) -> None:
                                 f"(default: {_default_text(name)})")
 
 
+def _add_progress_options(p: argparse.ArgumentParser) -> None:
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--progress", action="store_true",
+                       help="show the progress bar (points done, rate, time left) on stderr "
+                       "even when it is not a terminal (default: only on a terminal)")
+    which.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+
+
 def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
     """The parser; ``command`` is the sub-command about to run (the scene options of
     ``collide``, whose help lists the database's names, are built only for it)."""
@@ -369,7 +424,7 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
                     "worker reaches)")
     mp.add_argument("--no-compress", action="store_true",
                     help="write the netCDF uncompressed (default: zlib level 4)")
-    mp.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    _add_progress_options(mp)
     mp.set_defaults(func=_cmd_map)
 
     pl = sub.add_parser("plot", help="operating-window picture of a map",
@@ -413,6 +468,7 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
     be.add_argument("-o", "--output", required=True, help="netCDF file to write")
     be.add_argument("--efficiency", metavar="FILE",
                     help="also write the coalescence-efficiency matrix (.csv or .nc)")
+    _add_progress_options(be)
     be.set_defaults(func=_cmd_bed)
 
     ma = sub.add_parser("materials", help="what the materials database holds, with sources")

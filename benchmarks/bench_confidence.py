@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import os
 import sys
-import time
 import warnings
 from pathlib import Path
 
@@ -24,7 +23,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_collision import paired  # noqa: E402
+from bench_collision import paired, timings  # noqa: E402
 
 import agglomtool as at  # noqa: E402
 
@@ -33,16 +32,6 @@ REPEATS = 5
 
 def load() -> str:
     return "load average {:.2f} {:.2f} {:.2f}".format(*os.getloadavg())
-
-
-def best_median(fn, repeats=REPEATS):
-    fn()
-    ts = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return min(ts), float(np.median(ts))
 
 
 def scene_mc(n: int) -> None:
@@ -72,7 +61,7 @@ def robust_map(samples: int, n: int) -> None:
     scene = at.Scene(liquid="water", T=298.15, solid_i="silica-sand", d_i=300e-6)
     grid = dict(solid_j=["silica-sand", "ilmenite", "olivine"],
                 U_Umf=np.linspace(1.2, 8.0, n), h0=np.geomspace(1e-6, 30e-6, n))
-    b, m = best_median(lambda: at.sweep(scene, uncertain="assumed", samples=samples, **grid),
+    b, m = timings(lambda: at.sweep(scene, uncertain="assumed", samples=samples, **grid),
                        repeats=3)
     print(f"  robust map {n} x {n} x 3 points x {samples} draws: best {b:.2f} s, median "
           f"{m:.2f} s ({load()}; goal < 60 s)")
@@ -81,7 +70,7 @@ def robust_map(samples: int, n: int) -> None:
 def compare(n: int) -> None:
     scene = at.Scene(gas="biomass-flue-gas", liquid="k-silicate-ash-melt", T=1173.15,
                      solid_i="silica-sand", d_i=300e-6, h0=0.5e-6, U_Umf=3.0)
-    b, m = best_median(lambda: at.compare(scene, solid_j=["silica-sand", "ilmenite",
+    b, m = timings(lambda: at.compare(scene, solid_j=["silica-sand", "ilmenite",
                                                            "olivine"], n=n, seed=0))
     print(f"  compare 3 materials x {n} paired draws: best {b:.2f} s, median {m:.2f} s "
           f"({load()}; goal < 10 s)")

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-import agglomtool.maps.grid as grid_module
+import agglomtool.maps.layout as grid_module  # where the block functions look up the core
 from agglomtool.cli import main
 
 COMPARE = """

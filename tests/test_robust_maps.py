@@ -65,3 +65,57 @@ def test_bad_requests_are_refused_naming_the_field(kw, match):
 def test_a_robust_map_is_not_for_a_store():
     with pytest.raises(ValueError, match="computed in memory"):
         at.sweep(SAND, uncertain="assumed", store="somewhere", **GRID)
+
+
+ROBUST_TOML = """
+[scene]
+liquid = "water"
+T = "25 degC"
+solid_i = "silica-sand"
+d_i = "300 um"
+
+[grid]
+U_Umf = [1.5, 3.0]
+h0 = [2e-6, 8e-6]
+
+[uncertain]
+assumed = true
+
+[options]
+samples = 16
+seed = 7
+"""
+
+
+def test_a_robust_map_from_a_file(tmp_path, capsys):
+    import xarray as xr
+
+    from agglomtool.cli import main
+
+    cfg = tmp_path / "r.toml"
+    cfg.write_text(ROBUST_TOML)
+    out = tmp_path / "r.nc"
+    assert main(["map", str(cfg), "-o", str(out), "-q"]) == 0
+    assert "robust map: 16 draws per point" in capsys.readouterr().out
+    ds = xr.open_dataset(out)
+    api = at.sweep(SAND, uncertain="assumed", samples=16, seed=7, U_Umf=[1.5, 3.0],
+                   h0=[2e-6, 8e-6])
+    np.testing.assert_array_equal(ds.p_unsafe.values, api.p_unsafe.values)
+    ds.close()
+
+
+@pytest.mark.parametrize("edit, match", [
+    (("[uncertain]\nassumed = true\n", ""), r"\[options\] samples: unknown.*add an \[uncertain\]"),
+    (("samples = 16", "samples = 1"), r"\[options\] samples: must be an integer >= 2"),
+    (("assumed = true", 'h0 = { law = "normal", mean = 5e-6, sd = 1e-6 }'),
+     r"\[uncertain\] h0: it is swept in \[grid\]"),
+])
+def test_bad_robust_files_are_refused_naming_the_key(tmp_path, capsys, edit, match):
+    import re
+
+    from agglomtool.cli import main
+
+    cfg = tmp_path / "r.toml"
+    cfg.write_text(ROBUST_TOML.replace(*edit))
+    assert main(["map", str(cfg), "-o", str(tmp_path / "r.nc")]) == 2
+    assert re.search(match, capsys.readouterr().err)

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import warnings
 
-from .._config import ConfigError, _axis, parse_scene, read_toml, warn_scene_findings
+from .._config import ConfigError, _axis, check_tables, parse_scene, read_toml, warn_scene_findings
 from ..plausibility import BED_OWN, PlausibilityWarning, scene_findings
 from ..units import to_si
 from .mixture import Component
@@ -101,10 +101,7 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
     """Build a :class:`BedConfig` from a parsed TOML mapping."""
     from .propensity import BED_GRID_FIELDS, _check_components, _grid_arrays, _mix_index
 
-    unknown = sorted(set(data) - {"scene", "component", "grid", "options"})
-    if unknown:
-        raise ConfigError(f"{source}: unknown table [{unknown[0]}]; allowed: [scene], "
-                          "[[component]], [grid], [options]")
+    check_tables(data, source, ("[scene]", "[[component]]", "[grid]", "[options]"))
     scene = parse_scene(data.get("scene", {}), source)
     tables = data.get("component")
     if not isinstance(tables, list) or not tables:

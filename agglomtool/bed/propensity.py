@@ -173,9 +173,13 @@ def _fractions(comps, frac, mix):
     return out
 
 
-def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions: int):
+def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions: int,
+              progress: bool = False):
     """Pair matrices of ``G`` operating points: ``u_star``, ``P`` (G, K, K, D), ``W``
-    (G, K, K), ``U_mf``, ``U`` (G,), and the class table."""
+    (G, K, K), ``U_mf``, ``U`` (G,), and the class table. ``progress``: a progress bar
+    (tqdm) of the operating points on stderr."""
+    from ..maps.progress import SweepBar
+
     base = scene.values()
     G = frac_cg.shape[0]
     cidx, d, w_in, lo, hi = _classes(comps)
@@ -208,6 +212,7 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
     U = np.empty(G)
     per_point = K * K * D
     step = max(1, _BLOCK_COLLISIONS // per_point)
+    bar = SweepBar(G, -(-G // step), "bed", progress)
     for g0 in range(0, G, step):  # blocks of operating points, each vectorised
         g = slice(g0, min(G, g0 + step))
         gn = g.stop - g.start
@@ -238,6 +243,8 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
                         m[g, ib[:, None], ia[None, :], :] = np.swapaxes(
                             m[g, ia[:, None], ib[None, :], :], 1, 2)[..., ::-1]
         U[g] = np.broadcast_to(r.U, (gn, 1, 1, 1)).reshape(gn)
+        bar.update(gn)
+    bar.close()
     return dict(u_star=u_star, prob=prob, W=W, Umf=Umf, U=U, n=n, w_bed=w_bed, cidx=cidx,
                 d=d, lo=lo, hi=hi, D_wet=D_wet, h0_c=h0_c, s=s, beta=beta, wdir=wdir,
                 d32=d32, rho_mean=rho_mean)
@@ -443,7 +450,7 @@ def _bed_provenance(first: dict, comps, grid: dict) -> dict:
 
 def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
               directions: int = DEFAULT_DIRECTIONS, matrix: bool = False,
-              **grid) -> xr.Dataset:
+              progress: bool = False, **grid) -> xr.Dataset:
     """The bed propensity over a grid of operating conditions.
 
     Parameters
@@ -455,6 +462,8 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
         sets; the others keep their proportions.
     matrix : bool
         Also return the coalescence-efficiency matrix ``efficiency`` over the grid.
+    progress : bool
+        Show a progress bar (tqdm) on stderr: operating points done, rate, time left.
     **grid
         1-D axes: the scene's numeric fields (``T``, ``U_Umf``, ``h0`` - the coating of
         every component that follows the scene -, ...; not ``d_*``, ``h0_j``, ``ha_*``,
@@ -494,7 +503,7 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     frac = points.pop("fraction", None)
     fr = _fractions(comps, frac, mix_i)
     fr = np.broadcast_to(fr, (G, len(comps)))
-    ev = _evaluate(scene, comps, points, fr, nodes, directions)
+    ev = _evaluate(scene, comps, points, fr, nodes, directions, progress)
     E, by_class, by_comp, total = _contributions(ev)
     coords = {}
     for k in names:

@@ -18,7 +18,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, types
+from numba.extending import overload
 
 from .._jit import CACHE, parallel_launch
 from .bridge import ln_f_diff, ln_f_diff_array
@@ -30,9 +31,8 @@ from .critical_relative import (
     kernel_e_w,
     threshold_from,
 )
-from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one
-from .paper import paper_kernel
-from .relative import reduced_mass, relative_kernel
+from .fused import SERIAL_BELOW, TIER_PAPER, TIER_RELATIVE, prepare_one, tier_kernel
+from .relative import reduced_mass
 
 __all__ = ["first_rebound_speed", "viscous_lower_bound", "critical_speeds"]
 
@@ -153,12 +153,8 @@ def _sticks(vals, raw, w_rel, tier, body, particle_slip, empty):
     mu_l = raw[8]
     gamma = raw[9]
     e = raw[17]
-    if tier == TIER_PAPER:
-        ew, _, _ = paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w_rel, fn_i,
-                                fn_j, e, empty)
-    else:
-        ew, _, _, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w_rel,
-                                      fn_i, fn_j, e, empty)
+    ew, _, _ = tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w_rel, fn_i,
+                           fn_j, e, empty)
     return ew == 0.0
 
 
@@ -315,9 +311,32 @@ def _from_candidate(vals, raw, tier, body, particle_slip, rtol, w_max, max_iter,
         if tier == TIER_PAPER:
             break  # the tiers differ: no second try, the bracket follows
         delta = 0.25 * rtol
-    if tier != TIER_PAPER:
+    return _bracket_if_paper(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty)
+
+
+def _bracket_if_paper(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty):
+    """Mode "paper": :func:`_paper_bracket`; mode "relative": ``(nan, _SEARCH)``. In compiled
+    code only; where ``tier`` is a compile-time constant the bracket is compiled for
+    "paper" alone."""
+    raise NotImplementedError("_bracket_if_paper is called from compiled code only")
+
+
+@overload(_bracket_if_paper, prefer_literal=True, inline="always")
+def _bracket_if_paper_impl(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty):
+    def paper(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty):
+        return _paper_bracket(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty)
+
+    def relative(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty):
         return math.nan, _SEARCH
-    return _paper_bracket(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty)
+
+    def either(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty):
+        if tier != TIER_PAPER:
+            return math.nan, _SEARCH
+        return _paper_bracket(w, vals, raw, tier, body, particle_slip, rtol, w_max, empty)
+
+    if isinstance(tier, types.IntegerLiteral):
+        return paper if tier.literal_value == TIER_PAPER else relative
+    return either
 
 
 @njit(cache=CACHE, inline="always")
@@ -432,6 +451,44 @@ def _solve_serial(ins, st, tier, body, particle_slip, rtol, u_max, closed, max_i
                                     u_max, closed, max_iter, empty)
 
 
+# One pair of entry points per tier, the tier a compile-time constant: only that tier's
+# kernel and search are compiled (fused.tier_kernel, _bracket_if_paper).
+
+
+@njit(cache=CACHE)
+def _solve_serial_paper(ins, st, body, particle_slip, rtol, u_max, closed, max_iter, out, how):
+    _solve_serial(ins, st, TIER_PAPER, body, particle_slip, rtol, u_max, closed, max_iter, out,
+                  how)
+
+
+@njit(cache=CACHE)
+def _solve_serial_relative(ins, st, body, particle_slip, rtol, u_max, closed, max_iter, out,
+                           how):
+    _solve_serial(ins, st, TIER_RELATIVE, body, particle_slip, rtol, u_max, closed, max_iter,
+                  out, how)
+
+
+@njit(cache=CACHE)
+def _solve_parallel_paper(ins, st, body, particle_slip, rtol, u_max, closed, max_iter, out,
+                          how):
+    _solve_parallel(ins, st, TIER_PAPER, body, particle_slip, rtol, u_max, closed, max_iter,
+                    out, how)
+
+
+@njit(cache=CACHE)
+def _solve_parallel_relative(ins, st, body, particle_slip, rtol, u_max, closed, max_iter, out,
+                             how):
+    _solve_parallel(ins, st, TIER_RELATIVE, body, particle_slip, rtol, u_max, closed, max_iter,
+                    out, how)
+
+
+#: (tier, parallel) -> the solver's entry point.
+_SOLVE_ENTRY = {(TIER_PAPER, False): _solve_serial_paper,
+                (TIER_RELATIVE, False): _solve_serial_relative,
+                (TIER_PAPER, True): _solve_parallel_paper,
+                (TIER_RELATIVE, True): _solve_parallel_relative}
+
+
 def critical_speeds(ins, steps, n, tier, body, particle_slip, rtol, u_max=math.inf,
                     closed_form=True, max_iter=MAX_ITER, return_how=False):
     """Head-on u0* [m/s] of ``n`` collisions given as the fused kernels' inputs
@@ -456,10 +513,10 @@ def critical_speeds(ins, steps, n, tier, body, particle_slip, rtol, u_max=math.i
     """
     out = np.empty(n)
     how = np.empty(n, dtype=np.int8)
-    args = (ins, steps, int(tier), bool(body), bool(particle_slip), float(rtol), float(u_max),
+    args = (ins, steps, bool(body), bool(particle_slip), float(rtol), float(u_max),
             bool(closed_form), int(max_iter), out, how)
     if n < SERIAL_BELOW // 4:
-        _solve_serial(*args)
+        _SOLVE_ENTRY[int(tier), False](*args)
     else:
-        parallel_launch(_solve_parallel, *args)
+        parallel_launch(_SOLVE_ENTRY[int(tier), True], *args)
     return (out, how) if return_how else out

@@ -46,7 +46,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, types
+from numba.extending import overload
 
 from .._jit import CACHE, parallel_launch
 from ..constants import GRAVITY
@@ -86,6 +87,40 @@ BLOCK = 4096
 
 #: Tier codes of :func:`fused_batch`.
 TIER_PAPER, TIER_RELATIVE = 0, 1
+
+def tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+                row):
+    """``(e_w, stage, path)`` of the ``tier`` kernel (:data:`TIER_PAPER`: ``paper_kernel``,
+    :data:`TIER_RELATIVE`: ``relative_kernel``), in compiled code only. Where ``tier`` is a
+    compile-time constant (the entry points pass :data:`TIER_PAPER` or
+    :data:`TIER_RELATIVE`) only that tier's kernel is compiled; else both, chosen at run
+    time."""
+    raise NotImplementedError("tier_kernel is called from compiled code only")
+
+
+@overload(tier_kernel, prefer_literal=True, inline="always")
+def _tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
+    def paper(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
+        return paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
+                            row)
+
+    def relative(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
+        ew, sg, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
+                                        fn_i, fn_j, e, row)
+        return ew, sg, pa
+
+    def either(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
+        if tier == TIER_PAPER:
+            return paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
+                                fn_j, e, row)
+        ew, sg, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
+                                        fn_i, fn_j, e, row)
+        return ew, sg, pa
+
+    if isinstance(tier, types.IntegerLiteral):
+        return paper if tier.literal_value == TIER_PAPER else relative
+    return either
+
 
 _DEG = math.pi / 180.0  # numpy's deg2rad multiplies by the same constant
 _WY_C1, _WY_C2 = 33.7, 0.0408  # Wen and Yu (1966), as in properties.fluidization
@@ -287,12 +322,8 @@ def _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_
         mu_l = ins[8][k * st[8]]
         gamma = ins[9][k * st[9]]
         e = ins[17][k * st[17]]
-        if tier == TIER_PAPER:
-            ew, sg, pa = paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
-                                      fn_j, e, row)
-        else:
-            ew, sg, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
-                                            fn_i, fn_j, e, row)
+        ew, sg, pa = tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
+                                 fn_i, fn_j, e, row)
         e_w[k] = ew
         stage[k] = sg
         path[k] = pa
@@ -328,6 +359,43 @@ def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path,
         f3 = min(f3, g3)
         f4 = min(f4, g4)
     return f1, f2, f3, f4
+
+
+# One pair of entry points per tier, the tier a compile-time constant: only that tier's
+# kernel is compiled into the loops (tier_kernel). A first run in mode "relative" compiles
+# no "paper" kernel, and the other way round.
+
+
+@njit(cache=CACHE)
+def _fused_serial_paper(ins, st, body, particle_slip, check, e_w, stage, path, w_out, det):
+    return _fused_serial(ins, st, body, particle_slip, TIER_PAPER, check, e_w, stage, path,
+                         w_out, det)
+
+
+@njit(cache=CACHE)
+def _fused_serial_relative(ins, st, body, particle_slip, check, e_w, stage, path, w_out, det):
+    return _fused_serial(ins, st, body, particle_slip, TIER_RELATIVE, check, e_w, stage, path,
+                         w_out, det)
+
+
+@njit(cache=CACHE)
+def _fused_parallel_paper(ins, st, body, particle_slip, check, e_w, stage, path, w_out, det):
+    return _fused_parallel(ins, st, body, particle_slip, TIER_PAPER, check, e_w, stage, path,
+                           w_out, det)
+
+
+@njit(cache=CACHE)
+def _fused_parallel_relative(ins, st, body, particle_slip, check, e_w, stage, path, w_out,
+                             det):
+    return _fused_parallel(ins, st, body, particle_slip, TIER_RELATIVE, check, e_w, stage,
+                           path, w_out, det)
+
+
+#: (tier, parallel) -> the loop's entry point.
+_FUSED_ENTRY = {(TIER_PAPER, False): _fused_serial_paper,
+                (TIER_RELATIVE, False): _fused_serial_relative,
+                (TIER_PAPER, True): _fused_parallel_paper,
+                (TIER_RELATIVE, True): _fused_parallel_relative}
 
 
 @njit(cache=CACHE)
@@ -564,12 +632,12 @@ def fused_batch(ins, steps, n, tier, body, particle_slip, details=False, check=F
     path = np.empty(n, dtype=np.int8)
     w = np.empty(n)
     det = np.empty((n, N_DETAILS if details else 0))
-    args = (ins, steps, bool(body), slip_flag(particle_slip), int(tier), bool(check), e_w, stage,
-            path, w, det)
+    args = (ins, steps, bool(body), slip_flag(particle_slip), bool(check), e_w, stage, path, w,
+            det)
     if n < SERIAL_BELOW:
-        first = _fused_serial(*args)
+        first = _FUSED_ENTRY[int(tier), False](*args)
     else:
-        first = parallel_launch(_fused_parallel, *args)
+        first = parallel_launch(_FUSED_ENTRY[int(tier), True], *args)
     if not check:
         return e_w, stage, path, w, det
     return e_w, stage, path, w, det, _first_rule(first, n)

@@ -7,8 +7,8 @@ functions are imported on first use.
 
 from ..bed.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
 
-__all__ = ["SPEED_FAMILIES", "SpeedModel", "build", "open_store", "sticking_probability",
-           "sweep", "write_map"]
+__all__ = ["SPEED_FAMILIES", "SpeedModel", "build", "estimate_sweep", "open_store",
+           "sticking_probability", "sweep", "write_map"]
 
 
 def __getattr__(name):
@@ -16,6 +16,10 @@ def __getattr__(name):
         from importlib import import_module
 
         return getattr(import_module(f"{__name__}.grid"), name)
+    if name == "estimate_sweep":
+        from .estimate import estimate_sweep
+
+        return estimate_sweep
     if name == "write_map":
         from .export import write_map
 

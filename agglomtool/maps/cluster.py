@@ -94,13 +94,9 @@ def run_blocks(client, todo, task, func, done, *, in_flight: int | None = None) 
         raise
 
 
-def _compute_block(part: xr.Dataset) -> dict:
-    """One block's values (numpy), computed on a worker with the synchronous scheduler."""
-    import dask
-
-    with dask.config.set(scheduler="synchronous"):
-        values = part.compute()
-    return {k: np.asarray(v.values) for k, v in values.data_vars.items()}
+def _compute_block(plan, sl: dict, owned: list) -> dict:
+    """One block's values (numpy), computed on a worker."""
+    return plan.evaluate(sl, owned)
 
 
 def compute_on_cluster(ds: xr.Dataset, client) -> xr.Dataset:
@@ -109,25 +105,29 @@ def compute_on_cluster(ds: xr.Dataset, client) -> xr.Dataset:
     Every value is computed once, on a worker; the client gathers the blocks into one
     in-memory Dataset (use ``store=`` for maps larger than the client's memory).
     """
-    import dask
+    from .plan import SweepPlan, _dataset
 
-    dims = list(ds.dims)
-    var_dims = {k: tuple(v.dims) for k, v in ds.data_vars.items()}
-    lazy = [k for k, v in ds.data_vars.items() if v.chunks is not None]
-    out = {k: np.empty(ds[k].shape, dtype=ds[k].dtype) for k in lazy}
-    blocks = list(_blocks({d: list(ds.chunks[d]) for d in dims})) if ds.chunks else []
+    plan = SweepPlan.from_dataset(ds)
+    return _dataset(plan, _compute_plan(plan, client, False))
+
+
+def _compute_plan(plan, client, progress: bool) -> dict:
+    """``{name: numpy array}`` of the sweep ``plan``, its blocks computed on the workers."""
+    from .progress import SweepBar
+
+    out = {k: np.empty(plan.var_shape(k), dtype=plan.variables[k][1])
+           for k in plan.lazy_names}
 
     def task(idx, sl):
-        owned = [v for v in _owned(var_dims, dims, idx) if v in out]
-        (part,) = dask.optimize(ds[owned].isel(sl))
-        return (part,)
+        return plan, sl, plan.owned(idx)
 
-    slices = dict(blocks)
+    with SweepBar(plan.points, plan.n_blocks, "sweep", progress) as bar:
 
-    def done(idx, values):
-        sl = slices[idx]
-        for name, a in values.items():
-            out[name][tuple(sl[d] for d in var_dims[name])] = a
+        def done(idx, values):
+            sl = plan.block_slices(idx)
+            for name, a in values.items():
+                out[name][tuple(sl[d] for d in plan.variables[name][0])] = a
+            bar.update(plan.block_points(sl))
 
-    run_blocks(client, blocks, task, _compute_block, done)
-    return ds.assign({k: (ds[k].dims, out[k], ds[k].attrs) for k in lazy})
+        run_blocks(client, plan.blocks(), task, _compute_block, done)
+    return out

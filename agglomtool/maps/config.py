@@ -21,7 +21,7 @@ Every error names the file, the table and the key.
 
 from __future__ import annotations
 
-from .._config import ConfigError, _axis, parse_scene, read_toml, warn_scene_findings
+from .._config import ConfigError, _axis, check_tables, parse_scene, read_toml, warn_scene_findings
 from ..scene import CATEGORICAL_FIELDS, Scene, field_names
 
 __all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "parse_scene",
@@ -29,18 +29,18 @@ __all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "parse_sce
 
 
 class MapConfig:
-    """A parsed configuration: ``scene`` (Scene), ``grid`` (dict), ``options`` (dict)."""
+    """A parsed configuration: ``scene`` (Scene), ``grid`` (dict), ``options`` (dict), and
+    ``uncertain`` (the ``[uncertain]`` table as ``sweep(uncertain=...)`` takes it, or
+    ``None``: a robust map when given)."""
 
-    def __init__(self, scene: Scene, grid: dict, options: dict):
+    def __init__(self, scene: Scene, grid: dict, options: dict, uncertain=None):
         self.scene, self.grid, self.options = scene, grid, options
+        self.uncertain = uncertain
 
 
 def parse_config(data: dict, source: str = "config") -> MapConfig:
     """Build a :class:`MapConfig` from a parsed TOML mapping."""
-    unknown = sorted(set(data) - {"scene", "grid", "options"})
-    if unknown:
-        raise ConfigError(f"{source}: unknown table [{unknown[0]}]; allowed: [scene], [grid], "
-                          "[options]")
+    check_tables(data, source, ("[scene]", "[grid]", "[uncertain]", "[options]"))
     scene = parse_scene(data.get("scene", {}), source)
     fields = field_names()
     grid_data = data.get("grid", {})
@@ -58,9 +58,14 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
             raise ConfigError(f"{where}: {key} takes numbers")
         grid[key] = axis
     opts = dict(data.get("options", {}))
-    unknown = sorted(set(opts) - {"nodes", "chunks"})
+    robust = ("samples", "threshold", "seed")
+    allowed = {"nodes", "chunks", *(robust if "uncertain" in data else ())}
+    unknown = sorted(set(opts) - allowed)
     if unknown:
-        raise ConfigError(f"{source}: [options] {unknown[0]}: unknown; allowed: nodes, chunks")
+        hint = (f" ({unknown[0]} is for a robust map: add an [uncertain] table)"
+                if unknown[0] in robust else "")
+        raise ConfigError(f"{source}: [options] {unknown[0]}: unknown; allowed: "
+                          f"{', '.join(sorted(allowed))}{hint}")
     nodes = opts.get("nodes", 16)
     if not isinstance(nodes, int) or isinstance(nodes, bool) or nodes < 1:
         raise ConfigError(f"{source}: [options] nodes: must be an integer >= 1, got {nodes!r}")
@@ -71,7 +76,7 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
                           f"got {chunks!r}")
     # The grid is validated now, once, at the values it sweeps (not at the scene's values
     # of the fields it sweeps), so that an error names the key.
-    from .grid import GridError, _grid_values, grid_findings
+    from .layout import GridError, _grid_values, grid_findings
 
     try:
         axes = _grid_values(scene, grid, plausibility=False)  # the sweep says those, once
@@ -79,7 +84,30 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
         where = f"[grid] {exc.field}" if exc.field else "[scene]"
         raise ConfigError(f"{source}: {where}: {exc}") from None
     warn_scene_findings(scene, source, grid_findings(scene.values(), axes))
-    return MapConfig(scene, grid, {"nodes": nodes, "chunks": chunks})
+    options = {"nodes": nodes, "chunks": chunks}
+    uncertain = None
+    if "uncertain" in data:
+        from ..uncertainty.config import parse_uncertain
+
+        uncertain = parse_uncertain(data["uncertain"], source)
+        swept = sorted(set(uncertain if isinstance(uncertain, dict) else ()) & set(grid))
+        if swept:
+            raise ConfigError(f"{source}: [uncertain] {swept[0]}: it is swept in [grid]; "
+                              "sweep it or make it uncertain, not both")
+        samples, threshold, seed = (opts.get("samples", 256), opts.get("threshold", 0.5),
+                                    opts.get("seed", 0))
+        if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
+            raise ConfigError(f"{source}: [options] samples: must be an integer >= 2, got "
+                              f"{samples!r}")
+        if (isinstance(threshold, bool) or not isinstance(threshold, int | float)
+                or not 0.0 <= threshold < 1.0):
+            raise ConfigError(f"{source}: [options] threshold: must be a number in [0, 1), "
+                              f"got {threshold!r}")
+        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+            raise ConfigError(f"{source}: [options] seed: must be an integer >= 0, got "
+                              f"{seed!r}")
+        options.update(samples=samples, threshold=float(threshold), seed=seed)
+    return MapConfig(scene, grid, options, uncertain)
 
 
 def load_config(path) -> MapConfig:

@@ -44,7 +44,6 @@ import os
 import shutil
 import socket
 import sys
-import time
 import warnings
 import zlib
 from pathlib import Path
@@ -55,9 +54,8 @@ import xarray as xr
 
 from .cluster import _blocks, _owned, run_blocks
 
-__all__ = ["run_with_store", "open_store", "export_netcdf", "fingerprint", "progress_callback",
-           "Progress", "StoreWarning", "StoreLockedError", "StoreMismatchError",
-           "FORMAT_VERSION"]
+__all__ = ["run_with_store", "open_store", "export_netcdf", "fingerprint", "StoreWarning",
+           "StoreLockedError", "StoreMismatchError", "FORMAT_VERSION"]
 
 #: Version of the store layout; a store of another layout version is refused.
 FORMAT_VERSION = 2
@@ -88,70 +86,6 @@ class StoreMismatchError(ValueError):
 
 class StoreLockedError(ValueError):
     """Another process is writing the store."""
-
-
-class Progress:
-    """A progress bar on stderr: ``tqdm`` when installed, else one rewritten text line."""
-
-    def __init__(self, total: int, desc: str = "sweep", enabled: bool = True,
-                 unit: str = "block"):
-        self.total, self.desc, self.enabled, self.n, self.unit = total, desc, enabled, 0, unit
-        self._bar = None
-        self._t0 = self._last = time.perf_counter()
-        if enabled:
-            try:
-                from tqdm import tqdm
-
-                self._bar = tqdm(total=total, desc=desc, unit=unit)
-            except ImportError:
-                self._draw()
-
-    def _draw(self) -> None:
-        frac = self.n / self.total if self.total else 1.0
-        bar = "#" * int(30 * frac)
-        dt = time.perf_counter() - self._t0
-        sys.stderr.write(
-            f"\r{self.desc}: [{bar:<30}] {self.n}/{self.total} {self.unit}s {dt:6.1f} s")
-        sys.stderr.flush()
-
-    def update(self, k: int = 1) -> None:
-        self.n += k
-        if not self.enabled:
-            return
-        if self._bar is not None:
-            self._bar.update(k)
-        elif self.n == self.total or time.perf_counter() - self._last > 0.2:
-            self._last = time.perf_counter()
-            self._draw()
-
-    def close(self) -> None:
-        if not self.enabled:
-            return
-        if self._bar is not None:
-            self._bar.close()
-        else:
-            self._draw()
-            sys.stderr.write("\n")
-
-
-@contextlib.contextmanager
-def progress_callback():
-    """Progress of a dask computation (tasks), shown with :class:`Progress`."""
-    from dask.callbacks import Callback
-
-    class _CB(Callback):
-        def _start_state(self, dsk, state):
-            n = len(state["ready"]) + len(state["waiting"])
-            self.bar = Progress(n, "sweep", unit="task")
-
-        def _posttask(self, key, result, dsk, state, worker_id):
-            self.bar.update()
-
-        def _finish(self, dsk, state, errored):
-            self.bar.close()
-
-    with _CB():
-        yield
 
 
 # ---------------------------------------------------------------------------------------
@@ -194,6 +128,11 @@ def fingerprint(ds: xr.Dataset) -> dict:
         value), ``chunks``, ``nodes``, ``variables`` (dims and dtype of every output) and
         ``materials`` (``"kind name" -> "file sha256"`` for every material used).
     """
+    return _fingerprint(ds, ds.chunks)
+
+
+def _fingerprint(ds: xr.Dataset, chunks) -> dict:
+    """:func:`fingerprint` with the block sizes ``chunks`` (``{dim: sizes}``) given."""
     from .. import materials
 
     dims = list(ds.dims)
@@ -204,7 +143,7 @@ def fingerprint(ds: xr.Dataset) -> dict:
         "scene": {k: v for k, v in scene.items() if k not in dims},
         "dims": dims,
         "grid": {d: _digest(ds[d].values) for d in dims},
-        "chunks": {d: [int(c) for c in ds.chunks[d]] for d in dims} if ds.chunks else {},
+        "chunks": {d: [int(c) for c in chunks[d]] for d in dims} if chunks else {},
         "nodes": ds.attrs.get("quadrature_nodes"),
         "variables": {k: [list(v.dims), v.dtype.str] for k, v in ds.data_vars.items()},
         "materials": materials.fingerprint(_used_materials(ds)),
@@ -295,11 +234,13 @@ def _quiet_zarr():
         yield
 
 
-def _write_block(part: xr.Dataset, data_path: str, region: dict, used: dict,
+def _write_block(plan, data_path: str, region: dict, owned: list, used: dict,
                  expected_materials: dict) -> dict:
     """Compute one block and write its region of the store; runs locally or on a worker.
 
-    Returns ``{variable: crc32}`` of the data written.
+    ``plan`` is the sweep's :class:`~agglomtool.maps.plan.SweepPlan`, ``region`` the block's
+    ``{dim: slice}``, ``owned`` the variables it writes. Returns ``{variable: crc32}`` of the
+    data written.
     """
     import zarr
 
@@ -310,13 +251,12 @@ def _write_block(part: xr.Dataset, data_path: str, region: dict, used: dict,
         diff = "; ".join(_differences(expected_materials, found))
         raise ValueError(f"on host {socket.gethostname()} the materials files differ from "
                          f"those of the process that started the sweep: {diff}")
-    with dask.config.set(scheduler="synchronous"):
-        values = part.compute()
+    values = plan.evaluate(region, owned)
     group = zarr.open_group(data_path, mode="r+")
     crcs = {}
-    for name, var in values.data_vars.items():
-        a = np.asarray(var.values).copy(order="C")  # (ascontiguousarray makes 0-d 1-d)
-        group[name][tuple(region[d] for d in var.dims)] = a
+    for name in owned:
+        a = np.asarray(values[name]).copy(order="C")  # (ascontiguousarray makes 0-d 1-d)
+        group[name][tuple(region[d] for d in plan.variables[name][0])] = a
         crcs[name] = _crc(a)
     return crcs
 
@@ -360,26 +300,29 @@ def _writer_lock(path: Path):
         lock.release()
 
 
-def _encoding(ds: xr.Dataset) -> dict:
+def _encoding(ds: xr.Dataset, chunks: dict) -> dict:
+    """Every variable's zarr chunks (the first block's size along each of its dimensions,
+    ``chunks``: ``{dim: block sizes}``) and codecs."""
     from zarr.codecs import Crc32cCodec, ZstdCodec
 
     enc = {}
     for name, var in ds.data_vars.items():
-        chunks = tuple(c[0] for c in var.chunks) if var.chunks else var.shape
-        enc[name] = {"chunks": chunks,
+        enc[name] = {"chunks": tuple(chunks[d][0] for d in var.dims),
                      "compressors": [ZstdCodec(level=1), Crc32cCodec()]}
     return enc
 
 
 def _layout(ds: xr.Dataset, path: Path, fp: dict) -> None:
-    """Clear the store and lay out the grid: coordinates, metadata, empty arrays."""
+    """Clear the store and lay out the grid: coordinates, metadata, empty arrays (``ds``:
+    the sweep's template, :func:`agglomtool.maps.grid._template`)."""
     _clear(path)
     (path / _DONE).mkdir()
     template = ds.copy()
     template.attrs["store_fingerprint_sha256"] = _sha(fp)
+    chunks = {d: fp["chunks"][d] for d in fp["dims"]}
     with _quiet_zarr():
-        template.to_zarr(path / _DATA, mode="w", compute=False, encoding=_encoding(ds),
-                         zarr_format=3, consolidated=False)
+        template.to_zarr(path / _DATA, mode="w", compute=False,
+                         encoding=_encoding(ds, chunks), zarr_format=3, consolidated=False)
     _atomic_write(path / _RECORD, json.dumps({"fingerprint": fp, "sha256": _sha(fp)},
                                              indent=1))
 
@@ -465,12 +408,11 @@ def _prepare(ds: xr.Dataset, path: Path, fp: dict, overwrite: bool) -> None:
         _atomic_write(path / _RECORD, json.dumps({"fingerprint": fp, "sha256": sha}, indent=1))
 
 
-def _check_blocks(ds: xr.Dataset, path: Path, sha: str, blocks: list, var_dims: dict
+def _check_blocks(dims: list, path: Path, sha: str, blocks, var_dims: dict
                   ) -> tuple[set, list]:
     """Read back every recorded block; ``(good indices, [(index, reason)] of bad ones)``."""
     import zarr
 
-    dims = list(ds.dims)
     good, bad = set(), []
     try:
         with _quiet_zarr():
@@ -527,11 +469,13 @@ def run_with_store(ds: xr.Dataset, store, *, progress: bool = False, overwrite: 
     Parameters
     ----------
     ds : xarray.Dataset
-        A lazy sweep (:func:`agglomtool.maps.build`).
+        A lazy sweep (:func:`agglomtool.maps.build`). Its blocks are evaluated from the
+        scene, grid, chunks and nodes it records (:class:`~agglomtool.maps.plan.SweepPlan`),
+        not through its task graph.
     store : str or path
         A directory (created if missing): new, empty, or a store of the same sweep.
     progress : bool
-        Show a progress bar of blocks on stderr.
+        Show a progress bar (tqdm) on stderr: points and blocks done, rate, time left.
     overwrite : bool
         Discard a store of a different sweep and start again (only a directory that is a
         sweep store is ever cleared).
@@ -561,53 +505,79 @@ def run_with_store(ds: xr.Dataset, store, *, progress: bool = False, overwrite: 
         When finished blocks are unreadable, fail their checksum or belong to another
         sweep: they are recomputed.
     """
+    from .plan import SweepPlan
+
+    return _run_store(SweepPlan.from_dataset(ds), store, progress=progress,
+                      overwrite=overwrite, client=client, verify=verify)
+
+
+def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, client=None,
+               verify: bool = True, announce=None) -> xr.Dataset:
+    """:func:`run_with_store` of a :class:`~agglomtool.maps.plan.SweepPlan`: its blocks
+    evaluated one by one (or on a cluster's workers), each written to its region.
+    ``announce(seconds, method)`` is called once, before the progress bar: after a few
+    timed blocks computed here (:func:`agglomtool.maps.estimate.run_blocks_here`)."""
+    from .estimate import run_blocks_here
+    from .plan import _template
+    from .progress import SweepBar
+
     path = _check_path(store)
     if not isinstance(overwrite, bool):
         raise ValueError(f"overwrite = {overwrite!r} must be True or False")
     _refuse_foreign(path)
     path.mkdir(parents=True, exist_ok=True)
-    fp = fingerprint(ds)
+    ds = _template(plan)
+    fp = _fingerprint(ds, plan.chunks)
     sha = _sha(fp)
     dims = list(ds.dims)
-    chunks = {d: list(fp["chunks"][d]) for d in dims} if dims else {}
-    blocks = list(_blocks(chunks))
     var_dims = {k: tuple(v.dims) for k, v in ds.data_vars.items()}
     if client is None:
         client = _active_client()
     with _writer_lock(path):
         _prepare(ds, path, fp, overwrite)
-        good, bad = _check_blocks(ds, path, sha, blocks, var_dims) if verify else (
-            {idx for idx, _ in blocks if (path / _DONE / _block_name(idx)).exists()}, [])
+        if verify:
+            good, bad = _check_blocks(dims, path, sha, plan.blocks(), var_dims)
+        else:
+            good, bad = {idx for idx, _ in plan.blocks()
+                         if (path / _DONE / _block_name(idx)).exists()}, []
         if bad:
             where = "block" if bad[0][0] is None else f"block {bad[0][0]}"
             warnings.warn(
                 f"store '{path}': {len(bad)} finished block(s) are recomputed: {where}: "
                 f"{bad[0][1]}" + (f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""),
-                StoreWarning, stacklevel=2)
-        todo = [(idx, sl) for idx, sl in blocks if idx not in good]
-        bar = Progress(len(blocks), f"sweep -> {path}", progress)
-        bar.update(len(blocks) - len(todo))
+                StoreWarning, stacklevel=3)
+        todo = ((idx, sl) for idx, sl in plan.blocks() if idx not in good)
         expected, used = fp["materials"], _used_materials(ds)
+        data_path = str(path / _DATA)
 
         def task(idx, sl):
-            owned = _owned(var_dims, dims, idx)
-            part = ds[owned].isel(sl)
-            (part,) = dask.optimize(part)
-            return part, str(path / _DATA), sl, used, expected
+            return plan, data_path, sl, _owned(var_dims, dims, idx), used, expected
+
+        done_points = sum(plan.block_points(plan.block_slices(i)) for i in good)
+        bar = None
+
+        def start(seconds=None, method=None):
+            nonlocal bar
+            if announce is not None:
+                announce(seconds, method)
+            bar = SweepBar(plan.points, plan.n_blocks, f"sweep -> {path}", progress)
+            bar.update(done_points, len(good))
 
         def record(idx, crcs):
             _atomic_write(path / _DONE / _block_name(idx),
                           json.dumps({"block": list(idx), "fingerprint": sha, "crc32": crcs}))
-            bar.update()
+            bar.update(plan.block_points(plan.block_slices(idx)))
 
         try:
-            if client is not None and client is not False and todo:
+            if client is not None and client is not False and len(good) < plan.n_blocks:
+                start()
                 run_blocks(client, todo, task, _write_block, record)
             else:
-                for idx, sl in todo:
-                    record(idx, _write_block(*task(idx, sl)))
+                run_blocks_here(plan, lambda idx, sl: _write_block(*task(idx, sl)),
+                                lambda idx, sl, crcs: record(idx, crcs), start, good)
         finally:
-            bar.close()
+            if bar is not None:
+                bar.close()
     return open_store(path)
 
 

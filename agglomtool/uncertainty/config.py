@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .._config import ConfigError, parse_scene, read_toml, warn_scene_findings
+from .._config import ConfigError, check_tables, parse_scene, read_toml, warn_scene_findings
 from .._fields import FIELD_META
 from ..plausibility import scene_findings
 from ..scene import Scene
@@ -46,10 +46,7 @@ class CompareConfig:
 
 def parse_compare_config(data: dict, source: str = "config") -> CompareConfig:
     """Build a :class:`CompareConfig` from a parsed TOML mapping."""
-    unknown = sorted(set(data) - {"scene", "compare", "uncertain", "options"})
-    if unknown:
-        raise ConfigError(f"{source}: unknown table [{unknown[0]}]; allowed: [scene], "
-                          "[compare], [uncertain], [options]")
+    check_tables(data, source, ("[scene]", "[compare]", "[uncertain]", "[options]"))
     scene = parse_scene(data.get("scene", {}), source)
     comp = data.get("compare")
     if not isinstance(comp, dict) or len(comp) != 1:

@@ -1,0 +1,275 @@
+"""The layout of a sweep: the output groups, the validation of a grid at the values it
+sweeps, block sizes, the block function of each group and the map's global attributes.
+
+The lowest module of :mod:`agglomtool.maps`: the plan of a sweep
+(:mod:`agglomtool.maps.plan`), its estimate, its store and its cluster path build on it, and
+:func:`agglomtool.maps.sweep` (:mod:`agglomtool.maps.grid`) on all of them.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import logging
+import re
+
+import numpy as np
+
+from .._version import __version__
+from ..plausibility import scene_findings, warn_findings
+from ..scene import (
+    CATEGORICAL_FIELDS,
+    NUMERIC_FIELDS,
+    Resolved,
+    Scene,
+    assumed_inputs,
+    collision_outputs,
+    critical_outputs,
+    provenance,
+    validate,
+)
+from ..units import to_si_array
+from .meta import (
+    FIELD_META,
+    call_text,
+    global_attrs,
+    provenance_attr,
+)
+
+__all__ = ["GROUPS", "DEFAULT_BLOCK", "SPEED_FIELDS", "GridError", "grid_findings"]
+
+logger = logging.getLogger("agglomtool.maps")
+
+#: Default number of grid points per dask block (bounded memory: about 30 MB of
+#: temporaries per collision batch).
+DEFAULT_BLOCK = 2**18
+
+SPEED_FIELDS = ("u0", "speed", "sigma_ln", "granular_temperature", "fluctuation_ratio",
+                "U", "U_Umf", "bed_height", "column_diameter", "orifice_area", "height",
+                "wake_fraction")
+_ALL = tuple(CATEGORICAL_FIELDS) + tuple(NUMERIC_FIELDS)
+
+#: group name -> (fields it depends on, output names, output dtypes)
+GROUPS = {
+    "gas": (("T", "P", "gas"), ("mu_g", "rho_g"), (float, float)),
+    "liquid": (("T", "P", "liquid", "theta_deg"), ("mu_l", "gamma_l", "rho_l"),
+               (float, float, float)),
+    "fluid": (("T", "P", "gas", "liquid", "solid_i", "solid_j", "d_i", "d_j", "h0", "h0_j",
+               "U_e_Umf", "umf_method"), ("Umf", "U_e"), (float, float)),
+    "critical": (tuple(f for f in _ALL if f not in SPEED_FIELDS),
+                 ("u_star", "u_star_flag", "Ca_star", "regime"),
+                 (float, np.int8, float, np.int8)),
+    "collision": (_ALL, ("u_typical", "U", "e_w", "agglomerated", "stage", "St",
+                         "propensity", "margin"),
+                  (float, float, float, bool, np.int8, float, float, float)),
+}
+
+
+class GridError(ValueError):
+    """A grid that cannot be swept; ``field`` is the swept field the message blames (None
+    where it blames none of them)."""
+
+    def __init__(self, message: str, field: str | None = None):
+        super().__init__(message)
+        self.field = field
+
+
+def _blamed(message: str, names) -> str | None:
+    """The swept field (of ``names``) whose value ``message`` states first, if any."""
+    found = [(m.start(), k) for k in names
+             for m in [re.search(rf"(?<![\w.]){re.escape(k)} = ", message)] if m]
+    return min(found)[1] if found else None
+
+
+def _axes(base: dict, grid: dict) -> dict:
+    """Each axis alone: a known field, 1-D, non-empty, unique, in SI; names as strings."""
+    out = {}
+    for name, values in grid.items():
+        if name == "body_forces":
+            raise GridError("body_forces cannot be swept; run two sweeps", name)
+        if name not in base:
+            raise GridError(f"{name!r} is not a Scene field; fields: {sorted(base)}", name)
+        if name in CATEGORICAL_FIELDS:
+            vals = [values] if isinstance(values, str) else list(values)
+            if not vals or not all(isinstance(v, str) for v in vals):
+                raise GridError(f"grid {name} must be a non-empty list of names, got "
+                                f"{values!r}", name)
+            arr = np.array(vals)
+        else:
+            unit, long_name = FIELD_META[name]
+            try:
+                values = to_si_array(name, values, unit, long_name)
+            except ValueError as exc:
+                raise GridError(str(exc), name) from None
+            try:
+                arr = np.atleast_1d(np.asarray(values, dtype=float))
+            except (TypeError, ValueError):
+                raise GridError(f"grid {name} must be numbers (SI) or quantities with units, "
+                                f"got {values!r}", name) from None
+            if arr.ndim != 1 or arr.size == 0:
+                raise GridError(f"grid {name} must be a non-empty 1-D list of numbers, "
+                                f"got shape {arr.shape}", name)
+        if len(np.unique(arr)) != arr.size:
+            raise GridError(f"grid {name} repeats a value; coordinates must be unique", name)
+        out[name] = arr
+    return out
+
+
+def _combinations(base: dict, axes: dict):
+    """The scene's values as the grid sweeps them, one dict per combination of its names:
+    every swept number as its whole axis (checks see its extremes), every swept name at
+    each of its values together with each value of the other swept names."""
+    numeric = {k: v for k, v in axes.items() if k not in CATEGORICAL_FIELDS}
+    names = [k for k in axes if k in CATEGORICAL_FIELDS]
+    for combo in itertools.product(*[[str(v) for v in axes[k]] for k in names]):
+        yield {**base, **numeric, **dict(zip(names, combo, strict=True))}
+
+
+def grid_findings(base: dict, axes: dict) -> list:
+    """The plausibility findings of the scene ``base`` swept over ``axes`` (validated
+    axes), at the values swept (not at the scene's values of the swept fields)."""
+    found = []
+    for values in _combinations(base, axes):
+        found += scene_findings(values)
+    return list(dict.fromkeys(found))
+
+
+def _grid_values(scene: Scene, grid: dict, *, plausibility: bool = True) -> dict:
+    """Validate the grid, once, at the values swept: each axis alone (1-D, known field,
+    units, unique), then every field the model reads together, with each swept field at its
+    swept values and never at the scene's value for it (numbers as whole axes, names in
+    every combination), properties included. Raises :class:`GridError` naming the swept
+    field it blames; warns the plausibility findings the scene has not said already."""
+    base = scene.values()
+    out = _axes(base, grid)
+    try:
+        for values in _combinations(base, out):
+            validate(values)
+        _check_properties(base, out)
+    except ValueError as exc:
+        raise GridError(str(exc), _blamed(str(exc), out)) from None
+    if plausibility:
+        before = set(scene_findings(base))  # the Scene warned of these already
+        warn_findings([f for f in grid_findings(base, out) if f not in before], stacklevel=4)
+    speed = base["speed"]
+    needs = {"u0": ("fixed", "lognormal"), "sigma_ln": ("lognormal",),
+             "granular_temperature": ("maxwellian",), "fluctuation_ratio": ("excess-gas",)}
+    if "speed" not in grid:
+        for name, families in needs.items():
+            if name in grid and speed not in families:
+                raise GridError(f"grid {name} has no effect with speed = {speed!r}; set the "
+                                f"scene's speed to one of {list(families)}", name)
+    return out
+
+
+def _check_properties(base: dict, grid: dict) -> None:
+    """Evaluate the gas and liquid properties on the swept (T, P) values of every swept gas
+    and liquid, so that a value outside a correlation's range fails now, naming the gas or
+    liquid, and not inside a dask task (nor at a default the sweep never uses)."""
+    T = np.asarray(grid.get("T", base["T"]), dtype=float)
+    P = np.asarray(grid.get("P", base["P"]), dtype=float)
+    T, P = T.reshape(-1, 1), P.reshape(1, -1)
+    for gas in np.atleast_1d(grid.get("gas", base["gas"])):
+        for liquid in np.atleast_1d(grid.get("liquid", base["liquid"])):
+            r = Resolved({**base, "T": T, "P": P, "gas": str(gas), "liquid": str(liquid)})
+            _ = r.mu_g, r.liquid
+
+
+def _first_point(base: dict, grid: dict) -> dict:
+    """The scene's values at the grid's first point (every swept field at its first value)."""
+    return {**base, **{k: (str(v[0]) if k in CATEGORICAL_FIELDS else float(v[0]))
+                       for k, v in grid.items()}}
+
+
+def _chunks(grid: dict, chunks) -> dict:
+    """Chunk size per dim: 1 for names, else ``chunks`` (dict, int total, "auto", None)."""
+    from .checks import check_chunks
+
+    check_chunks(chunks)  # 0, negative, fractional or boolean sizes: a ValueError, no clamp
+    sizes = {k: len(v) for k, v in grid.items()}
+    out = {k: 1 for k in grid if k in CATEGORICAL_FIELDS}
+    numeric = [k for k in grid if k not in CATEGORICAL_FIELDS]
+    if isinstance(chunks, dict):
+        unknown = sorted(set(chunks) - set(grid))
+        if unknown:
+            raise ValueError(f"chunks names {unknown[0]!r}, which is not a grid dimension")
+        for k in numeric:
+            out[k] = int(min(sizes[k], chunks.get(k, sizes[k])))
+        return out
+    if chunks is None:
+        return {**out, **{k: sizes[k] for k in numeric}}
+    target = DEFAULT_BLOCK if chunks == "auto" else int(chunks)
+    if target < 1:
+        raise ValueError(f"chunks = {chunks!r} must be >= 1 points per block")
+    prod = 1
+    for k in reversed(numeric):  # the last dims whole first, the outer ones split
+        c = int(min(sizes[k], max(1, target // prod)))
+        out[k] = c
+        prod *= c
+    return out
+
+
+def _block_function(scene_values: dict, names: tuple, group: str, nodes: int):
+    """The numpy function of one output group over one block."""
+
+    def func(*arrays):
+        values = dict(scene_values)
+        values.update(zip(names, arrays[: len(names)], strict=True))
+        r = Resolved(values)
+        if group == "gas":
+            out = (r.mu_g, r.rho_g)
+        elif group == "liquid":
+            out = (r.liquid.mu, r.liquid.gamma, r.liquid.rho)
+        elif group == "fluid":
+            out = (r.Umf, r.U_e)
+        elif group == "critical":
+            c = critical_outputs(r)
+            out = tuple(c[k] for k in GROUPS["critical"][1])
+        else:
+            c = collision_outputs(r, arrays[-1], nodes)
+            out = tuple(c[k] for k in GROUPS["collision"][1])
+        shape = np.broadcast_shapes(*[np.shape(a) for a in arrays]) if arrays else ()
+        return tuple(np.broadcast_to(o, shape).copy() for o in out)
+
+    return func
+
+
+def _split(n: int, c: int) -> tuple:
+    """Block sizes of an axis of ``n`` values in blocks of ``c``."""
+    return (c,) * (n // c) + ((n % c,) if n % c else ())
+
+
+
+def _dataset_attrs(base: dict, grid: dict, nodes: int) -> dict:
+    first = _first_point(base, grid)  # properties are described where the grid has them
+    tiers = list(grid["mode"]) if "mode" in grid else [base["mode"]]
+    sources = {}
+    for name in ("solid_i", "solid_j", "liquid", "gas"):
+        for value in (list(grid[name]) if name in grid else [base[name]]):
+            if value is None:
+                continue
+            for key, text in Resolved({**first, name: str(value)}).sources.items():
+                sources[key] = " ".join(text.split())
+    prov = {name: item for name, item in provenance(first).items() if name not in grid}
+    assumed = []
+    combos = [first] + [{**first, k: str(v)} for k in grid if k in CATEGORICAL_FIELDS
+                        for v in grid[k]]
+    for values in combos:
+        for text in assumed_inputs(values):
+            if text not in assumed:
+                assumed.append(text)
+    return {
+        **global_attrs("agglomtool operating map",
+                       call_text("agglomtool.sweep", grid, nodes=int(nodes))),
+        "assumed_inputs": "; ".join(assumed) if assumed else "none",
+        "provenance": provenance_attr(prov),
+        "agglomtool_version": __version__,
+        "model_tier": ", ".join(tiers),
+        "scene": json.dumps(base),
+        "grid": json.dumps(list(grid)),
+        "propensity_method": (
+            f"F(u0*) plus the sticking indicator integrated over {nodes} equal-probability "
+            "nodes above u0* (agglomtool.maps.speeds)"),
+        "quadrature_nodes": int(nodes),
+        "material_sources": json.dumps(sources),
+    }

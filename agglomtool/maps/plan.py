@@ -1,0 +1,360 @@
+"""The plan of a sweep: its grid, its blocks, its variables, and the evaluation of one block.
+
+Every way of running a sweep evaluates the same blocks with :meth:`SweepPlan.evaluate`: in
+memory, into a store, on a cluster's workers, and the tasks of the lazy Dataset of
+:func:`agglomtool.maps.build`. A block is evaluated from its slice of the coordinates alone,
+so running a sweep needs no task graph over the whole grid: memory and start-up time do not
+grow with the number of blocks, and there is no broadcasting of small inputs into a large
+block structure for dask to warn about.
+
+Outputs come in groups (:data:`agglomtool.maps.grid.GROUPS`), each over the grid dimensions
+it depends on. A block computes the variables it *owns*: those over whose missing dimensions
+its index is 0, so every value is computed once. ``u0*`` (the critical group, the expensive
+one) is needed by every block's collisions; blocks are visited with the critical group's
+dimensions outermost and the last one is kept, so a ``u0*`` block is computed once however
+the speed axes are split.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import threading
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import xarray as xr
+
+from .._version import __version__
+from ..scene import Scene
+from .layout import GROUPS, _block_function, _chunks, _dataset_attrs, _grid_values, _split
+from .meta import field_attrs, variable_attrs
+
+__all__ = ["SweepPlan", "build"]
+
+
+def _compat(a: np.ndarray, have: tuple, to: tuple) -> np.ndarray:
+    """``a`` (over the dims ``have``, a subset of ``to`` in the same order) shaped to
+    broadcast over ``to``: a new axis for each missing dimension after the first present one
+    (the shapes ``xarray.apply_ufunc`` passes to a block function)."""
+    shape, started = [], False
+    for d in to:
+        if d in have:
+            shape.append(a.shape[have.index(d)])
+            started = True
+        elif started:
+            shape.append(1)
+    return a.reshape(shape)
+
+
+@dataclass(frozen=True, eq=False)
+class SweepPlan:
+    """A validated sweep: base scene values, grid, block sizes, quadrature nodes.
+
+    Parameters
+    ----------
+    base : dict
+        The scene's values (:meth:`agglomtool.Scene.values`).
+    grid : dict
+        ``{dim: 1-D numpy array}``, validated, in the order given.
+    chunks : dict
+        ``{dim: tuple of block sizes}``.
+    nodes : int
+        Quadrature nodes of the propensity.
+    """
+
+    base: dict
+    grid: dict
+    chunks: dict
+    nodes: int
+
+    # -- layout ---------------------------------------------------------------------------
+
+    @cached_property
+    def group_dims(self) -> dict:
+        """``{group: its grid dimensions, in grid order}``."""
+        return {g: tuple(k for k in self.grid if k in deps) for g, (deps, _, _) in
+                GROUPS.items()}
+
+    @cached_property
+    def variables(self) -> dict:
+        """``{name: (dims, numpy dtype, group)}`` of every output, in the Dataset's order.
+        An output named as a grid coordinate (``U``, where U is swept) is left out: it would
+        be that coordinate once again."""
+        return {name: (self.group_dims[g], np.dtype(dtype), g)
+                for g, (_, outs, dtypes) in GROUPS.items()
+                for name, dtype in zip(outs, dtypes, strict=True) if name not in self.grid}
+
+    @cached_property
+    def dims(self) -> tuple:
+        """The Dataset's dimensions in its own order (first appearance over the variables),
+        the order of block indices and of a store's fingerprint."""
+        out = []
+        for dims, _, _ in self.variables.values():
+            out += [d for d in dims if d not in out]
+        return tuple(out + [d for d in self.grid if d not in out])
+
+    @cached_property
+    def shape(self) -> dict:
+        return {d: len(v) for d, v in self.grid.items()}
+
+    @property
+    def points(self) -> int:
+        """Grid points (the size of the collision outputs)."""
+        return math.prod(self.shape.values())
+
+    @property
+    def n_blocks(self) -> int:
+        return math.prod(len(self.chunks[d]) for d in self.dims)
+
+    def var_shape(self, name: str) -> tuple:
+        return tuple(self.shape[d] for d in self.variables[name][0])
+
+    def var_nbytes(self, name: str) -> int:
+        dims, dtype, _ = self.variables[name]
+        return math.prod(self.shape[d] for d in dims) * dtype.itemsize
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of the whole result in memory: every variable and coordinate."""
+        return (sum(self.var_nbytes(v) for v in self.variables)
+                + sum(int(a.nbytes) for a in self.grid.values()))
+
+    def group_work(self, group: str) -> tuple[int, int]:
+        """``(points, calls)``: how many points of ``group`` a run evaluates, in how many
+        calls (one per block of its own dimensions)."""
+        dims = self.group_dims[group]
+        return (math.prod(self.shape[d] for d in dims),
+                math.prod(len(self.chunks[d]) for d in dims))
+
+    @cached_property
+    def lazy_names(self) -> tuple:
+        """Variables over at least one grid dimension (computed block by block)."""
+        return tuple(v for v, (dims, _, _) in self.variables.items() if dims)
+
+    # -- blocks ---------------------------------------------------------------------------
+
+    @cached_property
+    def _starts(self) -> dict:
+        return {d: np.concatenate([[0], np.cumsum(self.chunks[d])]).astype(int)
+                for d in self.dims}
+
+    def block_slices(self, idx: tuple) -> dict:
+        """``{dim: slice}`` of the block ``idx`` (an index per dimension of :attr:`dims`)."""
+        st = self._starts
+        return {d: slice(int(st[d][i]), int(st[d][i + 1]))
+                for d, i in zip(self.dims, idx, strict=True)}
+
+    @cached_property
+    def _order(self) -> tuple:
+        """The dimensions in the order blocks are visited (critical ones outermost) and the
+        position of each of :attr:`dims` in it."""
+        crit = self.group_dims["critical"]
+        order = [d for d in self.dims if d in crit] + [d for d in self.dims if d not in crit]
+        return order, [order.index(d) for d in self.dims]
+
+    def blocks(self):
+        """``(idx, {dim: slice})`` of every block, the critical group's dimensions
+        outermost (consecutive blocks then share their ``u0*`` block)."""
+        order, pos = self._order
+        for combo in itertools.product(*[range(len(self.chunks[d])) for d in order]):
+            idx = tuple(combo[p] for p in pos)
+            yield idx, self.block_slices(idx)
+
+    def block_at(self, n: int):
+        """The ``n``-th block of :meth:`blocks`: ``(idx, {dim: slice})``."""
+        order, pos = self._order
+        combo = np.unravel_index(n, [len(self.chunks[d]) for d in order]) if order else ()
+        idx = tuple(int(combo[p]) for p in pos)
+        return idx, self.block_slices(idx)
+
+    def block_points(self, sl: dict) -> int:
+        return math.prod(s.stop - s.start for s in sl.values())
+
+    def owned(self, idx: tuple) -> list:
+        """Variables the block ``idx`` computes: those over whose missing dimensions its
+        index is 0 (0-d variables are computed once, up front: :attr:`eager`)."""
+        at = dict(zip(self.dims, idx, strict=True))
+        return [v for v in self.lazy_names
+                if all(at[d] == 0 for d in self.dims if d not in self.variables[v][0])]
+
+    # -- evaluation -----------------------------------------------------------------------
+
+    @cached_property
+    def eager(self) -> dict:
+        """``{name: 0-d array}`` of the outputs of groups over no grid dimension."""
+        out = {}
+        for group, (_, outs, _) in GROUPS.items():
+            if self.group_dims[group]:
+                continue
+            args = [out["u_star"]] if group == "collision" else []  # (no grid at all)
+            vals = _block_function(self.base, (), group, int(self.nodes))(*args)
+            out.update(zip(outs, vals, strict=True))
+        return out
+
+    @cached_property
+    def _memo(self):
+        return threading.local()
+
+    def _critical(self, sl: dict) -> dict:
+        """The critical group's outputs over the block's slice of its dimensions; the last
+        one is kept (per thread) for the next block."""
+        dims = self.group_dims["critical"]
+        if not dims:
+            return {k: self.eager[k] for k in GROUPS["critical"][1]}
+        key = tuple((sl[d].start, sl[d].stop) for d in dims)
+        memo = getattr(self._memo, "last", None)
+        if memo is not None and memo[0] == key:
+            return memo[1]
+        vals = self._group("critical", sl)
+        self._memo.last = (key, vals)
+        return vals
+
+    def _group(self, group: str, sl: dict, u_star=None) -> dict:
+        dims = self.group_dims[group]
+        args = [_compat(self.grid[d][sl[d]], (d,), dims) for d in dims]
+        if group == "collision":
+            args.append(_compat(np.asarray(u_star), self.group_dims["critical"], dims))
+        vals = _block_function(self.base, dims, group, int(self.nodes))(*args)
+        return dict(zip(GROUPS[group][1], vals, strict=True))
+
+    def evaluate(self, sl: dict, wanted) -> dict:
+        """``{name: array}`` of the variables ``wanted`` over the block ``sl``
+        (``{dim: slice}``), each over its own dimensions' slices."""
+        wanted = list(wanted)
+        groups = {self.variables[v][2] for v in wanted}
+        out = {}
+        for group in GROUPS:
+            if group not in groups:
+                continue
+            if not self.group_dims[group]:
+                vals = {k: self.eager[k] for k in GROUPS[group][1]}
+            elif group == "critical":
+                vals = self._critical(sl)
+            elif group == "collision":
+                vals = self._group(group, sl, self._critical(sl)["u_star"])
+            else:
+                vals = self._group(group, sl)
+            out.update({k: v for k, v in vals.items() if k in wanted})
+        return out
+
+    def sample(self, points: dict, group: str, u_star=None) -> dict:
+        """The group's outputs at the 1-D sample ``points`` (``{dim: array}``, names as
+        one-element arrays), for timing (:mod:`agglomtool.maps.estimate`)."""
+        dims = self.group_dims[group]
+        args = [points[d] for d in dims]
+        if group == "collision":
+            args.append(u_star)
+        vals = _block_function(self.base, dims, group, int(self.nodes))(*args)
+        return dict(zip(GROUPS[group][1], vals, strict=True))
+
+    def __getstate__(self):  # the fields only: caches are rebuilt where it is unpickled
+        return {k: getattr(self, k) for k in ("base", "grid", "chunks", "nodes")}
+
+    def __setstate__(self, state):
+        for k, v in state.items():
+            object.__setattr__(self, k, v)
+
+    # -- construction ---------------------------------------------------------------------
+
+    @classmethod
+    def from_dataset(cls, ds) -> SweepPlan:
+        """The plan of a sweep Dataset made by :func:`agglomtool.maps.build` (its scene,
+        grid, chunks and nodes are in its attributes, coordinates and chunks)."""
+        try:
+            base = json.loads(ds.attrs["scene"])
+            order = json.loads(ds.attrs["grid"])
+            nodes = int(ds.attrs["quadrature_nodes"])
+        except (KeyError, TypeError, ValueError):
+            raise ValueError("the Dataset is not a sweep made by agglomtool.maps.build (its "
+                             "attributes scene, grid and quadrature_nodes are missing)") from None
+        grid = {d: np.asarray(ds[d].values) for d in order}
+        chunks = {d: tuple(int(c) for c in ds.chunks[d]) if ds.chunks and d in ds.chunks
+                  else (len(grid[d]),) for d in order}
+        return cls(base, grid, chunks, nodes)
+
+
+def _plan(scene: Scene, chunks, nodes, grid: dict):
+    """The validated :class:`~agglomtool.maps.plan.SweepPlan` of a sweep's arguments."""
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be an agglomtool Scene, got {type(scene).__name__}")
+    if not isinstance(nodes, int | np.integer) or nodes < 1:
+        raise ValueError(f"nodes = {nodes!r} must be an integer >= 1")
+    values = _grid_values(scene, grid)
+    sizes = _chunks(values, chunks)
+    return SweepPlan(scene.values(), values,
+                     {k: _split(len(v), sizes[k]) for k, v in values.items()}, int(nodes))
+
+
+def _dataset(plan, data: dict) -> xr.Dataset:
+    """The sweep's Dataset: ``data`` (``{name: array}``, numpy or dask) for the variables
+    over grid dimensions, the plan's 0-d values for the others; coordinates and attributes."""
+    coords = {k: xr.DataArray(v, dims=[k], attrs=field_attrs(k)) for k, v in plan.grid.items()}
+    variables = {name: xr.Variable(dims, data[name] if dims else plan.eager[name],
+                                   attrs=variable_attrs(name))
+                 for name, (dims, _, _) in plan.variables.items()}
+    ds = xr.Dataset(variables, coords=coords)
+    ds.attrs.update(_dataset_attrs(plan.base, plan.grid, plan.nodes))
+    return ds
+
+
+def _block_task(plan, idx):
+    """One block of the lazy Dataset: ``{name: array}`` of the variables it owns."""
+    idx = tuple(idx)
+    return plan.evaluate(plan.block_slices(idx), plan.owned(idx))
+
+
+def _lazy_arrays(plan) -> dict:
+    """``{name: dask array}``: one task per block (:func:`_block_task`), and each variable's
+    chunk taken from the block that owns it. The graph is written block by block, so no
+    small input is broadcast into the block structure (which dask warns about)."""
+    import itertools
+    import operator
+
+    import dask.array as da
+    from dask.base import tokenize
+    from dask.highlevelgraph import HighLevelGraph
+
+    token = tokenize(json.dumps(plan.base, sort_keys=True), list(plan.grid),
+                     [plan.grid[k] for k in plan.grid], plan.chunks, plan.nodes, __version__)
+    bname, pkey = f"agglomtool-sweep-{token}", f"agglomtool-sweep-plan-{token}"
+    blocks = {pkey: plan}
+    for idx, _ in plan.blocks():
+        blocks[(bname, *idx)] = (_block_task, pkey, list(idx))
+    out = {}
+    for name in plan.lazy_names:
+        dims, dtype, _ = plan.variables[name]
+        vname = f"{name}-{token}"
+        layer = {}
+        for j in itertools.product(*[range(len(plan.chunks[d])) for d in dims]):
+            at = dict(zip(dims, j, strict=True))
+            owner = tuple(at.get(d, 0) for d in plan.dims)
+            layer[(vname, *j)] = (operator.getitem, (bname, *owner), name)
+        graph = HighLevelGraph({bname: blocks, vname: layer}, {bname: set(), vname: {bname}})
+        out[name] = da.Array(graph, vname, chunks=tuple(plan.chunks[d] for d in dims),
+                             dtype=dtype, meta=np.empty((0,) * len(dims), dtype=dtype))
+    return out
+
+
+def _template(plan) -> xr.Dataset:
+    """The sweep's Dataset with unwritten (never computed) arrays: a store's layout."""
+    import dask.array as da
+
+    empty = {name: da.empty(plan.var_shape(name), dtype=plan.variables[name][1], chunks=-1)
+             for name in plan.lazy_names}
+    return _dataset(plan, empty)
+
+
+def build(scene: Scene, *, chunks="auto", nodes: int = 16, **grid) -> xr.Dataset:
+    """The lazy (dask-backed) Dataset of a sweep: nothing is computed yet.
+
+    Parameters are those of :func:`sweep`. Each block is one task (evaluating the block's
+    variables, :meth:`~agglomtool.maps.plan.SweepPlan.evaluate`); compute it with the
+    synchronous scheduler (the collision kernel is itself parallel, and its threading layer
+    does not allow concurrent calls from several threads). :func:`sweep` runs the same
+    blocks without building this graph.
+    """
+    plan = _plan(scene, chunks, nodes, grid)
+    return _dataset(plan, _lazy_arrays(plan))
