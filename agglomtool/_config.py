@@ -123,7 +123,7 @@ def warn_scene_findings(scene: Scene, source: str, swept: list, stacklevel: int 
     """Say the plausibility findings of the ``[scene]`` that still hold at the values swept
     (``swept``: the findings of the scene over its grid), naming the file and the table;
     the others are the sweep's to say. ``stacklevel`` counts from the caller, as for
-    :func:`warnings.warn`."""
+    ``warnings.warn``."""
     for finding in scene_findings(scene.values()):
         if finding in swept:
             warnings.warn(f"{source}: [scene]: {finding[1]}", PlausibilityWarning,

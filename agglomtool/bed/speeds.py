@@ -18,10 +18,10 @@ Families
     ``F(u) = 1 - exp(-u^2 / Theta)`` and median ``sqrt(Theta ln 2)``. (Kinetic theory of
     granular flow, e.g. Gidaspow (1994), Multiphase Flow and Fluidization, Academic Press,
     ch. 9.)
-``"excess-gas"`` (the default estimate; one of the models of
-:mod:`agglomtool.bed.speed_models`, which also holds ``"bubble-darton"``,
-``"bubble-mori-wen"`` and ``"collisional-balance"``)
-    The Maxwellian with ``sqrt(Theta) = k (U - U_mf)``, ``k = fluctuation_ratio`` (1 by
+``"excess-gas"`` (the default estimate)
+    One of the models of :mod:`agglomtool.bed.speed_models`, beside ``"bubble-darton"``,
+    ``"bubble-mori-wen"`` and ``"collisional-balance"``. The Maxwellian with
+    ``sqrt(Theta) = k (U - U_mf)``, ``k = fluctuation_ratio`` (1 by
     default): the r.m.s. particle velocity per component is taken equal to the excess gas
     velocity that drives the bubbles. This is an order-of-magnitude assumption, not a
     fitted correlation: measured r.m.s. particle velocities in bubbling beds are of the

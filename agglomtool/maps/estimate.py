@@ -85,7 +85,7 @@ class SweepEstimate:
     seconds : float or None
         Estimated compute time [s], ``None`` where it was not measured.
     method : str
-        How :attr:`seconds` was obtained.
+        How ``seconds`` was obtained.
     memory_available, disk_free : int or None
         Bytes of memory available now and free on the store's disk (``None``: unknown or
         no store).

@@ -7,7 +7,7 @@ so running a sweep needs no task graph over the whole grid: memory and start-up 
 grow with the number of blocks, and there is no broadcasting of small inputs into a large
 block structure for dask to warn about.
 
-Outputs come in groups (:data:`agglomtool.maps.grid.GROUPS`), each over the grid dimensions
+Outputs come in groups (``agglomtool.maps.layout.GROUPS``), each over the grid dimensions
 it depends on. A block computes the variables it *owns*: those over whose missing dimensions
 its index is 0, so every value is computed once. ``u0*`` (the critical group, the expensive
 one) is needed by every block's collisions; blocks are visited with the critical group's

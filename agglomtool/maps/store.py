@@ -72,7 +72,7 @@ class StoreWarning(UserWarning):
 
 class StoreMismatchError(ValueError):
     """A store holds a different sweep. ``str()`` gives the way out in the API's terms
-    (``overwrite=True``); :meth:`for_cli` in the command line's (``--overwrite``)."""
+    (``overwrite=True``); ``for_cli()`` in the command line's (``--overwrite``)."""
 
     def __init__(self, what: str):
         self.what = what

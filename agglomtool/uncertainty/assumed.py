@@ -19,7 +19,7 @@ laws become uncertain inputs of a Scene:
 - draws are truncated (by resampling, as for any uncertain input) to the Scene's valid
   range and, for asperity heights, to the range the tool finds plausible;
 - the default impact-speed estimate's free coefficient (``fluctuation_ratio`` of the
-  ``excess-gas`` model, :data:`SPEED_COEFFICIENT`) is drawn too where the scene leaves it at
+  ``excess-gas`` model, ``SPEED_COEFFICIENT``) is drawn too where the scene leaves it at
   its default: the stream ``"model excess-gas fluctuation_ratio"``;
 - an assumed value that is not a number (a melt's composition) has no law yet: it is
   listed as assumed but not drawn.

@@ -101,7 +101,7 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         ``other`` (propensity strictly lower) over the plausible inputs; ``p_equal``;
         ``deciding_input`` and ``deciding_index``: the uncertain input with the largest
         first-order index of the difference, and that index. ``attrs["verdicts"]``: one
-        sentence per pair (:func:`verdicts`).
+        sentence per pair (``agglomtool.uncertainty.compare.verdicts``).
     """
     from .monte_carlo import monte_carlo
 
