@@ -119,3 +119,10 @@ def test_bad_robust_files_are_refused_naming_the_key(tmp_path, capsys, edit, mat
     cfg.write_text(ROBUST_TOML.replace(*edit))
     assert main(["map", str(cfg), "-o", str(tmp_path / "r.nc")]) == 2
     assert re.search(match, capsys.readouterr().err)
+
+
+def test_implausible_draws_of_a_robust_map_are_said():
+    # a lognormal given a log-space spread as its standard deviation: 1e-20 m asperities
+    with pytest.warns(at.PlausibilityWarning, match=r"^ha_i = .* outside the plausible"):
+        at.sweep(SAND, uncertain={"ha_i": at.LogNormal(0.1e-6, 0.5)}, samples=64,
+                 U_Umf=[1.5, 3.0], h0=[2e-6, 8e-6])

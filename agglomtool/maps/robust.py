@@ -24,6 +24,7 @@ import numpy as np
 import xarray as xr
 
 from .._fields import CATEGORICAL_FIELDS, FIELD_META
+from ..plausibility import scene_findings, warn_findings
 from ..scene import Resolved, Scene, collision_outputs, critical_outputs
 
 __all__ = ["robust_sweep", "UNDECIDED", "ROBUST_BLOCK"]
@@ -73,7 +74,7 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     mean = np.empty(cat_shape + num_shape)
     quant = np.empty(cat_shape + num_shape + (q.size,))
     p_unsafe = np.empty(cat_shape + num_shape)
-    drawn_text, not_drawn_all = {}, []
+    drawn_text, not_drawn_all, findings = {}, [], []
     per_batch = max(1, ROBUST_BLOCK // int(samples))
     for idx in itertools.product(*[range(n) for n in cat_shape]):
         values = {**base, **{k: str(gv[k][i]) for k, i in zip(cats, idx, strict=True)}}
@@ -104,6 +105,10 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
         sample_fields = {k: v for k, v in drawn.items() if k in fields}
         sample_fields.update(scene_fields(values, {k: v for k, v in drawn.items()
                                                    if k in assumed}))
+        # draws that are valid but implausible are said, once, as for a Scene
+        before = set(scene_findings(values))
+        findings += [f for f in scene_findings({**values, **sample_fields})
+                     if f not in before and f not in findings]
         prop = np.empty((n_points, int(samples)))
         for start in range(0, n_points, per_batch):
             sl = slice(start, min(start + per_batch, n_points))
@@ -119,6 +124,7 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
         mean[idx] = prop.mean(axis=1).reshape(num_shape)
         quant[idx] = np.quantile(prop, q, axis=1).T.reshape(num_shape + (q.size,))
         p_unsafe[idx] = np.mean(prop > threshold, axis=1).reshape(num_shape)
+    warn_findings(findings, stacklevel=4)
     dims = cats + nums
     ds = nominal.copy()
     ds = ds.assign_coords(quantile=("quantile", q, {"units": "1",
