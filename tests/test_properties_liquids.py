@@ -178,11 +178,55 @@ def test_bad_composition_raises(comp, match):
         melt_liquid(comp, 1273.15)
 
 
-def test_hypothetical_slag_is_fixed():
-    # Shabanian et al. (2024), Table 2: 10 Pa s, 0.400 N/m, 2500 kg/m3 (exact).
-    liq = fixed_liquid(10.0, 0.400, 2500.0, 10.0, name="hypothetical slag")
-    assert (liq.mu, liq.gamma, liq.rho) == (10.0, 0.4, 2500.0)
+#: Shabanian et al. (2024), Heliyon 10:e29397, Table 2, typed from the paper: the inputs of
+#: its two reference cases (two identical silica grains, air at 1 bar, head-on).
+TABLE2_SOLID = {"d": 1000e-6, "rho": 2650.0, "ha": 0.10e-6, "e": 0.9}
+TABLE2_CASES = {
+    "water": {"h0": 5.00e-6, "mu": 8.9e-4, "gamma": 0.073, "rho_l": 997.0, "theta_deg": 10.0,
+              "gas_mu": 18.48e-6, "gas_rho": 1.168},
+    "slag": {"h0": 0.15e-6, "mu": 10.0, "gamma": 0.400, "rho_l": 2500.0, "theta_deg": 10.0,
+             "gas_mu": 45.48e-6, "gas_rho": 0.324},
+}
 
+
+def test_hypothetical_slag_and_sand_in_the_database_are_table2s():
+    """The database entries a user reaches by name (``liquid="hypothetical-slag"``,
+    ``solid="silica-sand"``) hold Table 2's values. Inputs copied from the paper, not results:
+    compared exactly (no arithmetic lies between the table and the value)."""
+    from agglomtool import materials
+
+    slag, case = materials.liquid("hypothetical slag"), TABLE2_CASES["slag"]
+    assert (float(slag.mu), float(slag.gamma), float(slag.rho), float(slag.theta_deg)) == (
+        case["mu"], case["gamma"], case["rho_l"], case["theta_deg"])
+    sand = materials.solid("silica sand")
+    assert (sand.density, sand.asperity_height, sand.restitution_dry) == (
+        TABLE2_SOLID["rho"], TABLE2_SOLID["ha"], TABLE2_SOLID["e"])
+
+
+def test_reference_cases_are_table2s():
+    """The inputs behind every published number the tests reproduce
+    (:func:`agglomtool.examples.reference_cases`) are Table 2's, compared exactly."""
+    from agglomtool.examples import reference_cases
+
+    water, slag = reference_cases()
+    for ref, case in ((water, TABLE2_CASES["water"]), (slag, TABLE2_CASES["slag"])):
+        p, liq, gas = ref.particle, ref.liquid, ref.gas
+        assert (float(p.d), float(p.rho), float(p.ha), ref.e) == (
+            TABLE2_SOLID["d"], TABLE2_SOLID["rho"], TABLE2_SOLID["ha"], TABLE2_SOLID["e"])
+        assert float(p.h0) == case["h0"]
+        assert (float(liq.mu), float(liq.gamma), float(liq.rho), float(liq.theta_deg)) == (
+            case["mu"], case["gamma"], case["rho_l"], case["theta_deg"])
+        assert (float(gas.mu), float(gas.rho)) == (case["gas_mu"], case["gas_rho"])
+        assert float(ref.bed.eps) == 0.55 and ref.bed.U is None  # U = 1.1 U_mf (Section 3.1)
+
+
+def test_fixed_liquid_checks_what_it_is_given():
+    """fixed_liquid makes no property of its own: it passes the values through the Liquid's
+    checks (a typed-in viscosity of 0 is refused naming the field) and records a source."""
+    liq = fixed_liquid(10.0, 0.400, 2500.0, 10.0, name="hypothetical slag")
+    assert liq.source == "fixed values" and liq.name == "hypothetical slag"
+    with pytest.raises(ValueError, match=r"Liquid\.mu = 0"):
+        fixed_liquid(0.0, 0.4, 2500.0)
 
 def test_oxides_without_a_surface_tension_term_are_named_with_their_share():
     """A user's oxide a surface-tension model has no term for is not dropped quietly: a
