@@ -26,3 +26,16 @@ def test_inputs_take_array_likes_and_hold_arrays():
                 assert params[name] in (ArrayLike, ArrayLike | None), (cls.__name__, name)
     p = at.Particle(d=1e-3, rho=2650.0)
     assert isinstance(p.d, np.ndarray) and isinstance(p.h0, np.ndarray)
+
+
+def test_scene_defaults_are_typed_as_the_scene_fields():
+    """DEFAULTS (read by the Scene, the CLI's help and the config files) is a TypedDict
+    whose keys and types are the Scene's fields and annotations."""
+    import dataclasses
+
+    from agglomtool._fields import DEFAULTS, SceneDefaults
+
+    scene_types = typing.get_type_hints(at.Scene)
+    fields = [f.name for f in dataclasses.fields(at.Scene)]
+    assert list(DEFAULTS) == list(typing.get_type_hints(SceneDefaults)) == fields
+    assert typing.get_type_hints(SceneDefaults) == {k: scene_types[k] for k in fields}

@@ -251,7 +251,7 @@ def build(scene: Scene, *, chunks="auto", nodes: int = 16, **grid) -> xr.Dataset
     coords = {k: xr.DataArray(v, dims=[k], attrs=field_attrs(k)) for k, v in grid.items()}
     inputs = {k: c.chunk({k: sizes[k]}) for k, c in coords.items()}
     base = scene.values()
-    data = {}
+    data: dict[str, xr.DataArray] = {}
     for group, (deps, outs, dtypes) in GROUPS.items():
         names = tuple(k for k in grid if k in deps)
         args = [inputs[k] for k in names]
