@@ -8,6 +8,8 @@ checked against these names by the tests.
 
 from __future__ import annotations
 
+from typing import TypedDict
+
 __all__ = ["FIELD_META", "DEFAULTS", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CHOICES",
            "U_CEILING", "DEFAULT_MODE", "short_unit"]
 
@@ -70,8 +72,42 @@ def short_unit(name: str) -> str:
             "m**2": "m2"}.get(unit, unit)
 
 
+class SceneDefaults(TypedDict):
+    """The type of each Scene field's default (the Scene's annotations hold the same)."""
+
+    T: float
+    P: float
+    gas: str
+    U: float | None
+    U_Umf: float
+    eps: float
+    U_e_Umf: float
+    solid_i: str
+    d_i: float
+    solid_j: str | None
+    d_j: float | None
+    liquid: str
+    h0: float
+    h0_j: float | None
+    ha_i: float | None
+    ha_j: float | None
+    e: float | None
+    theta_deg: float | None
+    beta_deg: float
+    u0: float | None
+    speed: str | None
+    sigma_ln: float
+    granular_temperature: float | None
+    fluctuation_ratio: float
+    mode: str
+    body_forces: bool
+    drag_slip: str
+    umf_method: str
+    u_ceiling: float
+
+
 #: Default of every Scene field; ``None`` means "derived" (see the Scene's docstring).
-DEFAULTS = {
+DEFAULTS: SceneDefaults = {
     "T": 1073.15, "P": 101325.0, "gas": "air", "U": None, "U_Umf": 3.0, "eps": 0.55,
     "U_e_Umf": 1.1, "solid_i": "silica-sand", "d_i": 500e-6, "solid_j": None, "d_j": None,
     "liquid": "hypothetical-slag", "h0": 0.2e-6, "h0_j": None, "ha_i": None, "ha_j": None,

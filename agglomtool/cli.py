@@ -335,11 +335,11 @@ def _database_names(kind: str) -> str:
 
 
 def _default_text(name: str) -> str:
-    value = DEFAULTS[name]
+    value = DEFAULTS.get(name)  # a field's name; DEFAULTS has one entry per field
     if value is None:
         return DERIVED.get(name, "none")
     if name == "T":
-        return f"{value:g} K = {value - 273.15:g} degC"
+        return f"{value:g} K = {DEFAULTS['T'] - 273.15:g} degC"
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 

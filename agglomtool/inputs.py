@@ -3,21 +3,34 @@
 Every field may be a scalar or a numpy array; fields broadcast together when a collision is
 evaluated. All values are SI (m, kg/m3, Pa s, N/m); angles are in degrees at this edge and
 are converted to radians once, inside.
+
+Types: the constructors take anything array-like (``numpy.typing.ArrayLike``: a float, a
+list, an array; a pint Quantity is converted to SI) and store what they checked, a float
+array, so the fields are typed ``numpy.ndarray``. The classes are frozen dataclasses (field
+order, equality, repr, :func:`dataclasses.replace`) with a written ``__init__``, because a
+dataclass's own would type each parameter as its field, an array.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validate import check_range
 
 __all__ = ["Particle", "Liquid", "Gas", "Bed"]
 
 
-@dataclass(frozen=True)
+def _store(obj, **values) -> None:
+    """Set a frozen dataclass's fields as given; ``__post_init__`` then checks them."""
+    for name, value in values.items():
+        object.__setattr__(obj, name, value)
+
+
+@dataclass(frozen=True, init=False)
 class Particle:
     """A solid sphere with an optional liquid coating.
 
@@ -39,8 +52,13 @@ class Particle:
 
     d: np.ndarray
     rho: np.ndarray
-    h0: np.ndarray = field(default=0.0)
-    ha: np.ndarray = field(default=0.0)
+    h0: np.ndarray
+    ha: np.ndarray
+
+    def __init__(self, d: ArrayLike, rho: ArrayLike, h0: ArrayLike = 0.0,
+                 ha: ArrayLike = 0.0) -> None:
+        _store(self, d=d, rho=rho, h0=h0, ha=ha)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         d = check_range("Particle.d", self.d, 0.0, None, lo_open=True, allow_inf=True, unit="m")
@@ -64,7 +82,7 @@ class Particle:
         object.__setattr__(self, "ha", ha)
 
     @classmethod
-    def plate(cls, h0=0.0, ha=0.0) -> Particle:
+    def plate(cls, h0: ArrayLike = 0.0, ha: ArrayLike = 0.0) -> Particle:
         """A flat wall: infinite radius and mass, fixed in the lab frame, no body force."""
         return cls(d=math.inf, rho=math.inf, h0=h0, ha=ha)
 
@@ -74,7 +92,7 @@ class Particle:
         return np.isinf(self.d)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Liquid:
     """The coating liquid or melt that forms the bridge.
 
@@ -93,9 +111,16 @@ class Liquid:
     mu: np.ndarray
     gamma: np.ndarray
     rho: np.ndarray
-    theta_deg: np.ndarray = field(default=0.0)
-    name: str | None = None
-    source: str | None = None
+    theta_deg: np.ndarray
+    name: str | None
+    source: str | None
+
+    def __init__(self, mu: ArrayLike, gamma: ArrayLike, rho: ArrayLike,
+                 theta_deg: ArrayLike = 0.0, name: str | None = None,
+                 source: str | None = None) -> None:
+        _store(self, mu=mu, gamma=gamma, rho=rho, theta_deg=theta_deg, name=name,
+               source=source)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         object.__setattr__(
@@ -116,7 +141,7 @@ class Liquid:
         )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Gas:
     """The fluidizing gas at bed conditions.
 
@@ -130,8 +155,13 @@ class Gas:
 
     mu: np.ndarray
     rho: np.ndarray
-    name: str | None = None
-    source: str | None = None
+    name: str | None
+    source: str | None
+
+    def __init__(self, mu: ArrayLike, rho: ArrayLike, name: str | None = None,
+                 source: str | None = None) -> None:
+        _store(self, mu=mu, rho=rho, name=name, source=source)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         object.__setattr__(
@@ -142,7 +172,7 @@ class Gas:
         )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Bed:
     """The local state of the bed around the colliding pair.
 
@@ -155,8 +185,12 @@ class Bed:
         paper's choice: 1.1 x the larger Wen-Yu minimum fluidization velocity of the pair.
     """
 
-    eps: np.ndarray = field(default=0.55)
-    U: np.ndarray | None = None
+    eps: np.ndarray
+    U: np.ndarray | None
+
+    def __init__(self, eps: ArrayLike = 0.55, U: ArrayLike | None = None) -> None:
+        _store(self, eps=eps, U=U)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         object.__setattr__(

@@ -501,9 +501,9 @@ class Resolved:
         hints = []
         for name in (n for n in names if f"{n} = " in str(exc)):
             val = np.asarray(self.v.get(name)).reshape(-1)
-            if val.size == 1 and val.dtype.kind == "f" and float(val[0]) == defaults[name]:
+            if val.size == 1 and val.dtype.kind == "f" and float(val[0]) == defaults.get(name):
                 unit = FIELD_META[name][0]
-                hints.append(f"{name} = {defaults[name]:g} {unit} is the Scene's default: "
+                hints.append(f"{name} = {defaults.get(name):g} {unit} is the Scene's default: "
                              f"set {name}")
         return ("; " + "; ".join(hints)) if hints else ""
 

@@ -294,7 +294,6 @@ def test_map_round_trip_reads_back_the_same_map(maps, files, name):
 
 @pytest.mark.parametrize("var", ["agglomerated", "stage", "propensity"])
 def test_cli_plot_reads_the_file(files, tmp_path, var):
-    pytest.importorskip("matplotlib")
     png = tmp_path / f"{var}.png"
     assert main(["plot", str(files["water"]), "-o", str(png), "--var", var]) == 0
     assert png.stat().st_size > 10_000

@@ -54,6 +54,30 @@ def test_a_distribution_without_draw_into_still_samples():
     assert x.min() >= 1.5 and x.max() <= 2.0 and 400 < k < 600
 
 
+
+def test_a_users_law_without_a_units_field_takes_quantities():
+    """A user's law with no ``units`` field (the base class does not require one) may still
+    be given parameters with units: they are converted to SI like a Normal's (this raised
+    AttributeError: 'Centred' object has no attribute 'units')."""
+    from dataclasses import dataclass
+
+    from agglomtool.uncertainty.distributions import to_si
+
+    @dataclass(frozen=True)
+    class Centred(Distribution):
+        mean: object = 0.0
+        sd: object = 1.0
+
+        @property
+        def nominal(self):
+            return self.mean
+
+    law = to_si("h0", Centred("5 um", "1 um"), "m")
+    assert type(law) is Centred
+    assert law.mean == pytest.approx(5e-6, rel=1e-12) and law.sd == pytest.approx(1e-6,
+                                                                                 rel=1e-12)
+    assert to_si("h0", Centred(5e-6, 1e-6), "m") == Centred(5e-6, 1e-6)  # SI, as typed
+
 def test_first_draws_are_the_input_stream_itself():
     """An input never outside its range (all of the paper's Table 4) is exactly the first
     draws of its own stream: these numbers did not change with the one-pass sampling."""

@@ -100,7 +100,7 @@ def cf_ready(ds: xr.Dataset, command: str) -> tuple[xr.Dataset, dict]:
     encoding = {}
     for name, var in out.variables.items():
         attrs = dict(var.attrs)
-        enc = {}
+        enc: dict[str, object] = {}  # netCDF encoding: dtype, _FillValue, ...
         stored = np.dtype(np.int8) if var.dtype == bool else var.dtype
         if var.dtype.kind in "iu" and var.dtype.itemsize > 4:
             lo, hi = (int(var.min()), int(var.max())) if var.size else (0, 0)

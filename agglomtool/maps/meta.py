@@ -84,7 +84,8 @@ def variable_attrs(name: str) -> dict:
     """``units``, ``long_name``, ``description`` and, for coded outputs, ``flag_values``
     (int8, the outputs' type) and ``flag_meanings`` of output variable ``name``."""
     units, long_name, desc = VARIABLE_META[name]
-    attrs = {"units": units, "long_name": long_name, "description": desc}
+    attrs: dict[str, str | np.ndarray] = {"units": units, "long_name": long_name,
+                                          "description": desc}
     if name in FLAGS:
         values, meanings = FLAGS[name]
         attrs["flag_values"] = np.array(values, dtype=np.int8)

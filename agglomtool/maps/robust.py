@@ -74,7 +74,9 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     mean = np.empty(cat_shape + num_shape)
     quant = np.empty(cat_shape + num_shape + (q.size,))
     p_unsafe = np.empty(cat_shape + num_shape)
-    drawn_text, not_drawn_all, findings = {}, [], []
+    drawn_text: dict[str, str] = {}
+    not_drawn_all: list[str] = []
+    findings: list = []
     per_batch = max(1, ROBUST_BLOCK // int(samples))
     for idx in itertools.product(*[range(n) for n in cat_shape]):
         values = {**base, **{k: str(gv[k][i]) for k, i in zip(cats, idx, strict=True)}}

@@ -194,7 +194,7 @@ def _differences(old: dict, new: dict) -> list[str]:
 
     walk(old, new, "")
     # a grid dimension's hash is only worth a line when its size, first and last agree
-    parents = {}
+    parents: dict[str, list[str]] = {}
     for parent, line in out:
         parents.setdefault(parent, []).append(line)
     return [line for parent, line in out

@@ -21,7 +21,7 @@ number is in ``units``, or without ``units`` in the input's SI unit (so in
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 from scipy.special import ndtr, ndtri
@@ -51,6 +51,23 @@ class Distribution:
     ``_draw_into(rng, out)``, the same draws as ``_draw(rng, out.size)`` written into the
     float64 array ``out`` without temporaries.
     """
+
+    def _draw(self, rng: np.random.Generator, n: int) -> np.ndarray:  # pragma: no cover
+        """``n`` untruncated draws (each subclass implements it)."""
+        raise NotImplementedError
+
+    def _ppf_trunc(self, u: np.ndarray, lo: float, hi: float) -> np.ndarray:  # pragma: no cover
+        """Inverse CDF of the law conditioned on ``[lo, hi]`` (each subclass)."""
+        raise NotImplementedError
+
+    def _mass(self, lo: float, hi: float) -> float:  # pragma: no cover
+        """Probability of ``[lo, hi]`` under the untruncated law (each subclass)."""
+        raise NotImplementedError
+
+    def _scaled(self, factor: float) -> Distribution:  # pragma: no cover
+        """The law with every location and scale parameter times ``factor`` (each
+        subclass)."""
+        raise NotImplementedError
 
     def _draw_into(self, rng: np.random.Generator, out: np.ndarray) -> None:
         out[...] = self._draw(rng, out.size)
@@ -453,22 +470,25 @@ def to_si(name: str, dist: Distribution, si_unit: str) -> Distribution:
         )
     if not dist._with_units():
         return dist
-    out = {}
+    law_units = getattr(dist, "units", None)  # (a user's law may have no units field)
+    out: dict[str, float | str | None] = {}
     for key, value in dist._params().items():
         if value is None:
             out[key] = None
             continue
         if not (isinstance(value, str) or units.is_quantity(value)):
-            if dist.units is None:
+            if law_units is None:
                 out[key] = float(value)  # SI, as typed
                 continue
-            value = units.quantity(key, float(value), dist.units)
+            value = units.quantity(key, float(value), law_units)
         try:
             out[key] = float(units.to_si(key, value, si_unit, delta=key in _SPREADS))
         except ValueError as exc:
             raise ValueError(f"uncertain[{name!r}]: {exc} (the unit of {name}: "
                              f"{si_unit!r})") from None
+    if any(f.name == "units" for f in fields(dist)):
+        out["units"] = None  # its numbers are now SI
     try:
-        return replace(dist, **out, units=None)
+        return replace(dist, **out)
     except ValueError as exc:
         raise ValueError(f"uncertain[{name!r}] in {si_unit}: {exc}") from None

@@ -136,7 +136,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
     e_w, propensity, u_star = np.empty(n), np.empty(n), np.empty(n)
     stage = np.empty(n, dtype=np.int8) if keep_samples else None
     values = {k: np.empty(n) for k in dists} if keep_samples else {}
-    scene_values = {}
+    scene_values: dict[str, np.ndarray] = {}
     e_max = -np.inf
     findings = []
     for sl, chunk_values in draws.chunks(out=values if keep_samples else None):

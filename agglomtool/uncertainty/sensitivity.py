@@ -33,7 +33,7 @@ def _group_list(names: list[str], groups: Mapping[str, tuple[str, ...]] | None):
     """Group label of each input, in the order of ``names``; each input in one group."""
     if groups is None:
         return list(names), list(names)
-    label = {}
+    label: dict[str, str] = {}
     for g, members in groups.items():
         if isinstance(members, str):
             members = (members,)
