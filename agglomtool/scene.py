@@ -456,9 +456,23 @@ def _on_unique(func, *arrays):
     """
     b = np.broadcast_arrays(*[np.asarray(a, dtype=float) for a in arrays])
     shape = b[0].shape
-    stacked = np.stack([x.reshape(-1) for x in b], axis=1)
-    uniq, inverse = np.unique(stacked, axis=0, return_inverse=True)
-    out = func(*uniq.T)
+    cols = [x.reshape(-1) for x in b]
+    # a column that holds one value (a fixed P beside uncertain T's) is no part of the key:
+    # one column left is deduplicated by a plain sort, several by numpy's row-wise unique
+    # (several times slower: a Monte Carlo over T spent most of its time there)
+    varying = [k for k, c in enumerate(cols) if c.size and not np.all(c == c[0])]
+    if len(varying) <= 1:
+        key = cols[varying[0]] if varying else cols[0][:1]
+        uniq1, inverse = np.unique(key, return_inverse=True)
+        if not varying:
+            inverse = np.zeros(cols[0].size, dtype=np.intp)
+        args = [uniq1 if k in varying else np.full(uniq1.size, c[0]) if c.size else c
+                for k, c in enumerate(cols)]
+        out = func(*args)
+    else:
+        stacked = np.stack(cols, axis=1)
+        uniq, inverse = np.unique(stacked, axis=0, return_inverse=True)
+        out = func(*uniq.T)
     inverse = inverse.reshape(-1)
     return tuple(np.asarray(o)[inverse].reshape(shape) for o in out)
 
