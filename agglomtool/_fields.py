@@ -99,6 +99,11 @@ class SceneDefaults(TypedDict):
     sigma_ln: float
     granular_temperature: float | None
     fluctuation_ratio: float
+    bed_height: float
+    column_diameter: float
+    orifice_area: float
+    height: float | None
+    wake_fraction: float
     mode: str
     body_forces: bool
     drag_slip: str
