@@ -46,9 +46,9 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     """The nominal map ``nominal`` of :func:`agglomtool.sweep` over the dimensions ``grid``
     (in order), with the propensity's spread under ``uncertain`` at every point (see
     :func:`agglomtool.sweep`, which calls this, for the parameters)."""
-    from ..uncertainty._sampling import _ChunkedDraws, resolve_seed
-    from ..uncertainty.assumed import assumed_draws, scene_fields
-    from ..uncertainty.scene_mc import SCENE_TO_CORE, field_law, split_uncertain
+    from ..uncertainty._sampling import resolve_seed
+    from ..uncertainty.scene_mc import SceneDraws, split_uncertain
+
     _check("samples", samples, lambda v: isinstance(v, int | np.integer)
            and not isinstance(v, bool) and v >= 2, "an integer >= 2")
     _check("threshold", threshold, lambda v: isinstance(v, int | float) and not isinstance(
@@ -80,23 +80,12 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     per_batch = max(1, ROBUST_BLOCK // int(samples))
     for idx in itertools.product(*[range(n) for n in cat_shape]):
         values = {**base, **{k: str(gv[k][i]) for k, i in zip(cats, idx, strict=True)}}
-        assumed, not_drawn = (assumed_draws(values, given=fields) if with_assumed
-                              else ({}, []))
-        not_drawn_all += [t for t in not_drawn if t not in not_drawn_all]
-        laws = {**fields, **{k: a.dist for k, a in assumed.items()}}
-        if not laws:
-            raise ValueError(f"uncertain = {uncertain!r}: the scene at "
-                             f"{dict(zip(cats, (values[k] for k in cats), strict=True))} "
-                             "uses no assumed database value that can be drawn")
-
-        def law(name, dist, assumed=assumed):
-            if name in assumed:
-                a = assumed[name]
-                return (a.dist, *a.bounds, a.range_text)
-            return field_law(name, dist)
-
-        draws = _ChunkedDraws(laws, int(samples), entropy, int(samples), law=law,
-                              stream_name=lambda name: SCENE_TO_CORE.get(name, name))
+        where = ("the scene at " + ", ".join(f"{k} = {values[k]}" for k in cats)
+                 if cats else "this scene")
+        sd = SceneDraws(values, uncertain, int(samples), entropy, int(samples), where=where)
+        assumed = sd.assumed
+        not_drawn_all += [t for t in sd.not_drawn if t not in not_drawn_all]
+        draws, laws = sd.draws, sd.draws.dists
         drawn = {k: np.empty(int(samples)) for k in laws}
         for _ in draws.chunks(out=drawn):
             pass
@@ -104,9 +93,7 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
             drawn_text.setdefault(k, f"{k} = {draws.dists[k]!r}" + (
                 f" [{FIELD_META[k][0]}]" if k in FIELD_META else
                 f" ({assumed[k].law.law} {assumed[k].law.params}, assumed in the database)"))
-        sample_fields = {k: v for k, v in drawn.items() if k in fields}
-        sample_fields.update(scene_fields(values, {k: v for k, v in drawn.items()
-                                                   if k in assumed}))
+        sample_fields = sd.scene_values(values, drawn)
         # draws that are valid but implausible are said, once, as for a Scene
         before = set(scene_findings(values))
         findings += [f for f in scene_findings({**values, **sample_fields})

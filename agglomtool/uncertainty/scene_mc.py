@@ -27,7 +27,8 @@ from ._sampling import _SAMPLING, _attrs, _ChunkedDraws, _summary, resolve_seed
 from .assumed import ASSUMED, assumed_draws, scene_fields
 from .distributions import Distribution, to_si
 
-__all__ = ["scene_monte_carlo", "scene_e_w", "field_law", "check_fields", "SCENE_TO_CORE"]
+__all__ = ["scene_monte_carlo", "scene_e_w", "field_law", "check_fields", "SCENE_TO_CORE",
+           "SceneDraws"]
 
 #: Scene name -> the core input name whose random stream it shares (where they differ).
 SCENE_TO_CORE = {"h0": "h0_i"}
@@ -93,6 +94,47 @@ def scene_e_w(base: dict, draws: dict):
     return np.broadcast_to(res.e_w, shape), np.broadcast_to(res.stage, shape)
 
 
+class SceneDraws:
+    """The uncertain inputs of the scene ``base``: the caller's laws (Scene fields) and,
+    with ``"assumed"``, the database's assumed values, drawn ``n`` at a time in chunks of
+    ``chunk`` from the streams of ``entropy`` (:class:`._sampling._ChunkedDraws`). What the
+    Scene Monte Carlo and robust maps (:mod:`agglomtool.maps.robust`) both draw from.
+
+    Attributes: ``fields`` (Scene field -> law), ``assumed`` (stream key ->
+    :class:`.assumed.AssumedInput`), ``not_drawn`` (assumed values with no law), ``draws``.
+    ``where`` names the scene in the error raised when there is nothing to draw.
+    """
+
+    def __init__(self, base: dict, uncertain, n: int, entropy: int, chunk: int,
+                 where: str = "this scene"):
+        self.fields, with_assumed = split_uncertain(uncertain)
+        self.assumed, self.not_drawn = (assumed_draws(base, given=self.fields)
+                                        if with_assumed else ({}, []))
+        if not self.fields and not self.assumed:
+            raise ValueError(
+                f"uncertain = {ASSUMED!r}: {where} uses no assumed database value that can "
+                "be drawn (the values it sets itself are not drawn)"
+                + (f"; assumed but not drawn: {'; '.join(self.not_drawn)}"
+                   if self.not_drawn else ""))
+        laws = {**self.fields, **{k: a.dist for k, a in self.assumed.items()}}
+        self.draws = _ChunkedDraws(laws, n, entropy, chunk, law=self._law,
+                                   stream_name=lambda name: SCENE_TO_CORE.get(name, name))
+
+    def _law(self, name, dist):
+        if name in self.assumed:
+            a = self.assumed[name]
+            return (a.dist, *a.bounds, a.range_text)
+        return field_law(name, dist)
+
+    def scene_values(self, base: dict, chunk_values: dict) -> dict:
+        """The Scene fields a chunk of draws sets: the caller's fields as drawn, and those
+        the assumed values set (:func:`.assumed.scene_fields`)."""
+        out = {k: v for k, v in chunk_values.items() if k in self.fields}
+        out.update(scene_fields(base, {k: v for k, v in chunk_values.items()
+                                       if k in self.assumed}))
+        return out
+
+
 def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int, quantiles,
                       bins, keep_samples: bool, nodes: int = 16) -> xr.Dataset:
     """The Scene path of :func:`agglomtool.monte_carlo` (see there for the parameters).
@@ -109,26 +151,11 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
     (:mod:`agglomtool.uncertainty.assumed`); each has its own stream named after the entry
     and the field, so options sharing a material share its draws.
     """
-    fields, with_assumed = split_uncertain(uncertain)
     base = scene.values()
-    assumed, not_drawn = (assumed_draws(base, given=fields) if with_assumed else ({}, []))
-    if with_assumed and not fields and not assumed:
-        raise ValueError(f"uncertain = {ASSUMED!r}: this scene uses no assumed database "
-                         "value that can be drawn (the values it sets itself are not drawn)"
-                         + (f"; assumed but not drawn: {'; '.join(not_drawn)}"
-                            if not_drawn else ""))
     entropy, chosen = resolve_seed(seed)
     chunk = int(min(chunk_size, n))
-
-    def law(name, dist):
-        if name in assumed:
-            a = assumed[name]
-            return (a.dist, *a.bounds, a.range_text)
-        return field_law(name, dist)
-
-    laws = {**fields, **{k: a.dist for k, a in assumed.items()}}
-    draws = _ChunkedDraws(laws, n, entropy, chunk, law=law,
-                          stream_name=lambda name: SCENE_TO_CORE.get(name, name))
+    sd = SceneDraws(base, uncertain, n, entropy, chunk)
+    fields, assumed, not_drawn, draws = sd.fields, sd.assumed, sd.not_drawn, sd.draws
     resampled, dists = draws.resampled, draws.dists
     before = set(scene_findings(base))
 
@@ -140,9 +167,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
     e_max = -np.inf
     findings = []
     for sl, chunk_values in draws.chunks(out=values if keep_samples else None):
-        drawn = {k: v for k, v in chunk_values.items() if k in fields}
-        drawn.update(scene_fields(base, {k: v for k, v in chunk_values.items()
-                                         if k in assumed}))
+        drawn = sd.scene_values(base, chunk_values)
         # Draws that are valid but implausible (a lognormal given a log-space spread as
         # its standard deviation, ...) are said, as for a Scene.
         findings += [f for f in scene_findings({**base, **drawn})
