@@ -279,11 +279,9 @@ def _cmd_collide(args: argparse.Namespace) -> int:
 def _assumed_lines(scene) -> list[str]:
     """The database values the report used that are assumptions, with their plausible
     laws (``agglomtool compare`` and ``uncertain="assumed"`` draw from them)."""
-    from . import materials
     from .uncertainty.assumed import assumed_draws
 
-    values = scene.values()
-    inputs, not_drawn = assumed_draws(values)
+    inputs, not_drawn = assumed_draws(scene.values())
     if not inputs and not not_drawn:
         return []
     scale = {"asperity_height": (1e6, "um"), "restitution_dry": (1.0, ""),
@@ -294,13 +292,7 @@ def _assumed_lines(scene) -> list[str]:
         f, unit = scale.get(a.field, (1.0, ""))
         lo, hi = (v * f for v in a.law.params)
         what = ("lognormal, 5-95 %" if a.law.law == "lognormal" else "uniform on")
-        if a.kind == "model":
-            value = float(values[a.field])
-        else:
-            entry = (materials.solid(a.entry) if a.kind == "solid"
-                     else materials.liquid_entry(a.entry))
-            value = getattr(entry, a.field) * f
-        out.append(f"  {a.entry} {a.field} = {value:g} {unit}".rstrip()
+        out.append(f"  {a.entry} {a.field} = {a.value * f:g} {unit}".rstrip()
                    + f" ({what} {lo:g}-{hi:g} {unit})".replace(" )", ")"))
     out += [f"  {t}" for t in not_drawn]
     out.append("  (agglomtool compare, or uncertain=\"assumed\" in Python, says how much the "

@@ -78,6 +78,8 @@ class AssumedInput:
     bounds: tuple
     #: the range as text, for messages
     range_text: str
+    #: the value used where it is not drawn (the database's, or the model's default), SI
+    value: float
 
 
 def law_distribution(law: AssumedLaw) -> Distribution:
@@ -145,7 +147,8 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
         if key not in inputs:
             bounds, text = _scene_range(scene_field)
             inputs[key] = AssumedInput(key, kind, entry.name, field_name, law,
-                                       law_distribution(law), bounds, text)
+                                       law_distribution(law), bounds, text,
+                                       float(getattr(entry, field_name)))
 
     for side, sol in ((0, si), (1, sj)):
         for field_name in sol.assumed:
@@ -170,7 +173,7 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
         bounds, text = _scene_range("fluctuation_ratio")
         inputs[key] = AssumedInput(key, "model", "excess-gas", "fluctuation_ratio",
                                    SPEED_COEFFICIENT, law_distribution(SPEED_COEFFICIENT),
-                                   bounds, text)
+                                   bounds, text, float(values["fluctuation_ratio"]))
     return inputs, list(dict.fromkeys(not_drawn))
 
 
