@@ -133,8 +133,8 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
             d = prop[a] - prop[b]
             p_lower[a, b] = float(np.mean(d < 0.0))
             p_equal[a, b] = float(np.mean(d == 0.0))
-            if a == b:
-                continue
+            if b <= a:
+                continue  # the index of -d is that of d: found once, for a < b
             best, best_s = "", 0.0
             # every input drawn for either option is a covariate of the difference (the
             # samples are aligned: sample k of both options shares the shared inputs);
@@ -146,7 +146,8 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
                 s_k = _first_order(here[0], d, int(bins))
                 if s_k > best_s:
                     best, best_s = name, s_k
-            deciding[a, b], index[a, b] = best, best_s
+            deciding[a, b] = deciding[b, a] = best
+            index[a, b] = index[b, a] = best_s
     labels = [str(v) for v in opts]
     dimless = "1"
     ds = xr.Dataset(coords={
