@@ -283,3 +283,19 @@ def test_water_from_its_table_agrees_with_heos_state_by_state():
     hot[-1] = 380.0  # above the boiling point at 1 atm
     with pytest.raises(ValueError, match="is not a liquid"):
         water._liquid_states(hot, 101325.0)
+
+
+def test_water_builds_no_table_for_pressures_with_few_states(monkeypatch):
+    """A Monte Carlo over P (every state at its own pressure) is evaluated by HEOS state by
+    state: building a 800-call table per pressure would cost far more."""
+    from agglomtool.properties import water
+
+    built = []
+    real = water._table.__wrapped__
+    monkeypatch.setattr(water, "_table", lambda p: built.append(p) or real(p))
+    n = water.TABLE_MIN + 1
+    P = np.linspace(1.0e5, 1.1e5, n)
+    water._liquid_states(np.full(n, 300.0), P)
+    assert built == []
+    water._liquid_states(np.full(n, 300.0), 1.05e5)
+    assert built == [1.05e5]

@@ -7,7 +7,7 @@ surface tension is Mulero et al.'s 2012 fit, 0.1 % higher at 25 C).
 
 from __future__ import annotations
 
-from functools import cache
+from functools import cache, lru_cache
 
 import CoolProp
 import CoolProp.CoolProp as CP
@@ -42,9 +42,10 @@ _MEMO: dict = {}
 _MEMO_SIZE = 1 << 14
 
 
-#: Above this many states in one call (a Monte Carlo over temperature), the states of each
-#: pressure come from a checked table in T (:func:`_table`) instead of one HEOS call each
-#: (about 30 us a state). Below it, every state is HEOS's own value.
+#: Above this many states at one pressure in one call (a Monte Carlo over temperature),
+#: they come from a checked table in T (:func:`_table`, some 800 HEOS calls to build)
+#: instead of one HEOS call each (about 30 us a state). Below it, and for pressures with
+#: fewer states (a Monte Carlo over P), every state is HEOS's own value.
 TABLE_MIN = 4096
 #: Node spacing of the table in T [K] and the largest relative error accepted in a cell,
 #: checked against HEOS at every cell's midpoint.
@@ -52,7 +53,7 @@ TABLE_STEP = 0.25
 TABLE_TOL = 1e-9
 
 
-@cache
+@lru_cache(maxsize=16)
 def _table(P: float):
     """``(T0, T1, spline of ln mu, spline of rho, cell_ok)`` of liquid water at ``P`` [Pa].
 
@@ -94,7 +95,8 @@ def _from_tables(T, P, mu, rho) -> np.ndarray:
     """Fill ``mu``, ``rho`` (1-d) from the tables where they hold; the mask of states
     still to evaluate."""
     todo = np.ones(T.shape, dtype=bool)
-    for p in np.unique(P):
+    pressures, counts = np.unique(P, return_counts=True)
+    for p in pressures[counts > TABLE_MIN]:  # a table pays only for many states at one P
         at_p = P == p
         tab = _table(float(p))
         if tab is None:
