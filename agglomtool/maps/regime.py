@@ -11,8 +11,6 @@ command line and the pictures.
 
 from __future__ import annotations
 
-import numpy as np
-
 __all__ = ["deciding_regime"]
 
 
@@ -21,16 +19,17 @@ def deciding_regime(ds) -> str:
     somewhere (the map is then decided by speeds against ``u0*`` as usual)."""
     if "u_star_flag" not in ds:
         return ""
-    flag = np.asarray(ds["u_star_flag"].values)
+    # counted with xarray, so that a map opened lazily from a store is read chunk by chunk
+    flag = ds["u_star_flag"]
     n = flag.size
-    if n == 0 or np.any(flag == 0):
+    if n == 0 or bool((flag == 0).any()):
         return ""
-    n_none = int(np.count_nonzero(flag == 1))
-    n_all = int(np.count_nonzero(flag == 2))
+    n_none = int((flag == 1).sum())
+    n_all = int((flag == 2).sum())
     mu = ""
     if "mu_l" in ds and n_all:
-        m = np.asarray(ds["mu_l"].values, dtype=float)
-        mu = f" (mu_l {np.nanmin(m):.2g}-{np.nanmax(m):.2g} Pa s)"
+        m = ds["mu_l"]
+        mu = f" (mu_l {float(m.min()):.2g}-{float(m.max()):.2g} Pa s)"
     ceiling = ""
     if "scene" in ds.attrs:
         import json
