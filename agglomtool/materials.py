@@ -384,8 +384,10 @@ _NAME = re.compile(r"[a-z0-9][a-z0-9.+()-]*")
 # Files and directories
 
 
+@cache
 def builtin_dir() -> Path:
-    """The directory of the package's own TOML files (wheel or source checkout)."""
+    """The directory of the package's own TOML files (wheel or source checkout); found once
+    per process (the package does not move while it runs), not on every look-up."""
     packaged = resources.files("agglomtool") / "_materials"
     if packaged.is_dir():
         return Path(str(packaged))
