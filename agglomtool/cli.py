@@ -288,7 +288,20 @@ def _assumed_lines(scene) -> list[str]:
              "theta_deg": (1.0, "deg")}
     out = ["assumed values used (the materials database's and the speed estimate's, with "
            "their plausible ranges):"]
+    from . import materials
+
+    said = set()
     for a in inputs.values():
+        if a.field.startswith("composition_wt "):  # one line for the whole composition
+            if a.entry not in said:
+                said.add(a.entry)
+                wt = materials.liquid_entry(a.entry).composition_wt or {}
+                lo, hi = a.law.params
+                out.append(f"  {a.entry} composition_wt = "
+                           + ", ".join(f"{k} {w:g}" for k, w in wt.items())
+                           + f" wt % (each oxide's share times a lognormal factor, 5-95 % "
+                           f"{lo:g}-{hi:g}, rescaled to 100 wt %)")
+            continue
         f, unit = scale.get(a.field, (1.0, ""))
         lo, hi = (v * f for v in a.law.params)
         what = ("lognormal, 5-95 %" if a.law.law == "lognormal" else "uniform on")

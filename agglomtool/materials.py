@@ -73,7 +73,10 @@ class AssumedLaw:
 
     Plain data (the uncertainty layer turns it into a distribution): ``law`` is
     ``"lognormal"`` with ``params = (p05, p95)``, its 5 and 95 % quantiles, or
-    ``"uniform"`` with ``params = (lo, hi)``; values in the field's SI unit.
+    ``"uniform"`` with ``params = (lo, hi)``; values in the field's SI unit. A melt's
+    composition takes ``"logratio"`` with ``params = (factor_p05, factor_p95)``: the 5 and
+    95 % quantiles of the lognormal factor on each oxide's share (see
+    :data:`COMPOSITION_LAW`).
     """
 
     field: str
@@ -83,7 +86,15 @@ class AssumedLaw:
 
 
 #: Laws an assumed value may be given, with the names of their two parameters.
-ASSUMED_LAWS = {"lognormal": ("p05", "p95"), "uniform": ("lo", "hi")}
+ASSUMED_LAWS = {"lognormal": ("p05", "p95"), "uniform": ("lo", "hi"),
+                "logratio": ("factor_p05", "factor_p95")}
+#: The law of an assumed composition (a melt's ``composition_wt``): each oxide's share
+#: multiplied by its own lognormal factor (5 and 95 % quantiles ``factor_p05``,
+#: ``factor_p95``), then the whole rescaled to 100 wt % (a log-ratio normal law, the
+#: usual law of compositional data: Aitchison, The Statistical Analysis of Compositional
+#: Data, 1986). Numbers take the other laws.
+COMPOSITION_LAW = "logratio"
+_COMPOSITION_FIELDS = ("composition_wt",)
 
 
 @dataclass(frozen=True)
@@ -245,7 +256,8 @@ def _uncertainty(ctx, entry, assumed, ranges) -> tuple[AssumedLaw, ...]:
         if field_name not in assumed:
             raise _fail(file, kind, key, where,
                         f"only a field listed in assumed ({list(assumed)}) takes a law")
-        if field_name not in ranges:
+        composition = field_name in _COMPOSITION_FIELDS
+        if field_name not in ranges and not composition:
             raise _fail(file, kind, key, where,
                         f"{field_name!r} is not a number: no law can be drawn for it")
         if not isinstance(spec, dict):
@@ -254,25 +266,39 @@ def _uncertainty(ctx, entry, assumed, ranges) -> tuple[AssumedLaw, ...]:
         law = _text(sub, spec, "law")
         if law not in ASSUMED_LAWS:
             raise _fail(*sub, "law", f"{law!r} is not one of {sorted(ASSUMED_LAWS)}")
+        if composition != (law == COMPOSITION_LAW):
+            allowed = ([COMPOSITION_LAW] if composition
+                       else sorted(set(ASSUMED_LAWS) - {COMPOSITION_LAW}))
+            raise _fail(*sub, "law", f"{law!r} is not a law of {field_name} (a "
+                        f"{'composition' if composition else 'number'}); allowed: "
+                        f"{', '.join(allowed)}")
         names_ = ASSUMED_LAWS[law]
         _no_unknown(sub, spec, ("law", "reason", *names_))
-        lo, hi, lo_open = ranges[field_name]
+        # a composition's factors: positive, and the band must hold 1 (the entry's own)
+        lo, hi, lo_open = (0.0, None, True) if composition else ranges[field_name]
         a = _number(sub, spec, names_[0], lo, hi, lo_open=lo_open or law == "lognormal")
         b = _number(sub, spec, names_[1], lo, hi, lo_open=lo_open)
         if not a < b:
             raise _fail(*sub, names_[1], f"{b!r} must be greater than {names_[0]} = {a!r}")
+        if composition and not a <= 1.0 <= b:
+            raise _fail(*sub, names_[0],
+                        f"[{names_[0]}, {names_[1]}] = [{a!r}, {b!r}] must hold 1, the "
+                        "factor of the entry's own composition")
         value = entry.get(field_name)
         if isinstance(value, int | float) and not a <= float(value) <= b:
             raise _fail(*sub, names_[0],
                         f"the entry's own {field_name} = {value!r} lies outside "
                         f"[{names_[0]}, {names_[1]}] = [{a!r}, {b!r}]")
         out[field_name] = AssumedLaw(field_name, law, (a, b), _text(sub, spec, "reason"))
-    missing = [f for f in assumed if f in ranges and f not in out]
+    missing = [f for f in assumed
+               if (f in ranges or f in _COMPOSITION_FIELDS) and f not in out]
     if missing:
         raise _fail(file, kind, key, f"uncertainty.{missing[0]}",
                     f"is missing: {missing[0]!r} is listed in assumed, so the entry states "
                     f"its plausible law ([{kind}.{key}.uncertainty.{missing[0]}] with law = "
-                    f"{' or '.join(repr(k) for k in ASSUMED_LAWS)} and reason)")
+                    + (repr(COMPOSITION_LAW) if missing[0] in _COMPOSITION_FIELDS else
+                       " or ".join(repr(k) for k in ASSUMED_LAWS if k != COMPOSITION_LAW))
+                    + " and reason)")
     return tuple(out.values())
 
 

@@ -240,6 +240,11 @@ class Scene:
 
 
 #: Valid range of every numeric field: (lo, hi, lo_open, hi_open); None = unbounded.
+#: The key of a Scene's values under which drawn melt compositions (oxide -> wt % arrays)
+#: reach :class:`Resolved`: set by the Monte Carlo over a melt's assumed composition
+#: (:mod:`agglomtool.uncertainty.assumed`), not a Scene field.
+COMPOSITION_KEY = "_composition_wt"
+
 FIELD_RANGES = {
     "T": (0.0, None, True, False), "P": (0.0, None, True, False),
     "U": (0.0, None, False, False), "U_Umf": (0.0, None, True, False),
@@ -586,6 +591,9 @@ class Resolved:
     def liquid(self) -> Liquid:
         entry = materials.liquid_entry(self.v["liquid"])
         src = {}
+        composition = self.v.get(COMPOSITION_KEY)
+        if composition is not None:
+            return self._drawn_melt(entry, composition)
 
         def f(T, P):
             liq = materials.liquid(self.v["liquid"], T=T, P=P)
@@ -606,6 +614,23 @@ class Resolved:
         theta = self.num("theta_deg", entry.theta_deg)
         return Liquid(mu=mu, gamma=gamma, rho=rho, theta_deg=theta, name=entry.name,
                       source=src["s"])
+
+    def _drawn_melt(self, entry, composition) -> Liquid:
+        """The melt at drawn compositions (oxide -> wt % arrays, broadcast against ``T``):
+        one vectorised pass of the melt models, no table of unique states."""
+        from .properties.melt import melt_liquid
+
+        if entry.model != "melt":
+            raise ValueError(f"liquid {entry.name!r} is not a melt: it has no composition "
+                             "to draw")
+        try:
+            liq = melt_liquid(composition, self.num("T"), viscosity_model=entry.viscosity_model,
+                              name=entry.name)
+        except ValueError as exc:
+            raise ValueError(f"liquid {entry.name!r} at its drawn compositions: {exc}") from None
+        theta = self.num("theta_deg", entry.theta_deg)
+        return Liquid(mu=liq.mu, gamma=liq.gamma, rho=liq.rho, theta_deg=theta,
+                      name=entry.name, source=liq.source + " (at drawn compositions)")
 
     # --- particles, fluidization, bed ----------------------------------------------------
     @cached_property

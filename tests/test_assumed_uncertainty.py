@@ -25,13 +25,21 @@ def test_every_assumed_number_of_the_database_states_a_law_that_holds_its_value(
         for name in materials.names(kind):
             entry = lookup(name)
             laws = {law.field: law for law in entry.uncertainty}
-            assert set(laws) == set(entry.assumed) & numeric, (kind, name)
+            assert set(laws) == set(entry.assumed) & (numeric | {"composition_wt"}), (kind,
+                                                                                      name)
             for field, law in laws.items():
+                if field == "composition_wt":  # factors on the shares: the band holds 1
+                    assert law.law == "logratio"
+                    assert law.params[0] < 1.0 < law.params[1], name
+                    assert len(law.reason) > 40, name
+                    seen += 1
+                    continue
                 lo, hi = law.params
                 assert lo <= getattr(entry, field) <= hi, (name, field)
                 assert len(law.reason) > 40, (name, field)
                 seen += 1
-    assert seen >= 9  # 5 asperities, 2 restitutions, 4 contact angles at the time of writing
+    # 5 asperities, 2 restitutions, 4 contact angles, 2 compositions at the time of writing
+    assert seen >= 13
 
 
 def test_a_lognormal_law_has_its_stated_5_and_95_percent_quantiles():
@@ -99,12 +107,18 @@ def test_assumed_draws_follow_the_scene():
                             "solid ilmenite asperity_height",
                             "solid ilmenite restitution_dry",
                             "liquid k-silicate-ash-melt theta_deg",
+                            "liquid k-silicate-ash-melt composition_wt SiO2",
+                            "liquid k-silicate-ash-melt composition_wt K2O",
+                            "liquid k-silicate-ash-melt composition_wt CaO",
                             "model excess-gas fluctuation_ratio"]
-    assert not_drawn == ["k-silicate-ash-melt composition_wt (not a number: no law yet)"]
+    assert not_drawn == []
     # values the scene sets, or the caller makes uncertain, are not drawn
     inputs, _ = assumed_draws({**base, "ha_i": 1e-6, "fluctuation_ratio": 2.0},
                               given=("theta_deg",))
-    assert list(inputs) == ["solid ilmenite asperity_height", "solid ilmenite restitution_dry"]
+    assert list(inputs) == ["solid ilmenite asperity_height", "solid ilmenite restitution_dry",
+                            "liquid k-silicate-ash-melt composition_wt SiO2",
+                            "liquid k-silicate-ash-melt composition_wt K2O",
+                            "liquid k-silicate-ash-melt composition_wt CaO"]
     # the speed estimate's coefficient only where the scene uses that estimate
     inputs, _ = assumed_draws({**base, "speed": "lognormal", "u0": 0.1})
     assert "model excess-gas fluctuation_ratio" not in inputs
@@ -261,6 +275,14 @@ def test_the_docs_table_of_assumed_laws_is_the_database():
         for name in materials.names(kind):
             entry = look(name)
             for law in entry.uncertainty:
+                if law.law == "logratio":  # a composition: its factors, no unit
+                    a, b = law.params
+                    expect.add(f"| {kind} `{name}` | `{law.field}` | "
+                               + ", ".join(f"{k} {w:g}" for k, w in
+                                           entry.composition_wt.items())
+                               + f" wt % | each oxide's share times a lognormal factor, "
+                               f"5-95 %: {a:g}-{b:g}; rescaled to 100 wt % |")
+                    continue
                 f, u = scale[law.field]
                 a, b = law.params
                 text = (f"lognormal, 5-95 %: {a * f:g}-{b * f:g}{u}" if law.law == "lognormal"

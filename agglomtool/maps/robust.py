@@ -104,8 +104,9 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
             vals = dict(values)
             for k, m in zip(nums, mesh, strict=True):
                 vals[k] = m[sl, None]
-            for k, v in sample_fields.items():
-                vals[k] = v[None, :]
+            for k, v in sample_fields.items():  # a drawn composition: oxide -> draws
+                vals[k] = ({ox: w[None, :] for ox, w in v.items()} if isinstance(v, dict)
+                           else v[None, :])
             r = Resolved(vals)
             crit = critical_outputs(r)
             out = collision_outputs(r, crit["u_star"], nodes)

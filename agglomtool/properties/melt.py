@@ -4,8 +4,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+import numpy as np
+
 from ..inputs import Liquid
-from .slag_composition import normalise_wt
+from .slag_composition import is_array_composition, normalise_wt
 from .slag_surface import density_mills_keene, surface_tension_mills
 from .slag_viscosity import (
     viscosity_giordano_russell_dingwell,
@@ -24,7 +26,16 @@ VISCOSITY_MODELS = {
 }
 
 
-def choose_viscosity_model(composition: Mapping[str, float]) -> str:
+def _rule(wt: Mapping) -> np.ndarray | str:
+    """The rule of :func:`choose_viscosity_model` on a normalised composition: a name, or
+    for array compositions an array of names, one per element."""
+    caf2 = np.asarray(wt.get("CaF2", 0.0))
+    sio2 = np.asarray(wt.get("SiO2", 0.0))
+    chosen = np.where(caf2 >= 2.0, "riboud", np.where(sio2 >= 50.0, "grd", "urbain-mills"))
+    return str(chosen) if chosen.ndim == 0 else chosen
+
+
+def choose_viscosity_model(composition: Mapping[str, float]):
     """The viscosity model for a composition (wt %), by a rule on its chemistry.
 
     1. CaF2 >= 2 wt %: ``"riboud"``, the only one of the three with a fluoride term
@@ -32,13 +43,11 @@ def choose_viscosity_model(composition: Mapping[str, float]) -> str:
     2. SiO2 >= 50 wt %: ``"grd"``, silica-rich melts such as K2O-CaO-SiO2 biomass ash,
        down toward the glass transition.
     3. Otherwise ``"urbain-mills"``: CaO-Al2O3-SiO2 slags and coal ash, fully liquid.
+
+    A composition of arrays (one per element) gives an array of names: the rule applies
+    to each composition, so the model may change from one element to the next.
     """
-    wt = normalise_wt(composition)
-    if wt.get("CaF2", 0.0) >= 2.0:
-        return "riboud"
-    if wt.get("SiO2", 0.0) >= 50.0:
-        return "grd"
-    return "urbain-mills"
+    return _rule(normalise_wt(composition))
 
 
 def melt_liquid(
@@ -54,11 +63,13 @@ def melt_liquid(
     Parameters
     ----------
     composition : dict
-        Oxide -> wt %, summing to 100.
+        Oxide -> wt %, summing to 100. The values may be arrays (one composition per
+        element, broadcast against ``T``), as a Monte Carlo over an uncertain composition
+        draws them.
     T : array_like
         Temperature [K].
     viscosity_model : {"auto", "grd", "urbain-mills", "riboud"}
-        ``"auto"`` applies :func:`choose_viscosity_model`.
+        ``"auto"`` applies :func:`choose_viscosity_model` (to each composition).
     theta_deg : float
         Contact angle on the bed solid [deg].
     name : str, optional
@@ -73,23 +84,52 @@ def melt_liquid(
         (:func:`~agglomtool.properties.density_mills_keene`). Each model warns outside its
         calibration.
     """
-    chosen = choose_viscosity_model(composition) if viscosity_model == "auto" else viscosity_model
-    if chosen not in VISCOSITY_MODELS:
+    if viscosity_model != "auto" and viscosity_model not in VISCOSITY_MODELS:
         raise ValueError(
             f"viscosity_model = {viscosity_model!r} is not one of "
             f"{['auto', *VISCOSITY_MODELS]}"
         )
-    func, cite = VISCOSITY_MODELS[chosen]
-    mu = func(composition, T)
-    gamma = surface_tension_mills(composition, T)
-    rho = density_mills_keene(composition, T)
-    how = "chosen by rule" if viscosity_model == "auto" else "requested"
+    wt = normalise_wt(composition)
+    if not is_array_composition(wt):
+        chosen = _rule(wt) if viscosity_model == "auto" else viscosity_model
+        func, cite = VISCOSITY_MODELS[chosen]
+        mu = func(composition, T)
+        how = "chosen by rule" if viscosity_model == "auto" else "requested"
+        used = f"{chosen} ({how}), {cite}"
+    else:
+        mu, used = _viscosity_per_element(wt, T, viscosity_model)
+    gamma = surface_tension_mills(wt, T)
+    rho = density_mills_keene(wt, T)
     source = (
-        f"viscosity: {chosen} ({how}), {cite}; surface tension: Mills (2011) additive model; "
+        f"viscosity: {used}; surface tension: Mills (2011) additive model; "
         "density: Mills & Keene (1987) partial molar volumes"
     )
     return Liquid(mu=mu, gamma=gamma, rho=rho, theta_deg=theta_deg, name=name or "melt",
                   source=source)
+
+
+def _viscosity_per_element(wt: Mapping, T, viscosity_model: str):
+    """Viscosity of array compositions: each element by its model (the rule's, where
+    ``"auto"``), each model evaluated once on the elements that use it."""
+    shape = np.broadcast_shapes(np.shape(T), next(iter(wt.values())).shape)
+    T_b = np.broadcast_to(np.asarray(T, dtype=float), shape)
+    wt_b = {k: np.broadcast_to(v, shape) for k, v in wt.items()}
+    if viscosity_model == "auto":
+        chosen = np.broadcast_to(_rule(wt_b), shape)
+    else:
+        chosen = np.full(shape, viscosity_model)
+    mu = np.empty(shape)
+    used = []
+    for model, (func, cite) in VISCOSITY_MODELS.items():
+        here = chosen == model
+        n = int(np.count_nonzero(here))
+        if n == 0:
+            continue
+        mu[here] = func({k: v[here] for k, v in wt_b.items()}, T_b[here])
+        share = "" if n == here.size else f" for {n} of {here.size} compositions"
+        used.append(f"{model}{share}, {cite}")
+    how = "chosen by rule" if viscosity_model == "auto" else "requested"
+    return mu, f"{'; '.join(used)} ({how})"
 
 
 def fixed_liquid(mu, gamma, rho, theta_deg=0.0, *, name=None, source=None) -> Liquid:

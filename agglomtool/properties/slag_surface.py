@@ -99,7 +99,11 @@ def surface_tension_mills(composition: Mapping[str, float], T, *, temperature="p
             gamma_1773 += xi * g_i
             continue
         x_switch, (c0, c1, c2), high = active
-        if xi < x_switch:
+        if np.ndim(xi):  # one composition per element; an absent oxide adds nothing
+            gamma_1773 += np.where(xi <= 0.0, 0.0,
+                                   np.where(xi < x_switch, c0 + c1 * xi + c2 * xi * xi,
+                                            high[0] + high[1] * xi))
+        elif xi < x_switch:
             gamma_1773 += c0 + c1 * xi + c2 * xi * xi
         else:
             gamma_1773 += high[0] + high[1] * xi

@@ -8,7 +8,6 @@ caller must know which model produced a number (see :func:`agglomtool.properties
 
 from __future__ import annotations
 
-import math
 import warnings
 from collections.abc import Mapping
 
@@ -91,24 +90,33 @@ def viscosity_giordano_russell_dingwell(composition: Mapping[str, float], T):
     siti = m["SiO2"] + m["TiO2"]
     b_terms = (
         siti, m["Al2O3"], m["FeO"] + m["MnO"] + m["P2O5"], m["MgO"], m["CaO"], m["Na2O"] + v,
-        v + math.log1p(m["H2O"]), siti * fm, (m["SiO2"] + ta + m["P2O5"]) * (nk + m["H2O"]),
+        v + np.log1p(m["H2O"]), siti * fm, (m["SiO2"] + ta + m["P2O5"]) * (nk + m["H2O"]),
         m["Al2O3"] * nk,
     )  # fmt: skip
     c_terms = (
-        m["SiO2"], ta, fm, m["CaO"], nk, math.log1p(v),
+        m["SiO2"], ta, fm, m["CaO"], nk, np.log1p(v),
         (m["Al2O3"] + fm + m["CaO"] - m["P2O5"]) * (nk + v),
     )  # fmt: skip
     b = sum(c * t for c, t in zip(_GRD_B, b_terms, strict=True))
     c = sum(k * t for k, t in zip(_GRD_C, c_terms, strict=True))
-    if (T <= c).any():
+    glass = T <= c
+    if glass.any():
+        T_b, c_b = np.broadcast_arrays(T, c)
+        n = int(np.count_nonzero(glass))
+        which = "" if glass.size == 1 else f" ({n} of {glass.size} compositions and T)"
         raise ValueError(
-            f"T = {T[T <= c].flat[0]:g} K is at or below the VFT temperature C = {c:.1f} K of "
-            "GRD (2008) for this composition: the melt is a glass there"
+            f"T = {T_b[glass].flat[0]:g} K is at or below the VFT temperature C = "
+            f"{c_b[glass].flat[0]:.1f} K of GRD (2008) for this composition{which}: the "
+            "melt is a glass there"
         )
     log_eta = _GRD_A + b / (T - c)
-    if wt.get("SiO2", 0.0) < 40.0 or wt.get("SiO2", 0.0) > 80.0 or wt.get("CaO", 0.0) > 25.0:
-        _warn("composition outside GRD (2008) calibration (natural silicate melts, about "
-              "41-79 wt % SiO2, CaO <= 25 wt %)")
+    sio2, cao = np.asarray(wt.get("SiO2", 0.0)), np.asarray(wt.get("CaO", 0.0))
+    outside = (sio2 < 40.0) | (sio2 > 80.0) | (cao > 25.0)
+    if outside.any():
+        share = (f" ({int(np.count_nonzero(outside))} of {outside.size} compositions)"
+                 if outside.size > 1 else "")
+        _warn(f"composition outside GRD (2008) calibration{share} (natural silicate melts, "
+              "about 41-79 wt % SiO2, CaO <= 25 wt %)")
     if (log_eta < -1.0).any() or (log_eta > 12.0).any():
         _warn("viscosity outside the GRD (2008) calibration range log10 eta = -1 to 12 Pa s")
     return 10.0**log_eta
@@ -177,23 +185,29 @@ def viscosity_urbain_mills(composition: Mapping[str, float], T):
         _warn(f"Urbain-Mills has no terms for {ignored}; they are ignored")
     total = xg + xm + xa
     xg, xm, xa = xg / total, xm / total, xa / total
-    if xm <= 0.0:
+    if (np.asarray(xm) <= 0.0).any():
         raise ValueError("Urbain-Mills needs at least one modifier oxide (CaO, MgO, FeO, ...)")
-    alpha = xm / (xm + xa)
-    powers = xg ** np.arange(4)
+    alpha = np.asarray(xm / (xm + xa))[..., None]
+    # X_G^k, k = 0..3, along a last axis (one row per composition)
+    powers = np.asarray(xg)[..., None] ** np.arange(4)
     weights = {"Ca": 0.0, "Mg": 0.0, "Mn": 0.0}
     for k, (_, group) in _URBAIN_MODIFIERS.items():
         if group is not None:
             weights[group] += x.get(k, 0.0)
     wsum = sum(weights.values())
-    if wsum <= 0.0:
-        weights, wsum = {"Ca": 1.0, "Mg": 0.0, "Mn": 0.0}, 1.0
+    none = np.asarray(wsum) <= 0.0  # no grouped modifier (TiO2 or ZrO2 only): Ca's
+    if none.any():
+        weights = {"Ca": np.where(none, 1.0, weights["Ca"]), "Mg": weights["Mg"],
+                   "Mn": weights["Mn"]}
+        wsum = np.where(none, 1.0, wsum)
     b = 0.0
     for group, w in weights.items():
         bk, ck = _URBAIN_BC[group]
-        b += w / wsum * float(np.sum((_URBAIN_A + bk * alpha + ck * alpha**2) * powers))
+        b += w / wsum * np.sum((_URBAIN_A + bk * alpha + ck * alpha**2) * powers, axis=-1)
+    b = b if np.ndim(b) else float(b)
     ln_a = -(0.29 * b + 11.57)
-    if not 0.2 <= xg <= 0.7 or (T < 1473.0).any():
+    xg_ = np.asarray(xg)
+    if (xg_ < 0.2).any() or (xg_ > 0.7).any() or (T < 1473.0).any():
         _warn("composition or temperature outside the Urbain-Mills calibration (fully "
               "liquid slags, X_SiO2 about 0.2-0.7, T >= 1473 K)")
     return 0.1 * np.exp(ln_a + np.log(T) + 1000.0 * b / T)
@@ -246,7 +260,7 @@ def viscosity_riboud(composition: Mapping[str, float], T):
     if (T < 1373.0).any() or (T > 1873.0).any():
         _warn(f"T = {float(T.min()):g}-{float(T.max()):g} K reaches more than 100 K beyond "
               "the Riboud calibration (mould fluxes, 1473-1773 K)")
-    if xal > 0.2:
-        _warn(f"Al2O3 = {xal:.3g} mole fraction is above the Riboud calibration "
+    if (np.asarray(xal) > 0.2).any():
+        _warn(f"Al2O3 = {float(np.max(xal)):.3g} mole fraction is above the Riboud calibration "
               "(mould fluxes, Al2O3 <= 0.2)")
     return np.exp(ln_a + np.log(T) + b / T)

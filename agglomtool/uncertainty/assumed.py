@@ -21,8 +21,13 @@ laws become uncertain inputs of a Scene:
 - the default impact-speed estimate's free coefficient (``fluctuation_ratio`` of the
   ``excess-gas`` model, ``SPEED_COEFFICIENT``) is drawn too where the scene leaves it at
   its default: the stream ``"model excess-gas fluctuation_ratio"``;
-- an assumed value that is not a number (a melt's composition) has no law yet: it is
-  listed as assumed but not drawn.
+- an assumed melt composition (law ``"logratio"``) is drawn as one uncertain input per
+  oxide, the factor on that oxide's share (stream ``"liquid <entry> composition_wt
+  <oxide>"``, lognormal of the stated 5-95 % band); each draw's composition is the
+  entry's shares times their factors, rescaled to 100 wt %, and its viscosity, surface
+  tension and density follow from the melt models at that composition (the viscosity
+  model chosen by the entry's rule for each draw where the entry leaves it to the rule).
+  A designer reading which input decides a comparison thus sees which oxide.
 """
 
 from __future__ import annotations
@@ -34,13 +39,13 @@ from scipy.special import ndtri
 
 from .. import materials
 from .._fields import DEFAULTS
-from ..materials import AssumedLaw
+from ..materials import COMPOSITION_LAW, AssumedLaw
 from ..plausibility import ASPERITY_RANGE
-from ..scene import FIELD_RANGES
+from ..scene import COMPOSITION_KEY, FIELD_RANGES
 from .distributions import Distribution, LogNormal, Uniform
 
 __all__ = ["AssumedInput", "assumed_draws", "law_distribution", "scene_fields", "ASSUMED",
-           "SPEED_COEFFICIENT"]
+           "SPEED_COEFFICIENT", "COMPOSITION_KEY", "drawn_composition"]
 
 #: The word that asks for every assumed value of the database.
 ASSUMED = "assumed"
@@ -86,10 +91,11 @@ def law_distribution(law: AssumedLaw) -> Distribution:
     """The distribution of an :class:`~agglomtool.materials.AssumedLaw` (SI).
 
     ``lognormal``: ``ln X`` normal with its 5 and 95 % quantiles at ``ln p05`` and
-    ``ln p95`` (median ``sqrt(p05 p95)``); ``uniform``: uniform on ``[lo, hi]``.
+    ``ln p95`` (median ``sqrt(p05 p95)``); ``uniform``: uniform on ``[lo, hi]``;
+    ``logratio``: the lognormal of one oxide's factor.
     """
     a, b = law.params
-    if law.law == "lognormal":
+    if law.law in ("lognormal", COMPOSITION_LAW):  # a composition's: of each oxide's factor
         la, lb = np.log(a), np.log(b)
         return LogNormal.from_log(0.5 * (la + lb), (lb - la) / (2.0 * _Z95))
     if law.law == "uniform":
@@ -150,6 +156,17 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
                                        law_distribution(law), bounds, text,
                                        float(getattr(entry, field_name)))
 
+    def add_composition(entry):
+        law = next((x for x in entry.uncertainty if x.field == "composition_wt"), None)
+        if law is None or entry.composition_wt is None:
+            not_drawn.append(f"{entry.name} composition_wt (no law stated)")
+            return
+        dist = law_distribution(law)
+        for oxide in entry.composition_wt:
+            key = f"liquid {entry.name} composition_wt {oxide}"
+            inputs[key] = AssumedInput(key, "liquid", entry.name, f"composition_wt {oxide}",
+                                       law, dist, (0.0, np.inf, True, True), "(0, inf)", 1.0)
+
     for side, sol in ((0, si), (1, sj)):
         for field_name in sol.assumed:
             if field_name not in _SOLID_FIELDS:
@@ -160,6 +177,9 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
                 continue  # the scene, or the caller's own law, sets it
             add("solid", sol, field_name, scene_field)
     for field_name in liquid.assumed:
+        if field_name == "composition_wt":
+            add_composition(liquid)
+            continue
         if field_name not in _LIQUID_FIELDS:
             not_drawn.append(f"{liquid.name} {field_name} (not a number: no law yet)")
             continue
@@ -182,7 +202,8 @@ def scene_fields(values: dict, draws: dict[str, np.ndarray]) -> dict[str, np.nda
 
     ``ha_i``/``ha_j`` from the solids' asperity heights (one draw where the solids are the
     same), ``e`` the mean of the two solids' restitution coefficients (drawn or database),
-    ``theta_deg`` from the liquid's contact angle.
+    ``theta_deg`` from the liquid's contact angle, and under ``COMPOSITION_KEY`` the
+    melt's drawn compositions (oxide -> wt % arrays; not a Scene field).
     """
     si, sj, liquid = _uses(values)
     out: dict[str, np.ndarray] = {}
@@ -201,4 +222,16 @@ def scene_fields(values: dict, draws: dict[str, np.ndarray]) -> dict[str, np.nda
     key = "model excess-gas fluctuation_ratio"
     if key in draws:
         out["fluctuation_ratio"] = draws[key]
+    prefix = f"liquid {liquid.name} composition_wt "
+    factors = {k[len(prefix):]: v for k, v in draws.items() if k.startswith(prefix)}
+    if factors and liquid.composition_wt is not None:
+        out[COMPOSITION_KEY] = drawn_composition(liquid.composition_wt, factors)
     return out
+
+
+def drawn_composition(base, factors: dict) -> dict:
+    """Compositions [wt %] from an entry's ``base`` shares and each oxide's ``factors``
+    (arrays of one shape; an oxide without one keeps factor 1), rescaled to 100 wt %."""
+    scaled = {k: w * np.asarray(factors.get(k, 1.0), dtype=float) for k, w in base.items()}
+    total = sum(scaled.values())
+    return {k: 100.0 * v / total for k, v in scaled.items()}

@@ -204,6 +204,10 @@ def _input_text(name: str) -> str:
         return f"the {field.replace('_', ' ')} of the {model} speed estimate, which is assumed"
     if kind in ("solid", "liquid") and "_" in rest:
         entry, _, field = rest.partition("_")
+        if field.startswith("composition_wt_"):  # one oxide's factor of a melt's composition
+            oxide = field[len("composition_wt_"):]
+            return (f"the {oxide} content of {entry} (its composition, which the database "
+                    "assumes)")
         words = _WORDS.get(field, field.replace("_", " "))
         return f"the {words} of {entry}, which the database assumes"
     return name

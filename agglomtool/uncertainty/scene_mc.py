@@ -22,7 +22,15 @@ from .._fields import FIELD_META, NUMERIC_FIELDS
 from .._version import __version__
 from ..collision.outcome import Stage
 from ..plausibility import scene_findings, warn_findings
-from ..scene import FIELD_RANGES, Resolved, Scene, collision_outputs, critical_outputs, provenance
+from ..scene import (
+    COMPOSITION_KEY,
+    FIELD_RANGES,
+    Resolved,
+    Scene,
+    collision_outputs,
+    critical_outputs,
+    provenance,
+)
 from ._sampling import _SAMPLING, _attrs, _ChunkedDraws, _summary, resolve_seed
 from .assumed import ASSUMED, assumed_draws, scene_fields
 from .distributions import Distribution, to_si
@@ -164,6 +172,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
     stage = np.empty(n, dtype=np.int8) if keep_samples else None
     values = {k: np.empty(n) for k in dists} if keep_samples else {}
     scene_values: dict[str, np.ndarray] = {}
+    compositions: dict[str, np.ndarray] = {}
     e_max = -np.inf
     findings = []
     for sl, chunk_values in draws.chunks(out=values if keep_samples else None):
@@ -179,6 +188,8 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
             for k in ("e", "ha_i", "ha_j", "theta_deg", "fluctuation_ratio"):
                 if k in drawn and k not in fields:
                     scene_values.setdefault(k, np.empty(n))[sl] = drawn[k]
+            for oxide, wt in drawn.get(COMPOSITION_KEY, {}).items():
+                compositions.setdefault(oxide, np.empty(n))[sl] = wt
         e_max = max(e_max, float(np.max(out["e"])))
     warn_findings(findings, stacklevel=3)
     nominal = _map_outputs(base, {}, nodes)
@@ -205,9 +216,13 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
         for name, x in values.items():
             if name in assumed:
                 a = assumed[name]
-                unit = FIELD_META[_SCENE_FIELD_OF[a.field]][0]
+                if a.field.startswith("composition_wt "):  # an oxide's factor
+                    unit, what = "dimensionless", (f"drawn factor on the {a.field.split()[1]} "
+                                                   "share of the composition")
+                else:
+                    unit, what = FIELD_META[_SCENE_FIELD_OF[a.field]][0], f"drawn {a.field}"
                 ds[name.replace(" ", "_")] = ("sample", x, _attrs(
-                    unit, f"drawn {a.field} of {a.kind} {a.entry} (assumed in the database)",
+                    unit, f"{what} of {a.kind} {a.entry} (assumed in the database)",
                     distribution=repr(dists[name]), law=f"{a.law.law} {a.law.params}",
                     reason=a.law.reason, n_resampled=resampled[name]))
                 continue
@@ -217,7 +232,11 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
         for name, x in scene_values.items():
             unit, long_name = FIELD_META[name]
             ds[name] = ("sample", x, _attrs(unit, long_name + " (from the assumed draws)"))
-    set_by_draws = set(fields) | set(scene_fields(base, {k: 0.0 for k in assumed}))
+        for oxide, x in compositions.items():
+            ds[f"composition_wt_{oxide}"] = ("sample", x, _attrs(
+                "percent", f"{oxide} share of the drawn melt composition, wt % (from the "
+                "assumed draws)"))
+    set_by_draws = set(fields) | set(scene_fields(base, {k: 1.0 for k in assumed}))
     prov = {f"provenance: {k}": f"{v} {u}; {o}; {c}"
             for k, (v, u, o, c) in provenance(base).items() if k not in set_by_draws}
     ds.attrs.update(
