@@ -326,30 +326,40 @@ def bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps_mf):
     Notes
     -----
     The excess gas flows as bubbles; how much gas the bubbles carry through their clouds
-    depends on how fast they rise against the emulsion gas ``u_f = Umf / eps_mf``::
+    depends on how fast they rise against the emulsion gas ``u_f = Umf / eps_mf``
+    (Kunii and Levenspiel's eqs. 6.26-6.29)::
 
-        delta = (U - Umf) / (u_b + 2 Umf)    u_b < u_f          (slow, cloudless)
-        delta = (U - Umf) / (u_b + Umf)      u_b ~ u_f          (u_f <= u_b < 5 u_f)
-        delta = (U - Umf) / (u_b - Umf)      u_b ~ 5 u_f        (5 u_f <= u_b < 10 u_f)
-        delta = (U - Umf) / u_b              u_b >> u_f         (10 u_f <= u_b)
+        delta = (U - Umf) / (u_b + 2 Umf)    u_b < u_f              (slow bubbles)
+        delta = (U - Umf) / (u_b + Umf)      u_b ~ u_f              (u_f <= u_b < 3 u_f)
+        delta = (U - Umf) / u_b              u_b ~ 5 u_f            (3 u_f <= u_b <= 5 u_f)
+        delta = (U - Umf) / (u_b - Umf)      u_b > 5 u_f            (fast, up to 10 u_f)
+        delta = U / u_b                      u_b >> u_f             (10 u_f < u_b)
 
-    (the regime limits between the named cases are this function's choice). A fraction
-    of 1 or more (the gas cannot pass as bubbles this slow) raises a ``ValueError``.
+    In very fast bubbling the emulsion gas is dragged down with the solids and the
+    bubbles carry all of the gas, hence ``U`` rather than ``U - Umf`` in the last form.
+    The limits between the named cases (3, 5 and 10 ``u_f``) are those of the chemics
+    package's implementation of the same equations, against which this one is tested;
+    the forms do not join at them. A fraction of 1 or more (the gas cannot pass as
+    bubbles this slow) raises a ``ValueError``.
 
     References
     ----------
     D. Kunii, O. Levenspiel (1991), Fluidization Engineering, 2nd ed., Butterworth-
-    Heinemann, ch. 6 (bubble fraction in the bubbling-bed model).
+    Heinemann, ch. 6 (bubble fraction in the bubbling-bed model, eqs. 6.26-6.29);
+    O. Levenspiel (1999), Chemical Reaction Engineering, 3rd ed., Wiley, ch. 20
+    (``delta = u0 / u_b`` for fast bubbles).
     """
     excess = _excess(U, Umf)
     Umf = np.asarray(Umf, dtype=float)
     u_b = check_range("u_b", u_b, 0.0, None, lo_open=True, unit="m/s")
     eps_mf = check_range("eps_mf", eps_mf, 0.0, 1.0, lo_open=True, hi_open=True)
     u_f = Umf / eps_mf
-    denom = np.where(u_b < u_f, u_b + 2.0 * Umf,
-                     np.where(u_b < 5.0 * u_f, u_b + Umf,
-                              np.where(u_b < 10.0 * u_f, u_b - Umf, u_b)))
-    delta = excess / denom
+    ratio = u_b / u_f
+    delta = np.where(ratio < 1.0, excess / (u_b + 2.0 * Umf),
+                     np.where(ratio < 3.0, excess / (u_b + Umf),
+                              np.where(ratio <= 5.0, excess / u_b,
+                                       np.where(ratio <= 10.0, excess / (u_b - Umf),
+                                                (excess + Umf) / u_b))))
     if np.any(delta >= 1.0):
         raise ValueError(f"bubble fraction delta = {float(np.max(delta)):.3g} >= 1: bubbles "
                          "rising this slowly cannot carry U - Umf; outside the bubbling-bed "
