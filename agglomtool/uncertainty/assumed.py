@@ -21,6 +21,11 @@ laws become uncertain inputs of a Scene:
 - the default impact-speed estimate's free coefficient (``fluctuation_ratio`` of the
   ``excess-gas`` model, ``SPEED_COEFFICIENT``) is drawn too where the scene leaves it at
   its default: the stream ``"model excess-gas fluctuation_ratio"``;
+- so is the impact-speed model itself where the scene leaves the speed estimate at its
+  default (``SPEED_MODEL``): one of the models valid at the scene
+  (:func:`agglomtool.impact_speed_methods`) per draw, with the weights of
+  :func:`agglomtool.bed.speed_models.choice_weights`; the stream ``"model speed choice"``
+  draws a uniform number that picks the model;
 - an assumed value that is not a number (a melt's composition) has no law yet: it is
   listed as assumed but not drawn.
 """
@@ -40,7 +45,7 @@ from ..scene import FIELD_RANGES
 from .distributions import Distribution, LogNormal, Uniform
 
 __all__ = ["AssumedInput", "assumed_draws", "law_distribution", "scene_fields", "ASSUMED",
-           "SPEED_COEFFICIENT"]
+           "SPEED_COEFFICIENT", "SPEED_MODEL", "speed_model_weights"]
 
 #: The word that asks for every assumed value of the database.
 ASSUMED = "assumed"
@@ -58,6 +63,28 @@ SPEED_COEFFICIENT = AssumedLaw(
             "k (U - U_mf) with k = 1: an order-of-magnitude assumption, not a fitted "
             "correlation. k is drawn within a factor of about 3 either way (5-95 %: "
             "0.3-3; engineering judgement)."))
+
+#: The choice of impact-speed model, drawn where a scene leaves the speed estimate at its
+#: default: a uniform number on [0, 1) that picks a model by the cumulative weights of
+#: :func:`speed_model_weights`.
+SPEED_MODEL = AssumedLaw(
+    field="speed", law="uniform", params=(0.0, 1.0),
+    reason=("The impact-speed models rest on different mechanisms (excess gas, bubble "
+            "wakes, a collisional energy balance) and no measured particle speeds are at "
+            "hand to rank them (docs/speed_models.md): each mechanism valid at the scene "
+            "has the same weight, shared by its correlations."))
+_SPEED_MODEL_KEY = "model speed choice"
+
+
+def speed_model_weights(values: dict) -> dict[str, float]:
+    """The models drawn for the scene ``values`` and their probabilities: those valid at
+    the scene (:func:`agglomtool.impact_speed_methods`, calibrated), weighted by
+    :func:`agglomtool.bed.speed_models.choice_weights`."""
+    from ..bed.speed_models import choice_weights
+    from ..scene import Scene, impact_speed_methods
+
+    return choice_weights(impact_speed_methods(Scene(**values)))
+
 
 #: database field -> the Scene field it sets, per side (None: the field has no Scene field).
 _SOLID_FIELDS = {"asperity_height": ("ha_i", "ha_j"), "restitution_dry": ("e", "e")}
@@ -174,6 +201,10 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
         inputs[key] = AssumedInput(key, "model", "excess-gas", "fluctuation_ratio",
                                    SPEED_COEFFICIENT, law_distribution(SPEED_COEFFICIENT),
                                    bounds, text, float(values["fluctuation_ratio"]))
+        key = _SPEED_MODEL_KEY
+        inputs[key] = AssumedInput(key, "model", "speed", "speed", SPEED_MODEL,
+                                   law_distribution(SPEED_MODEL), (0.0, 1.0, False, True),
+                                   "[0, 1)", 0.0)
     return inputs, list(dict.fromkeys(not_drawn))
 
 
@@ -201,4 +232,9 @@ def scene_fields(values: dict, draws: dict[str, np.ndarray]) -> dict[str, np.nda
     key = "model excess-gas fluctuation_ratio"
     if key in draws:
         out["fluctuation_ratio"] = draws[key]
+    if _SPEED_MODEL_KEY in draws:
+        weights = speed_model_weights(values)
+        names = np.array(list(weights))
+        edges = np.cumsum(list(weights.values()))[:-1]
+        out["speed"] = names[np.searchsorted(edges, draws[_SPEED_MODEL_KEY], side="right")]
     return out

@@ -179,6 +179,8 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
             for k in ("e", "ha_i", "ha_j", "theta_deg", "fluctuation_ratio"):
                 if k in drawn and k not in fields:
                     scene_values.setdefault(k, np.empty(n))[sl] = drawn[k]
+            if "speed" in drawn:  # the impact-speed model drawn (uncertain="assumed")
+                scene_values.setdefault("speed", np.empty(n, dtype="U32"))[sl] = drawn["speed"]
         e_max = max(e_max, float(np.max(out["e"])))
     warn_findings(findings, stacklevel=3)
     nominal = _map_outputs(base, {}, nodes)
@@ -205,7 +207,9 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
         for name, x in values.items():
             if name in assumed:
                 a = assumed[name]
-                unit = FIELD_META[_SCENE_FIELD_OF[a.field]][0]
+                unit = FIELD_META[_SCENE_FIELD_OF[a.field]][0] if a.field in FIELD_META \
+                    or a.field in _SCENE_FIELD_OF and _SCENE_FIELD_OF[a.field] in FIELD_META \
+                    else "1"
                 ds[name.replace(" ", "_")] = ("sample", x, _attrs(
                     unit, f"drawn {a.field} of {a.kind} {a.entry} (assumed in the database)",
                     distribution=repr(dists[name]), law=f"{a.law.law} {a.law.params}",
@@ -215,7 +219,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
             ds[name] = ("sample", x, _attrs(unit, long_name, distribution=repr(dists[name]),
                                             n_resampled=resampled[name]))
         for name, x in scene_values.items():
-            unit, long_name = FIELD_META[name]
+            unit, long_name = FIELD_META.get(name, ("1", "impact-speed model"))
             ds[name] = ("sample", x, _attrs(unit, long_name + " (from the assumed draws)"))
     set_by_draws = set(fields) | set(scene_fields(base, {k: 0.0 for k in assumed}))
     prov = {f"provenance: {k}": f"{v} {u}; {o}; {c}"

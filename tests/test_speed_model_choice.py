@@ -1,0 +1,76 @@
+"""The impact-speed model as an uncertain input (``uncertain="assumed"``) and as a swept
+dimension of a map."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import agglomtool as at
+from agglomtool.bed.speed_models import IMPACT_SPEED_MODELS, choice_weights
+from agglomtool.uncertainty.assumed import assumed_draws, scene_fields, speed_model_weights
+
+SAND = dict(T=300.0, gas="air", liquid="water", h0=10e-6, d_i=400e-6, U_Umf=3.0)
+ALL = list(IMPACT_SPEED_MODELS)
+
+
+def test_each_mechanism_weighs_the_same_and_its_correlations_share_it():
+    """The stated rule: three mechanisms, a third each; the two bubble-size correlations
+    share the bubble-wake third; a mechanism with one valid correlation keeps its share."""
+    w = choice_weights(ALL)
+    assert w == pytest.approx({"excess-gas": 1 / 3, "bubble-darton": 1 / 6,
+                               "bubble-mori-wen": 1 / 6, "collisional-balance": 1 / 3})
+    assert choice_weights(["excess-gas", "bubble-darton"]) == pytest.approx(
+        {"excess-gas": 0.5, "bubble-darton": 0.5})
+    with pytest.raises(ValueError, match="no impact-speed model"):
+        choice_weights(["fixed"])
+
+
+def test_the_models_drawn_are_those_valid_at_the_scene():
+    scene = at.Scene(**SAND)
+    assert list(speed_model_weights(scene.values())) == at.impact_speed_methods(scene)
+    # 0.5 mm sand is outside Mori and Wen's particle sizes: Darton takes the bubbles' share
+    coarse = at.Scene(**{**SAND, "d_i": 500e-6})
+    w = speed_model_weights(coarse.values())
+    assert "bubble-mori-wen" not in w and w["bubble-darton"] == pytest.approx(1 / 3)
+
+
+def test_the_choice_is_drawn_only_where_the_scene_leaves_the_speed_at_its_default():
+    base = at.Scene(**SAND).values()
+    assert "model speed choice" in assumed_draws(base)[0]
+    for other in ({"speed": "bubble-darton"}, {"fluctuation_ratio": 2.0},
+                  {"speed": "lognormal", "u0": 0.1}):
+        assert "model speed choice" not in assumed_draws({**base, **other})[0]
+
+
+def test_a_uniform_draw_picks_the_model_by_the_cumulative_weights():
+    base = at.Scene(**SAND).values()  # weights 1/3, 1/6, 1/6, 1/3 in the registry's order
+    out = scene_fields(base, {"model speed choice": np.array([0.0, 0.33, 0.34, 0.49, 0.51,
+                                                              0.66, 0.67, 0.999])})
+    assert list(out["speed"]) == ["excess-gas", "excess-gas", "bubble-darton",
+                                  "bubble-darton", "bubble-mori-wen", "bubble-mori-wen",
+                                  "collisional-balance", "collisional-balance"]
+
+
+def test_monte_carlo_draws_the_model_and_each_draw_is_its_scene():
+    """Every draw's propensity is that of the Scene with the drawn model and the other
+    drawn values (recomputed through Scene.evaluate); the models come up with their
+    weights (within 4 binomial standard deviations)."""
+    scene = at.Scene(**SAND)
+    n = 1200
+    ds = at.monte_carlo(scene, uncertain="assumed", n=n, seed=3, keep_samples=True)
+    names = ds["speed"].values
+    w = speed_model_weights(scene.values())
+    for name, p in w.items():
+        k = int(np.sum(names == name))
+        assert abs(k - n * p) < 4 * np.sqrt(n * p * (1 - p)), name
+    fields = [f for f in ("ha_i", "ha_j", "theta_deg", "fluctuation_ratio", "e")
+              if f in ds]
+    for name in w:
+        i = int(np.flatnonzero(names == name)[0])
+        kw = {f: float(ds[f].values[i]) for f in fields}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", at.PlausibilityWarning)
+            one = at.Scene(**SAND, speed=name, **kw).evaluate()
+        assert float(ds["propensity"].values[i]) == pytest.approx(
+            float(one["propensity"]), rel=1e-9, abs=1e-12), name
