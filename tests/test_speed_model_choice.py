@@ -74,3 +74,10 @@ def test_monte_carlo_draws_the_model_and_each_draw_is_its_scene():
             one = at.Scene(**SAND, speed=name, **kw).evaluate()
         assert float(ds["propensity"].values[i]) == pytest.approx(
             float(one["propensity"]), rel=1e-9, abs=1e-12), name
+
+
+def test_a_verdict_names_the_model_choice_in_words():
+    from agglomtool.uncertainty.compare import _input_text
+
+    assert _input_text("model_speed_choice") == ("the choice of impact-speed model, which is "
+                                                 "assumed")
