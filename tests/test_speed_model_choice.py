@@ -81,3 +81,31 @@ def test_a_verdict_names_the_model_choice_in_words():
 
     assert _input_text("model_speed_choice") == ("the choice of impact-speed model, which is "
                                                  "assumed")
+
+
+def test_the_window_under_each_model_is_the_sweep_of_each_model(tmp_path):
+    """speed_model_windows: one column per model valid at the scene, each the map of the
+    scene swept with that model alone; the picture is written."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from agglomtool.plots import speed_model_windows
+
+    scene = at.Scene(**SAND)
+    grid = dict(h0=np.array([2e-6, 10e-6]), U_Umf=np.array([1.5, 3.0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", at.PlausibilityWarning)
+        fig = speed_model_windows(scene, path=tmp_path / "w.png", **grid)
+        assert fig.layout.col == "speed"
+        assert list(fig.data.speed.values) == at.impact_speed_methods(scene)
+        one = at.sweep(scene.replace(speed="bubble-darton"), **grid)
+    plt.close(fig)
+    np.testing.assert_array_equal(fig.data.propensity.sel(speed="bubble-darton").values,
+                                  one.propensity.values)
+    assert (tmp_path / "w.png").stat().st_size > 10_000
+    with pytest.raises(ValueError, match="speed is the facet"):
+        speed_model_windows(scene, speed=["excess-gas"], **grid)
+    with pytest.raises(ValueError, match="models = \\['fixed'\\]"):
+        speed_model_windows(scene, models=["fixed"], **grid)
