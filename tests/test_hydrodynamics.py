@@ -343,3 +343,16 @@ def test_methods_at_a_scene():
     # restitution 1: no dissipation, no collisional balance (a domain error, not listed)
     assert "collisional-balance" not in at.impact_speed_methods(scene.replace(e=1.0),
                                                                 calibrated=False)
+
+
+def test_collisional_balance_warns_for_a_geldart_a_powder():
+    """The balance neglects the gas's viscous damping of the fluctuations, small for
+    Geldart B and D particles and large for fine (group A) ones: a warning names the
+    group, and the model drops out of the calibrated methods at such a scene."""
+    with pytest.warns(at.PlausibilityWarning, match="Geldart group A"):
+        hd.granular_temperature_collisional_balance(0.05, 0.002, 60e-6, 1500.0, 1.2, 0.45,
+                                                    0.9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", at.PlausibilityWarning)
+        hd.granular_temperature_collisional_balance(0.3, 0.1, 500e-6, 2650.0, 1.2, 0.45, 0.9)
+        hd.granular_temperature_collisional_balance(0.9, 0.5, 2e-3, 2650.0, 1.2, 0.45, 0.9)

@@ -33,7 +33,7 @@ from . import hydrodynamics as hd
 from .speeds import SpeedModel
 
 __all__ = ["ImpactSpeedModel", "IMPACT_SPEED_MODELS", "speed_law", "bubble_state",
-           "MECHANISMS", "choice_weights", "mixed_law"]
+           "MECHANISMS", "choice_weights", "mixed_law", "PER_PARTICLE", "bed_mean_particle"]
 
 
 @dataclass(frozen=True)
@@ -188,3 +188,30 @@ def mixed_law(names, inputs_of) -> SpeedModel:
         theta = (np.where(names == name, t, np.nan) if theta is None
                  else np.where(names == name, t, theta))
     return SpeedModel("maxwellian", granular_temperature=theta)
+
+
+#: Models whose law depends on the particle (its size, density and restitution), not on
+#: the bed's gas and geometry alone: in a bed of several classes they are evaluated once,
+#: for the bed's mean particle (:func:`bed_mean_particle`), so that every pair of classes
+#: shares one granular temperature, as the bed's collision-rate weighting assumes.
+PER_PARTICLE = ("collisional-balance",)
+
+
+def bed_mean_particle(n, d, rho, e_pair, W):
+    """The mean particle of a bed for a :data:`PER_PARTICLE` model: ``(d_p, rho_p, e)``.
+
+    ``n`` (..., K) number densities, ``d`` (K,) diameters [m], ``rho`` (K,) densities
+    [kg/m3] of the classes, ``e_pair`` (..., K, K) the restitution of each ordered pair,
+    ``W`` (..., K, K) the pairs' collision-rate weights (summing to 1). ``d_p`` is the
+    Sauter mean diameter (as for the bed's ``U_mf``), ``rho_p`` the mean density by
+    volume, and ``e`` the restitution whose ``1 - e**2`` is the collision-rate weighted
+    mean of the pairs' (the collisional dissipation is linear in ``1 - e**2``). A bed of
+    one class is that class's particle.
+    """
+    n, d, rho = (np.asarray(x, dtype=float) for x in (n, d, rho))
+    vol = n * d**3
+    d_p = vol.sum(-1) / (n * d**2).sum(-1)
+    rho_p = (vol * rho).sum(-1) / vol.sum(-1)
+    loss = (np.asarray(W, float) * (1.0 - np.asarray(e_pair, float) ** 2)).sum((-2, -1))
+    return d_p, rho_p, np.sqrt(1.0 - loss)
+
