@@ -1,9 +1,13 @@
 """The bubbling-bed correlations of agglomtool.bed.hydrodynamics and the impact-speed
 models built on them.
 
-What each check rests on is said at the check. No worked example of Kunii and Levenspiel's
-textbook was at hand to test against; where a number comes from an independent
-implementation or from a recomputation in the paper's own units, the test says so.
+What each check rests on is said at the check. Kunii and Levenspiel's textbook itself was
+not at hand: its worked examples (5.1, the rise velocity of a single bubble; 6.2, bubble
+sizes in a Geldart B bed) are checked through an independent open implementation of the
+same equations, chemics 21.4 (wigging/chemics), whose printed values are the expected
+numbers; where a number comes from a recomputation in the paper's own units, the test says
+so. The two granular-temperature models are this package's constructions from cited pieces
+(no published number to compare with): their tests check the balances they state.
 """
 
 import math
