@@ -289,6 +289,13 @@ def _assumed_lines(scene) -> list[str]:
     out = ["assumed values used (the materials database's and the speed estimate's, with "
            "their plausible ranges):"]
     for a in inputs.values():
+        if a.field == "speed":  # the model choice: a name, drawn with weights
+            from .uncertainty.assumed import speed_model_weights
+
+            w = speed_model_weights(scene.values())
+            out.append(f"  impact-speed model = {scene.values()['speed']} (drawn among "
+                       + ", ".join(f"{k} {v:.2f}" for k, v in w.items()) + ")")
+            continue
         f, unit = scale.get(a.field, (1.0, ""))
         lo, hi = (v * f for v in a.law.params)
         what = ("lognormal, 5-95 %" if a.law.law == "lognormal" else "uniform on")

@@ -100,7 +100,8 @@ def test_assumed_draws_follow_the_scene():
                             "solid ilmenite restitution_dry",
                             "liquid k-silicate-ash-melt theta_deg",
                             "model excess-gas fluctuation_ratio",
-                            "model speed choice"]
+                            "model speed choice",
+                            "model bubble wake_fraction"]
     assert not_drawn == ["k-silicate-ash-melt composition_wt (not a number: no law yet)"]
     # values the scene sets, or the caller makes uncertain, are not drawn
     inputs, _ = assumed_draws({**base, "ha_i": 1e-6, "fluctuation_ratio": 2.0},

@@ -64,7 +64,8 @@ def test_monte_carlo_draws_the_model_and_each_draw_is_its_scene():
     for name, p in w.items():
         k = int(np.sum(names == name))
         assert abs(k - n * p) < 4 * np.sqrt(n * p * (1 - p)), name
-    fields = [f for f in ("ha_i", "ha_j", "theta_deg", "fluctuation_ratio", "e")
+    fields = [f for f in ("ha_i", "ha_j", "theta_deg", "fluctuation_ratio", "e",
+                          "wake_fraction")
               if f in ds]
     for name in w:
         i = int(np.flatnonzero(names == name)[0])
@@ -109,3 +110,27 @@ def test_the_window_under_each_model_is_the_sweep_of_each_model(tmp_path):
         speed_model_windows(scene, speed=["excess-gas"], **grid)
     with pytest.raises(ValueError, match="models = \\['fixed'\\]"):
         speed_model_windows(scene, models=["fixed"], **grid)
+
+
+def test_the_bubble_models_wake_fraction_is_drawn_where_a_bubble_model_may_be_used():
+    """The bubble models' coefficient (wake_fraction, 0.25 by default) is assumed: drawn
+    where the scene uses a bubble model, or where the model itself is drawn, and left at
+    its default; each draw's propensity is its Scene's (bubble draws)."""
+    base = at.Scene(**SAND).values()
+    key = "model bubble wake_fraction"
+    assert key in assumed_draws(base)[0]
+    assert key in assumed_draws({**base, "speed": "bubble-darton"})[0]
+    assert key not in assumed_draws({**base, "speed": "bubble-darton",
+                                     "wake_fraction": 0.3})[0]
+    assert key not in assumed_draws({**base, "speed": "collisional-balance"})[0]
+    out = scene_fields(base, {key: np.array([0.2, 0.3])})
+    np.testing.assert_array_equal(out["wake_fraction"], [0.2, 0.3])
+    ds = at.monte_carlo(at.Scene(**SAND, speed="bubble-darton"), uncertain="assumed",
+                        n=64, seed=2, keep_samples=True)
+    wf = ds["wake_fraction"].values
+    assert np.ptp(wf) > 0.0
+    i = int(np.argmax(wf))
+    kw = {f: float(ds[f].values[i]) for f in ("ha_i", "ha_j", "theta_deg", "wake_fraction")}
+    one = at.Scene(**SAND, speed="bubble-darton", **kw).evaluate()
+    assert float(ds["propensity"].values[i]) == pytest.approx(float(one["propensity"]),
+                                                              rel=1e-9, abs=1e-12)

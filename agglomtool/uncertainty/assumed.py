@@ -26,6 +26,9 @@ laws become uncertain inputs of a Scene:
   (:func:`agglomtool.impact_speed_methods`) per draw, with the weights of
   :func:`agglomtool.bed.speed_models.choice_weights`; the stream ``"model speed choice"``
   draws a uniform number that picks the model;
+- the bubble models' coefficient (``wake_fraction``, ``WAKE_FRACTION``) where the scene
+  uses a bubble model or draws the model, and leaves it at its default: the stream
+  ``"model bubble wake_fraction"``;
 - an assumed value that is not a number (a melt's composition) has no law yet: it is
   listed as assumed but not drawn.
 """
@@ -45,7 +48,7 @@ from ..scene import FIELD_RANGES
 from .distributions import Distribution, LogNormal, Uniform
 
 __all__ = ["AssumedInput", "assumed_draws", "law_distribution", "scene_fields", "ASSUMED",
-           "SPEED_COEFFICIENT", "SPEED_MODEL", "speed_model_weights"]
+           "SPEED_COEFFICIENT", "SPEED_MODEL", "WAKE_FRACTION", "speed_model_weights"]
 
 #: The word that asks for every assumed value of the database.
 ASSUMED = "assumed"
@@ -74,6 +77,16 @@ SPEED_MODEL = AssumedLaw(
             "hand to rank them (docs/speed_models.md): each mechanism valid at the scene "
             "has the same weight, shared by its correlations."))
 _SPEED_MODEL_KEY = "model speed choice"
+
+#: The bubble models' wake fraction (wake volume over bubble volume), drawn where a scene
+#: may use a bubble model and leaves it at its default (0.25).
+WAKE_FRACTION = AssumedLaw(
+    field="wake_fraction", law="lognormal", params=(0.15, 0.4),
+    reason=("Kunii and Levenspiel (1991), example 5.1, read f_w = 0.24 for 300 um solids "
+            "off their fig. 5.8 (Rowe and Partridge's X-ray data; a figure read by eye); "
+            "the figure's spread over sizes and solids was not at hand: drawn within a "
+            "factor of about 1.6 either way (5-95 %: 0.15-0.4; engineering judgement)."))
+_WAKE_KEY = "model bubble wake_fraction"
 
 
 def speed_model_weights(values: dict) -> dict[str, float]:
@@ -205,6 +218,14 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
         inputs[key] = AssumedInput(key, "model", "speed", "speed", SPEED_MODEL,
                                    law_distribution(SPEED_MODEL), (0.0, 1.0, False, True),
                                    "[0, 1)", 0.0)
+    bubbles = (str(values.get("speed")).startswith("bubble-")
+               or _SPEED_MODEL_KEY in inputs)
+    if (bubbles and "wake_fraction" not in given
+            and values.get("wake_fraction") == DEFAULTS["wake_fraction"]):
+        bounds, text = _scene_range("wake_fraction")
+        inputs[_WAKE_KEY] = AssumedInput(_WAKE_KEY, "model", "bubble", "wake_fraction",
+                                         WAKE_FRACTION, law_distribution(WAKE_FRACTION),
+                                         bounds, text, float(values["wake_fraction"]))
     return inputs, list(dict.fromkeys(not_drawn))
 
 
@@ -232,6 +253,8 @@ def scene_fields(values: dict, draws: dict[str, np.ndarray]) -> dict[str, np.nda
     key = "model excess-gas fluctuation_ratio"
     if key in draws:
         out["fluctuation_ratio"] = draws[key]
+    if _WAKE_KEY in draws:
+        out["wake_fraction"] = draws[_WAKE_KEY]
     if _SPEED_MODEL_KEY in draws:
         weights = speed_model_weights(values)
         names = np.array(list(weights))

@@ -176,7 +176,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
         e_w[sl], propensity[sl], u_star[sl] = out["e_w"], out["propensity"], out["u_star"]
         if keep_samples:
             stage[sl] = out["stage"]
-            for k in ("e", "ha_i", "ha_j", "theta_deg", "fluctuation_ratio"):
+            for k in ("e", "ha_i", "ha_j", "theta_deg", "fluctuation_ratio", "wake_fraction"):
                 if k in drawn and k not in fields:
                     scene_values.setdefault(k, np.empty(n))[sl] = drawn[k]
             if "speed" in drawn:  # the impact-speed model drawn (uncertain="assumed")
@@ -253,7 +253,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
 
 #: database field -> the Scene field whose unit its draws carry
 _SCENE_FIELD_OF = {"asperity_height": "ha_i", "restitution_dry": "e", "theta_deg": "theta_deg",
-                   "fluctuation_ratio": "fluctuation_ratio"}
+                   "fluctuation_ratio": "fluctuation_ratio", "wake_fraction": "wake_fraction"}
 
 
 def _map_outputs(base: dict, drawn: dict, nodes: int) -> dict:
