@@ -134,3 +134,23 @@ def test_the_bubble_models_wake_fraction_is_drawn_where_a_bubble_model_may_be_us
     one = at.Scene(**SAND, speed="bubble-darton", **kw).evaluate()
     assert float(ds["propensity"].values[i]) == pytest.approx(float(one["propensity"]),
                                                               rel=1e-9, abs=1e-12)
+
+
+@pytest.mark.parametrize("config", ["granulator_window", "sand_vs_ilmenite",
+                                    "biomass_window"])
+def test_the_readme_pictures_use_the_default_speed_estimate(config):
+    """The README's and gallery's granulator, material-comparison and combustor pictures
+    are drawn with the default impact-speed estimate, the one docs/speed_models.md
+    chooses: their configurations name no speed model and no coefficient of one."""
+    from pathlib import Path
+
+    from agglomtool._fields import DEFAULTS
+    from agglomtool.maps.config import load_config
+
+    path = Path(__file__).resolve().parent.parent / "examples" / "configs" / f"{config}.toml"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", at.PlausibilityWarning)
+        cfg = load_config(path)
+    assert cfg.scene.speed == "excess-gas" and "speed" not in cfg.grid
+    for name in ("fluctuation_ratio", "wake_fraction", "bed_height", "column_diameter"):
+        assert getattr(cfg.scene, name) == DEFAULTS[name] and name not in cfg.grid
