@@ -24,7 +24,7 @@ laws become uncertain inputs of a Scene:
 - so is the impact-speed model itself where the scene leaves the speed estimate at its
   default (``SPEED_MODEL``): one of the models valid at the scene
   (:func:`agglomtool.impact_speed_methods`) per draw, with the weights of
-  :func:`agglomtool.bed.speed_models.choice_weights`; the stream ``"model speed choice"``
+  ``agglomtool.bed.speed_models.choice_weights``; the stream ``"model speed choice"``
   draws a uniform number that picks the model;
 - the bubble models' coefficient (``wake_fraction``, ``WAKE_FRACTION``) where the scene
   uses a bubble model or draws the model, and leaves it at its default: the stream
@@ -92,7 +92,7 @@ _WAKE_KEY = "model bubble wake_fraction"
 def speed_model_weights(values: dict) -> dict[str, float]:
     """The models drawn for the scene ``values`` and their probabilities: those valid at
     the scene (:func:`agglomtool.impact_speed_methods`, calibrated), weighted by
-    :func:`agglomtool.bed.speed_models.choice_weights`."""
+    ``agglomtool.bed.speed_models.choice_weights``."""
     from ..bed.speed_models import choice_weights
     from ..scene import Scene, impact_speed_methods
 
