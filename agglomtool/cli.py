@@ -302,6 +302,13 @@ def _assumed_lines(scene) -> list[str]:
                            + f" wt % (each oxide's share times a lognormal factor, 5-95 % "
                            f"{lo:g}-{hi:g}, rescaled to 100 wt %)")
             continue
+        if a.field == "speed":  # the model choice: a name, drawn with weights
+            from .uncertainty.assumed import speed_model_weights
+
+            w = speed_model_weights(scene.values())
+            out.append(f"  impact-speed model = {scene.values()['speed']} (drawn among "
+                       + ", ".join(f"{k} {v:.2f}" for k, v in w.items()) + ")")
+            continue
         f, unit = scale.get(a.field, (1.0, ""))
         lo, hi = (v * f for v in a.law.params)
         what = ("lognormal, 5-95 %" if a.law.law == "lognormal" else "uniform on")

@@ -129,7 +129,8 @@ def scene_findings(values: dict) -> list[tuple[str, str]]:
                            f"Temperatures are in K: write {tmin + 273.15:g} or "
                            f"\"{tmin:g} degC\""))
     umax, ceiling = _extreme(values, "u0", hi), _extreme(values, "u_ceiling", lo)
-    if (values.get("speed") in ("fixed", "lognormal") and umax is not None
+    if (isinstance(values.get("speed"), str) and values["speed"] in ("fixed", "lognormal")
+            and umax is not None
             and ceiling is not None and umax > ceiling):
         found.append(("u0", f"u0 = {umax:g} m/s is above the u0* ceiling ({ceiling:g} m/s): "
                             "no bubbling bed gives such impact speeds (raise u_ceiling if "

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-__all__ = ["Layout", "operating_window", "plan_layout", "open_map"]
+__all__ = ["Layout", "operating_window", "plan_layout", "open_map", "speed_model_windows"]
 
 #: Preferred axes: (y first choices, x first choices).
 _Y_PREF = ("T", "U_Umf", "U", "P", "d_i", "d_j")
@@ -920,3 +920,55 @@ def _selections(ds, da, placed) -> list[str]:
     named = {"liquid", "solid_i", "solid_j"}
     return [f"{d} = {_fmt_value(d, da[d].values.item())}" for d in da.coords
             if d in ds.dims and d not in placed and d not in named and da[d].ndim == 0]
+
+
+def speed_model_windows(scene, *, models=None, var: str = "propensity", x=None, y=None,
+                        row=None, path=None, calibrated: bool = True, nodes: int = 16,
+                        **grid):
+    """The operating window of ``scene`` under each impact-speed model, side by side.
+
+    Sweeps ``scene`` over ``grid`` (two or three dimensions, as for
+    :func:`agglomtool.sweep`) and over the ``speed`` models, and draws the map with one
+    facet column per model (:func:`operating_window`): how far the window moves with the
+    choice of model.
+
+    Parameters
+    ----------
+    scene : Scene
+        The operating point; its own ``speed`` is replaced by each model.
+    models : sequence of str, optional
+        The models to draw (names of
+        :data:`agglomtool.bed.speed_models.IMPACT_SPEED_MODELS`); default those valid at
+        ``scene`` (:func:`agglomtool.impact_speed_methods`, with ``calibrated``).
+    var, x, y, row, path
+        As for :func:`operating_window` (the columns are the models).
+    nodes : int
+        Quadrature nodes of the impact-speed distribution.
+    **grid
+        The swept fields and their values.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        With the map as its attribute ``data`` (the :class:`xarray.Dataset`).
+    """
+    from .bed.speed_models import IMPACT_SPEED_MODELS
+    from .maps.grid import sweep
+    from .scene import impact_speed_methods
+
+    if "speed" in grid:
+        raise ValueError("speed is the facet of this picture: give the models as models=[...]"
+                         ", not in the grid")
+    if models is None:
+        models = [m for m in impact_speed_methods(scene, calibrated=calibrated)
+                  if m in IMPACT_SPEED_MODELS]
+    models = list(models)
+    bad = [m for m in models if m not in IMPACT_SPEED_MODELS]
+    if bad or not models:
+        raise ValueError(f"models = {models!r}: give one or more of "
+                         f"{', '.join(IMPACT_SPEED_MODELS)} (the impact-speed models)")
+    ds = sweep(scene, speed=models, nodes=nodes, **grid)
+    fig = operating_window(ds, var, x=x, y=y, col="speed", row=row, path=path)
+    fig.data = ds
+    return fig
+

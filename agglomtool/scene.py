@@ -34,7 +34,7 @@ from ._fields import (
 )
 from ._validate import check_range
 from .api import MODES, collide, critical_impact_speed
-from .bed.speed_models import IMPACT_SPEED_MODELS, speed_law
+from .bed.speed_models import IMPACT_SPEED_MODELS, mixed_law, speed_law
 from .bed.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
 from .inputs import Bed, Liquid, Particle
 from .pair import DRAG_SLIP_MODES, wet_mass
@@ -506,7 +506,12 @@ class Resolved:
         v = dict(values)
         for name in CATEGORICAL_FIELDS:
             if name in v and v[name] is not None:
-                v[name] = str(np.asarray(v[name]).reshape(-1)[0])
+                arr = np.asarray(v[name])
+                if (name == "speed" and arr.size > 1
+                        and set(arr.ravel().tolist()) <= IMPACT_SPEED_MODELS.keys()):
+                    v[name] = arr  # a model drawn per element (uncertain="assumed")
+                else:
+                    v[name] = str(arr.reshape(-1)[0])
         v["body_forces"] = bool(np.asarray(v["body_forces"]).reshape(-1)[0])
         self.v = v
         if Umf is not None:
@@ -691,6 +696,10 @@ class Resolved:
     @cached_property
     def speeds(self) -> SpeedModel:
         family = self.v["speed"]
+        if isinstance(family, np.ndarray):  # a model drawn per element (uncertain="assumed")
+            get = self._speed_inputs()
+            return mixed_law(family, lambda name: {k: get[k]() for k in
+                                                   IMPACT_SPEED_MODELS[name].needs})
         if family in IMPACT_SPEED_MODELS:
             get = self._speed_inputs()
             return speed_law(family, {k: get[k]() for k in IMPACT_SPEED_MODELS[family].needs})

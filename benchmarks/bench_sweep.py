@@ -4,6 +4,8 @@
     python benchmarks/bench_sweep.py --map       # 1e6-point map, best and median of 5
     python benchmarks/bench_sweep.py --big DIR   # 1e7 points into a store in DIR, then
                                                  # again over the finished store
+    python benchmarks/bench_sweep.py --speed-models  # the 1e6-point map under each
+                                                 # impact-speed model, interleaved (A/B)
 
 The map is T (100) x h0 (100) x U_Umf (100) of silica sand with the paper's slag: gas and
 liquid properties, U_mf, 1e4 u0* solves (u0* does not depend on U/U_mf), 1e6 collisions
@@ -28,9 +30,9 @@ from agglomtool.scene import Scene
 SCENE = Scene(liquid="hypothetical-slag", h0=0.15e-6, d_i=1000e-6)
 
 
-def grid(n_t, n_h, n_u):
+def grid(n_t, n_h, n_u, u_hi=8.0):
     return dict(T=np.linspace(900.0, 1300.0, n_t), h0=np.geomspace(0.12e-6, 2e-6, n_h),
-                U_Umf=np.linspace(1.5, 8.0, n_u))
+                U_Umf=np.linspace(1.5, u_hi, n_u))
 
 
 def bench_map(repeats: int = 5) -> None:
@@ -45,6 +47,58 @@ def bench_map(repeats: int = 5) -> None:
           f"best {min(times):.2f} s, median {np.median(times):.2f} s of {repeats} (all: "
           f"{', '.join(f'{x:.2f}' for x in times)}); load average {load} at start, "
           f"{os.getloadavg()} at end")
+
+
+def bench_speed_models(repeats: int = 5) -> None:
+    """The 1e6-point map under each impact-speed model of the registry, the models taken in
+    turn within each repeat (A/B in the same process, so that the machine's load hits all
+    alike); the bed's geometry is the Scene's default (0.3 m column and bed). U/U_mf up
+    to 4 (not 8): beyond, the 1 mm sand's bubbles and wakes would fill this bed (the
+    bubble models' ValueError), and every model is timed on the same grid."""
+    import warnings
+
+    from agglomtool.bed.speed_models import IMPACT_SPEED_MODELS
+
+    models = list(IMPACT_SPEED_MODELS)
+    times = {m: [] for m in models}
+    load = os.getloadavg()
+    with warnings.catch_warnings():
+        # 1 mm sand is Geldart D: the bubble models say so at every map
+        warnings.simplefilter("ignore")
+        for m in models:
+            sweep(SCENE.replace(speed=m), **grid(4, 4, 4, 4.0))  # compile, warm tables
+        for _ in range(repeats):
+            for m in models:
+                t = time.perf_counter()
+                sweep(SCENE.replace(speed=m), **grid(100, 100, 100, 4.0))
+                times[m].append(time.perf_counter() - t)
+    ref = np.median(times[models[0]])
+    for m in models:
+        med = np.median(times[m])
+        print(f"{m:>20}: best {min(times[m]):.3f} s, median {med:.3f} s of {repeats} "
+              f"({100 * (med / ref - 1):+.1f} % against {models[0]}; all: "
+              f"{', '.join(f'{x:.2f}' for x in times[m])})")
+    # The speed law alone on 1e6 points (what a model adds, whatever the quadrature does)
+    from agglomtool.bed.speed_models import speed_law
+
+    rng = np.random.default_rng(0)
+    n = 1_000_000
+    Umf = rng.uniform(0.2, 0.4, n)
+    inputs = {"U": Umf * rng.uniform(1.5, 4.0, n), "Umf": Umf, "d_p": np.full(n, 1e-3),
+              "rho_p": 2650.0, "rho_g": 0.3, "eps": 0.55, "e": 0.9,
+              "fluctuation_ratio": 1.0, "column_diameter": 0.3, "orifice_area": 0.0,
+              "height": 0.15, "wake_fraction": 0.25}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for m in models:
+            best = np.inf
+            for _ in range(repeats):
+                t = time.perf_counter()
+                speed_law(m, {k: inputs[k] for k in IMPACT_SPEED_MODELS[m].needs}).median()
+                best = min(best, time.perf_counter() - t)
+            print(f"{m:>20}: speed law and median on 1e6 points {1e3 * best:.0f} ms "
+                  f"({100 * best / ref:.1f} % of the excess-gas map's median)")
+    print(f"load average {load} at start, {os.getloadavg()} at end")
 
 
 def bench_big(store: str) -> None:
@@ -67,9 +121,12 @@ if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("--map", action="store_true")
     ap.add_argument("--big", metavar="DIR")
+    ap.add_argument("--speed-models", action="store_true")
     a = ap.parse_args()
     if a.map:
         bench_map()
+    elif a.speed_models:
+        bench_speed_models()
     elif a.big:
         bench_big(a.big)
     else:

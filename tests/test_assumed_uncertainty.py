@@ -110,7 +110,9 @@ def test_assumed_draws_follow_the_scene():
                             "liquid k-silicate-ash-melt composition_wt SiO2",
                             "liquid k-silicate-ash-melt composition_wt K2O",
                             "liquid k-silicate-ash-melt composition_wt CaO",
-                            "model excess-gas fluctuation_ratio"]
+                            "model excess-gas fluctuation_ratio",
+                            "model speed choice",
+                            "model bubble wake_fraction"]
     assert not_drawn == []
     # values the scene sets, or the caller makes uncertain, are not drawn
     inputs, _ = assumed_draws({**base, "ha_i": 1e-6, "fluctuation_ratio": 2.0},

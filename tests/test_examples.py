@@ -16,6 +16,7 @@ PICTURES = {
     "plot_biomass_compare": ["biomass_compare"],
     "plot_granulator_window": ["granulator_window"],
     "plot_sobol": ["sobol_granulator"],
+    "plot_speed_models_window": ["speed_models_window"],
     "plot_monte_carlo_table4": ["fig10_water_ew052", "fig10_water_ew020", "fig11_slag_ew052",
                                 "fig11_slag_ew020", "figS4_convergence_water",
                                 "figS4_convergence_slag"],

@@ -96,18 +96,34 @@ def geldart_group(d_p, rho_p, rho_g=0.0) -> np.ndarray:
                     np.where(drho * d_um * d_um >= _GELDART_BD, "D", "B"))
 
 
-def _check_group(name: str, d_p, rho_p, rho_g, allowed=("B",)) -> None:
+def _check_group(name: str, d_p, rho_p, rho_g, allowed=("B",), why=None) -> None:
     """Warn where the powder is outside the Geldart groups ``allowed`` of correlation
-    ``name``."""
+    ``name`` (``why``: the reason, default that the correlation was fitted to them)."""
     if d_p is None or rho_p is None:
         return
-    group = geldart_group(d_p, rho_p, rho_g)
-    outside = ~np.isin(group, allowed)
+    # the group's bounds as numbers (a string per element would cost more than the
+    # correlation on a map); the first element outside is named
+    d_um = np.asarray(d_p, dtype=float) * 1e6
+    drho = (np.asarray(rho_p, dtype=float) - np.asarray(rho_g, dtype=float)) * 1e-3
+    if np.any(drho <= 0.0):
+        raise ValueError("rho_p must exceed rho_g: a particle lighter than the gas does not "
+                         "fluidize")
+    x = drho * d_um
+    outside = np.zeros(np.shape(x), dtype=bool)
+    if "A" not in allowed:
+        outside |= x < _GELDART_AB
+    if "D" not in allowed:
+        outside |= x * d_um >= _GELDART_BD
     if np.any(outside):
-        g = str(np.broadcast_to(group, outside.shape)[outside].flat[0])
-        d = float(np.broadcast_to(np.asarray(d_p, float), outside.shape)[outside].flat[0])
-        _warn(f"{name}: d_p = {d:g} m is a Geldart group {g} powder; the correlation was "
-              f"fitted to group {'/'.join(allowed)} powders", stacklevel=4)
+        first = np.unravel_index(int(np.argmax(outside)), outside.shape)
+
+        def at(v):
+            return float(np.broadcast_to(np.asarray(v, float), outside.shape)[first])
+
+        group = geldart_group(at(d_p), at(rho_p), at(rho_g))
+        why = why or f"the correlation was fitted to group {'/'.join(allowed)} powders"
+        _warn(f"{name}: d_p = {at(d_p):g} m is a Geldart group {group} powder; {why}",
+              stacklevel=4)
 
 
 def bubble_diameter_darton(U, Umf, h, A0=0.0, *, d_p=None, rho_p=None, rho_g=0.0):
@@ -326,30 +342,40 @@ def bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps_mf):
     Notes
     -----
     The excess gas flows as bubbles; how much gas the bubbles carry through their clouds
-    depends on how fast they rise against the emulsion gas ``u_f = Umf / eps_mf``::
+    depends on how fast they rise against the emulsion gas ``u_f = Umf / eps_mf``
+    (Kunii and Levenspiel's eqs. 6.26-6.29)::
 
-        delta = (U - Umf) / (u_b + 2 Umf)    u_b < u_f          (slow, cloudless)
-        delta = (U - Umf) / (u_b + Umf)      u_b ~ u_f          (u_f <= u_b < 5 u_f)
-        delta = (U - Umf) / (u_b - Umf)      u_b ~ 5 u_f        (5 u_f <= u_b < 10 u_f)
-        delta = (U - Umf) / u_b              u_b >> u_f         (10 u_f <= u_b)
+        delta = (U - Umf) / (u_b + 2 Umf)    u_b < u_f              (slow bubbles)
+        delta = (U - Umf) / (u_b + Umf)      u_b ~ u_f              (u_f <= u_b < 3 u_f)
+        delta = (U - Umf) / u_b              u_b ~ 5 u_f            (3 u_f <= u_b <= 5 u_f)
+        delta = (U - Umf) / (u_b - Umf)      u_b > 5 u_f            (fast, up to 10 u_f)
+        delta = U / u_b                      u_b >> u_f             (10 u_f < u_b)
 
-    (the regime limits between the named cases are this function's choice). A fraction
-    of 1 or more (the gas cannot pass as bubbles this slow) raises a ``ValueError``.
+    In very fast bubbling the emulsion gas is dragged down with the solids and the
+    bubbles carry all of the gas, hence ``U`` rather than ``U - Umf`` in the last form.
+    The limits between the named cases (3, 5 and 10 ``u_f``) are those of the chemics
+    package's implementation of the same equations, against which this one is tested;
+    the forms do not join at them. A fraction of 1 or more (the gas cannot pass as
+    bubbles this slow) raises a ``ValueError``.
 
     References
     ----------
     D. Kunii, O. Levenspiel (1991), Fluidization Engineering, 2nd ed., Butterworth-
-    Heinemann, ch. 6 (bubble fraction in the bubbling-bed model).
+    Heinemann, ch. 6 (bubble fraction in the bubbling-bed model, eqs. 6.26-6.29);
+    O. Levenspiel (1999), Chemical Reaction Engineering, 3rd ed., Wiley, ch. 20
+    (``delta = u0 / u_b`` for fast bubbles).
     """
     excess = _excess(U, Umf)
     Umf = np.asarray(Umf, dtype=float)
     u_b = check_range("u_b", u_b, 0.0, None, lo_open=True, unit="m/s")
     eps_mf = check_range("eps_mf", eps_mf, 0.0, 1.0, lo_open=True, hi_open=True)
     u_f = Umf / eps_mf
-    denom = np.where(u_b < u_f, u_b + 2.0 * Umf,
-                     np.where(u_b < 5.0 * u_f, u_b + Umf,
-                              np.where(u_b < 10.0 * u_f, u_b - Umf, u_b)))
-    delta = excess / denom
+    ratio = u_b / u_f
+    delta = np.where(ratio < 1.0, excess / (u_b + 2.0 * Umf),
+                     np.where(ratio < 3.0, excess / (u_b + Umf),
+                              np.where(ratio <= 5.0, excess / u_b,
+                                       np.where(ratio <= 10.0, excess / (u_b - Umf),
+                                                (excess + Umf) / u_b))))
     if np.any(delta >= 1.0):
         raise ValueError(f"bubble fraction delta = {float(np.max(delta)):.3g} >= 1: bubbles "
                          "rising this slowly cannot carry U - Umf; outside the bubbling-bed "
@@ -486,7 +512,9 @@ def granular_temperature_collisional_balance(U, Umf, d_p, rho_p, rho_g, eps_mf, 
     correlation: it puts all of the excess gas's power into particle-scale fluctuations,
     while part of it drives the bed's mean circulation and part is lost to the gas's
     viscous damping of the fluctuations (neglected; small for Geldart B and D particles,
-    large for fine ones): an upper bound of the particles' own granular temperature.
+    large for fine ones): an upper bound of the particles' own granular temperature. A
+    Geldart group A powder, where the neglected damping is large, warns
+    (:class:`~agglomtool.PlausibilityWarning`).
 
     References
     ----------
@@ -503,6 +531,9 @@ def granular_temperature_collisional_balance(U, Umf, d_p, rho_p, rho_g, eps_mf, 
     if np.any(rho_p <= rho_g):
         raise ValueError("rho_p must exceed rho_g: a particle lighter than the gas does not "
                          "fluidize")
+    _check_group("granular_temperature_collisional_balance", d_p, rho_p, rho_g,
+                 allowed=("B", "D"), why="the balance neglects the gas's viscous damping of "
+                 "the particles' fluctuations, large for such fine powders")
     g0 = radial_distribution_carnahan_starling(eps_s)
     power = excess * (1.0 - rho_g / rho_p) * GRAVITY * d_p * math.sqrt(math.pi)
     return (power / (12.0 * (1.0 - e * e) * eps_s * g0)) ** (2.0 / 3.0)

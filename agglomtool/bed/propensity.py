@@ -207,6 +207,7 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
     # Collision-rate weights over ordered pairs of classes.
     W = n[:, :, None] * n[:, None, :] * (D_wet[:, :, None] + D_wet[:, None, :]) ** 2
     W = W / W.sum(axis=(1, 2), keepdims=True)
+    speed_fields = _bed_speed(fvals, r0, comps, cidx, n, d, rho_s, W, Umf)
     u_star = np.empty((G, K, K, D))
     prob = np.empty((G, K, K, D))
     U = np.empty(G)
@@ -230,7 +231,8 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
                         "d_i": d[ia].reshape(1, -1, 1, 1), "d_j": d[ib].reshape(1, 1, -1, 1),
                         "h0": h0_c[g, a].reshape(gn, 1, 1, 1),
                         "h0_j": h0_c[g, b].reshape(gn, 1, 1, 1),
-                        "ha_i": ca.ha, "ha_j": cb.ha, "beta_deg": beta.reshape(1, 1, 1, D)}
+                        "ha_i": ca.ha, "ha_j": cb.ha, "beta_deg": beta.reshape(1, 1, 1, D),
+                        **{k: v[g].reshape(gn, 1, 1, 1) for k, v in speed_fields.items()}}
                 r = Resolved(vals, Umf=Umf[g].reshape(gn, 1, 1, 1))
                 crit = critical_outputs(r)
                 coll = collision_outputs(r, crit["u_star"], nodes)
@@ -248,6 +250,29 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
     return dict(u_star=u_star, prob=prob, W=W, Umf=Umf, U=U, n=n, w_bed=w_bed, cidx=cidx,
                 d=d, lo=lo, hi=hi, D_wet=D_wet, h0_c=h0_c, s=s, beta=beta, wdir=wdir,
                 d32=d32, rho_mean=rho_mean)
+
+
+def _bed_speed(fvals, r0, comps, cidx, n, d, rho_s, W, Umf) -> dict:
+    """Scene fields that give every pair of classes one granular temperature where the
+    scene's speed model depends on the particle (:data:`.speed_models.PER_PARTICLE`): the
+    model's Maxwellian for the bed's mean particle (:func:`.speed_models.bed_mean_particle`)
+    at each operating point, ``{"speed": "maxwellian", "granular_temperature": (G,)}``;
+    else nothing."""
+    from .. import materials
+    from .speed_models import PER_PARTICLE, bed_mean_particle, speed_law
+
+    if fvals["speed"] not in PER_PARTICLE:
+        return {}
+    e_c = np.array([materials.solid(c.name).restitution_dry for c in comps])[cidx]
+    e_pair = (np.asarray(fvals["e"], float).reshape(-1, 1, 1) if fvals.get("e") is not None
+              else 0.5 * (e_c[:, None] + e_c[None, :])[None])
+    d_p, rho_p, e = bed_mean_particle(n, d, rho_s, e_pair, W)
+    r = Resolved(dict(fvals), Umf=Umf)
+    law = speed_law(fvals["speed"], {"U": r.U, "Umf": Umf, "d_p": d_p, "rho_p": rho_p,
+                                    "rho_g": r0.rho_g, "eps": r0.num("eps"), "e": e})
+    G = Umf.shape[0]
+    return {"speed": np.full(G, "maxwellian"),
+            "granular_temperature": np.broadcast_to(law.theta, (G,))}
 
 
 def _attrs(units, long_name, description=None):

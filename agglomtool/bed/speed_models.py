@@ -32,7 +32,8 @@ import numpy as np
 from . import hydrodynamics as hd
 from .speeds import SpeedModel
 
-__all__ = ["ImpactSpeedModel", "IMPACT_SPEED_MODELS", "speed_law", "bubble_state"]
+__all__ = ["ImpactSpeedModel", "IMPACT_SPEED_MODELS", "speed_law", "bubble_state",
+           "MECHANISMS", "choice_weights", "mixed_law", "PER_PARTICLE", "bed_mean_particle"]
 
 
 @dataclass(frozen=True)
@@ -141,3 +142,76 @@ def speed_law(name: str, inputs: dict) -> SpeedModel:
         raise ValueError(f"speed model {name!r} is not one of "
                          f"{sorted(IMPACT_SPEED_MODELS)}") from None
     return model.law(inputs)
+
+
+#: The mechanism each model estimates the particles' agitation by. Two models of one
+#: mechanism (the two bubble-size correlations) are two estimates of the same physics.
+MECHANISMS = {"excess-gas": "excess gas (an assumption)", "bubble-darton": "bubble wakes",
+              "bubble-mori-wen": "bubble wakes",
+              "collisional-balance": "collisional energy balance"}
+
+
+def choice_weights(names) -> dict[str, float]:
+    """The probability of each impact-speed model of ``names`` (the models valid at a
+    scene) when the model choice is drawn as an uncertain input.
+
+    Each mechanism of :data:`MECHANISMS` among ``names`` has the same weight, shared
+    equally by its models: no measured particle speeds are at hand to rank the mechanisms
+    (docs/speed_models.md, "Measured values"), and two correlations of one mechanism
+    (Darton's and Mori and Wen's bubble sizes, which agree within a few per cent in a
+    Geldart B bed) should not count twice.
+    """
+    names = [n for n in names if n in IMPACT_SPEED_MODELS]
+    if not names:
+        raise ValueError("no impact-speed model of the registry is valid at this scene: "
+                         "nothing to draw the model choice from")
+    groups: dict[str, list[str]] = {}
+    for n in names:
+        groups.setdefault(MECHANISMS[n], []).append(n)
+    return {n: 1.0 / (len(groups) * len(groups[MECHANISMS[n]])) for n in names}
+
+
+def mixed_law(names, inputs_of) -> SpeedModel:
+    """The impact-speed law where the model differs between elements: ``names`` an array
+    of model names (one per element, broadcasting with the inputs), ``inputs_of(name)``
+    the inputs of model ``name``. Every model of the registry gives a Maxwellian, so the
+    mixture is the Maxwellian whose granular temperature is, element by element, that of
+    the element's model. Each model present is evaluated on every element and then
+    picked (the models cost little beside the collisions)."""
+    names = np.asarray(names)
+    theta = None
+    for name in dict.fromkeys(names.ravel().tolist()):
+        law = speed_law(name, inputs_of(name))
+        if law.family != "maxwellian":  # pragma: no cover - every registry model is
+            raise ValueError(f"speed model {name!r} is not a Maxwellian: cannot be mixed")
+        t = np.asarray(law.theta, dtype=float)
+        theta = (np.where(names == name, t, np.nan) if theta is None
+                 else np.where(names == name, t, theta))
+    return SpeedModel("maxwellian", granular_temperature=theta)
+
+
+#: Models whose law depends on the particle (its size, density and restitution), not on
+#: the bed's gas and geometry alone: in a bed of several classes they are evaluated once,
+#: for the bed's mean particle (:func:`bed_mean_particle`), so that every pair of classes
+#: shares one granular temperature, as the bed's collision-rate weighting assumes.
+PER_PARTICLE = ("collisional-balance",)
+
+
+def bed_mean_particle(n, d, rho, e_pair, W):
+    """The mean particle of a bed for a :data:`PER_PARTICLE` model: ``(d_p, rho_p, e)``.
+
+    ``n`` (..., K) number densities, ``d`` (K,) diameters [m], ``rho`` (K,) densities
+    [kg/m3] of the classes, ``e_pair`` (..., K, K) the restitution of each ordered pair,
+    ``W`` (..., K, K) the pairs' collision-rate weights (summing to 1). ``d_p`` is the
+    Sauter mean diameter (as for the bed's ``U_mf``), ``rho_p`` the mean density by
+    volume, and ``e`` the restitution whose ``1 - e**2`` is the collision-rate weighted
+    mean of the pairs' (the collisional dissipation is linear in ``1 - e**2``). A bed of
+    one class is that class's particle.
+    """
+    n, d, rho = (np.asarray(x, dtype=float) for x in (n, d, rho))
+    vol = n * d**3
+    d_p = vol.sum(-1) / (n * d**2).sum(-1)
+    rho_p = (vol * rho).sum(-1) / vol.sum(-1)
+    loss = (np.asarray(W, float) * (1.0 - np.asarray(e_pair, float) ** 2)).sum((-2, -1))
+    return d_p, rho_p, np.sqrt(1.0 - loss)
+

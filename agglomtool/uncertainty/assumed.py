@@ -21,6 +21,14 @@ laws become uncertain inputs of a Scene:
 - the default impact-speed estimate's free coefficient (``fluctuation_ratio`` of the
   ``excess-gas`` model, ``SPEED_COEFFICIENT``) is drawn too where the scene leaves it at
   its default: the stream ``"model excess-gas fluctuation_ratio"``;
+- so is the impact-speed model itself where the scene leaves the speed estimate at its
+  default (``SPEED_MODEL``): one of the models valid at the scene
+  (:func:`agglomtool.impact_speed_methods`) per draw, with the weights of
+  ``agglomtool.bed.speed_models.choice_weights``; the stream ``"model speed choice"``
+  draws a uniform number that picks the model;
+- the bubble models' coefficient (``wake_fraction``, ``WAKE_FRACTION``) where the scene
+  uses a bubble model or draws the model, and leaves it at its default: the stream
+  ``"model bubble wake_fraction"``;
 - an assumed melt composition (law ``"logratio"``) is drawn as one uncertain input per
   oxide, the factor on that oxide's share (stream ``"liquid <entry> composition_wt
   <oxide>"``, lognormal of the stated 5-95 % band); each draw's composition is the
@@ -45,7 +53,8 @@ from ..scene import COMPOSITION_KEY, FIELD_RANGES
 from .distributions import Distribution, LogNormal, Uniform
 
 __all__ = ["AssumedInput", "assumed_draws", "law_distribution", "scene_fields", "ASSUMED",
-           "SPEED_COEFFICIENT", "COMPOSITION_KEY", "drawn_composition"]
+           "SPEED_COEFFICIENT", "SPEED_MODEL", "WAKE_FRACTION", "speed_model_weights",
+           "COMPOSITION_KEY", "drawn_composition"]
 
 #: The word that asks for every assumed value of the database.
 ASSUMED = "assumed"
@@ -63,6 +72,38 @@ SPEED_COEFFICIENT = AssumedLaw(
             "k (U - U_mf) with k = 1: an order-of-magnitude assumption, not a fitted "
             "correlation. k is drawn within a factor of about 3 either way (5-95 %: "
             "0.3-3; engineering judgement)."))
+
+#: The choice of impact-speed model, drawn where a scene leaves the speed estimate at its
+#: default: a uniform number on [0, 1) that picks a model by the cumulative weights of
+#: :func:`speed_model_weights`.
+SPEED_MODEL = AssumedLaw(
+    field="speed", law="uniform", params=(0.0, 1.0),
+    reason=("The impact-speed models rest on different mechanisms (excess gas, bubble "
+            "wakes, a collisional energy balance) and no measured particle speeds are at "
+            "hand to rank them (docs/speed_models.md): each mechanism valid at the scene "
+            "has the same weight, shared by its correlations."))
+_SPEED_MODEL_KEY = "model speed choice"
+
+#: The bubble models' wake fraction (wake volume over bubble volume), drawn where a scene
+#: may use a bubble model and leaves it at its default (0.25).
+WAKE_FRACTION = AssumedLaw(
+    field="wake_fraction", law="lognormal", params=(0.15, 0.4),
+    reason=("Kunii and Levenspiel (1991), example 5.1, read f_w = 0.24 for 300 um solids "
+            "off their fig. 5.8 (Rowe and Partridge's X-ray data; a figure read by eye); "
+            "the figure's spread over sizes and solids was not at hand: drawn within a "
+            "factor of about 1.6 either way (5-95 %: 0.15-0.4; engineering judgement)."))
+_WAKE_KEY = "model bubble wake_fraction"
+
+
+def speed_model_weights(values: dict) -> dict[str, float]:
+    """The models drawn for the scene ``values`` and their probabilities: those valid at
+    the scene (:func:`agglomtool.impact_speed_methods`, calibrated), weighted by
+    ``agglomtool.bed.speed_models.choice_weights``."""
+    from ..bed.speed_models import choice_weights
+    from ..scene import Scene, impact_speed_methods
+
+    return choice_weights(impact_speed_methods(Scene(**values)))
+
 
 #: database field -> the Scene field it sets, per side (None: the field has no Scene field).
 _SOLID_FIELDS = {"asperity_height": ("ha_i", "ha_j"), "restitution_dry": ("e", "e")}
@@ -194,6 +235,18 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
         inputs[key] = AssumedInput(key, "model", "excess-gas", "fluctuation_ratio",
                                    SPEED_COEFFICIENT, law_distribution(SPEED_COEFFICIENT),
                                    bounds, text, float(values["fluctuation_ratio"]))
+        key = _SPEED_MODEL_KEY
+        inputs[key] = AssumedInput(key, "model", "speed", "speed", SPEED_MODEL,
+                                   law_distribution(SPEED_MODEL), (0.0, 1.0, False, True),
+                                   "[0, 1)", 0.0)
+    bubbles = (str(values.get("speed")).startswith("bubble-")
+               or _SPEED_MODEL_KEY in inputs)
+    if (bubbles and "wake_fraction" not in given
+            and values.get("wake_fraction") == DEFAULTS["wake_fraction"]):
+        bounds, text = _scene_range("wake_fraction")
+        inputs[_WAKE_KEY] = AssumedInput(_WAKE_KEY, "model", "bubble", "wake_fraction",
+                                         WAKE_FRACTION, law_distribution(WAKE_FRACTION),
+                                         bounds, text, float(values["wake_fraction"]))
     return inputs, list(dict.fromkeys(not_drawn))
 
 
@@ -222,6 +275,13 @@ def scene_fields(values: dict, draws: dict[str, np.ndarray]) -> dict[str, np.nda
     key = "model excess-gas fluctuation_ratio"
     if key in draws:
         out["fluctuation_ratio"] = draws[key]
+    if _WAKE_KEY in draws:
+        out["wake_fraction"] = draws[_WAKE_KEY]
+    if _SPEED_MODEL_KEY in draws:
+        weights = speed_model_weights(values)
+        names = np.array(list(weights))
+        edges = np.cumsum(list(weights.values()))[:-1]
+        out["speed"] = names[np.searchsorted(edges, draws[_SPEED_MODEL_KEY], side="right")]
     prefix = f"liquid {liquid.name} composition_wt "
     factors = {k[len(prefix):]: v for k, v in draws.items() if k.startswith(prefix)}
     if factors and liquid.composition_wt is not None:

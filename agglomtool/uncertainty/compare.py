@@ -199,6 +199,8 @@ def _input_text(name: str) -> str:
     asperity height of ilmenite, which the database assumes"``; a Scene field stays its
     name. Entry names hold no underscore (they are normalised to hyphens)."""
     kind, _, rest = name.partition("_")
+    if name == "model_speed_choice":
+        return "the choice of impact-speed model, which is assumed"
     if kind == "model" and "_" in rest:
         model, _, field = rest.partition("_")
         return f"the {field.replace('_', ' ')} of the {model} speed estimate, which is assumed"

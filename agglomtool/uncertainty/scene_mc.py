@@ -185,11 +185,13 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
         e_w[sl], propensity[sl], u_star[sl] = out["e_w"], out["propensity"], out["u_star"]
         if keep_samples:
             stage[sl] = out["stage"]
-            for k in ("e", "ha_i", "ha_j", "theta_deg", "fluctuation_ratio"):
+            for k in ("e", "ha_i", "ha_j", "theta_deg", "fluctuation_ratio", "wake_fraction"):
                 if k in drawn and k not in fields:
                     scene_values.setdefault(k, np.empty(n))[sl] = drawn[k]
             for oxide, wt in drawn.get(COMPOSITION_KEY, {}).items():
                 compositions.setdefault(oxide, np.empty(n))[sl] = wt
+            if "speed" in drawn:  # the impact-speed model drawn (uncertain="assumed")
+                scene_values.setdefault("speed", np.empty(n, dtype="U32"))[sl] = drawn["speed"]
         e_max = max(e_max, float(np.max(out["e"])))
     warn_findings(findings, stacklevel=3)
     nominal = _map_outputs(base, {}, nodes)
@@ -220,7 +222,9 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
                     unit, what = "dimensionless", (f"drawn factor on the {a.field.split()[1]} "
                                                    "share of the composition")
                 else:
-                    unit, what = FIELD_META[_SCENE_FIELD_OF[a.field]][0], f"drawn {a.field}"
+                    unit = (FIELD_META[_SCENE_FIELD_OF[a.field]][0]
+                            if _SCENE_FIELD_OF.get(a.field) in FIELD_META else "1")
+                    what = f"drawn {a.field}"
                 ds[name.replace(" ", "_")] = ("sample", x, _attrs(
                     unit, f"{what} of {a.kind} {a.entry} (assumed in the database)",
                     distribution=repr(dists[name]), law=f"{a.law.law} {a.law.params}",
@@ -230,7 +234,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
             ds[name] = ("sample", x, _attrs(unit, long_name, distribution=repr(dists[name]),
                                             n_resampled=resampled[name]))
         for name, x in scene_values.items():
-            unit, long_name = FIELD_META[name]
+            unit, long_name = FIELD_META.get(name, ("1", "impact-speed model"))
             ds[name] = ("sample", x, _attrs(unit, long_name + " (from the assumed draws)"))
         for oxide, x in compositions.items():
             ds[f"composition_wt_{oxide}"] = ("sample", x, _attrs(
@@ -268,7 +272,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
 
 #: database field -> the Scene field whose unit its draws carry
 _SCENE_FIELD_OF = {"asperity_height": "ha_i", "restitution_dry": "e", "theta_deg": "theta_deg",
-                   "fluctuation_ratio": "fluctuation_ratio"}
+                   "fluctuation_ratio": "fluctuation_ratio", "wake_fraction": "wake_fraction"}
 
 
 def _map_outputs(base: dict, drawn: dict, nodes: int) -> dict:
