@@ -66,9 +66,10 @@ MATERIALS = {
 #: speed law -> (its scene fields, its swept axis)
 LAWS = {
     "excess-gas": ({}, dict(U_Umf=np.linspace(1.2, 8.0, 100))),
-    "fixed": ({"speed": "fixed"}, dict(u0=np.geomspace(0.01, 2.0, 100))),
-    "lognormal": ({"speed": "lognormal", "sigma_ln": 0.5}, dict(u0=np.geomspace(0.01, 2.0, 100))),
-    "maxwellian": ({"speed": "maxwellian"},
+    "fixed": ({"speed": "fixed", "u0": 0.1}, dict(u0=np.geomspace(0.01, 2.0, 100))),
+    "lognormal": ({"speed": "lognormal", "u0": 0.1, "sigma_ln": 0.5},
+                  dict(u0=np.geomspace(0.01, 2.0, 100))),
+    "maxwellian": ({"speed": "maxwellian", "granular_temperature": 0.01},
                    dict(granular_temperature=np.geomspace(1e-4, 1.0, 100))),
 }
 

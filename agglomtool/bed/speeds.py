@@ -40,6 +40,16 @@ equal-probability nodes placed at the quantile midpoints of the part above ``u0*
 
 When ``e_w`` is monotonic the sum is zero and ``P = F(u0*)`` exactly, whatever ``N``;
 a sticking window above ``u0*`` is resolved to ``(1 - F(u0*)) / (2N)`` in probability.
+
+Given the collisions as the fused kernels take them (``pair``, as scenes, maps and beds
+pass it), the set of speeds above ``u0*`` at which the pair sticks again is found in
+compiled code instead (:mod:`agglomtool.collision.sticking`: modes ``"relative"`` and
+``"paper"`` without body forces on the axis) and the CDF integrated over it exactly::
+
+    P = F(u0*) + sum_k F(b_k) - F(max(a_k, u0*))
+
+Collisions without a proven bracket there keep the quadrature above, which is also the
+reference the compiled set is tested against.
 """
 
 from __future__ import annotations
