@@ -1,4 +1,4 @@
-"""The propensity from the compiled sticking set (issue 26) against the node quadrature.
+"""The propensity from the compiled sticking set against the node quadrature.
 
 :func:`agglomtool.bed.speeds.sticking_probability` with ``pair`` integrates the speed law's
 CDF over the set of speeds above ``u0*`` at which the pair sticks again

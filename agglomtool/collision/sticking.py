@@ -1,4 +1,4 @@
-"""The sticking set above ``u0*`` and the propensity over it, compiled (issue 26).
+"""The sticking set above ``u0*`` and the propensity over it, compiled.
 
 The propensity of a speed law ``F`` is ``P = F(u0*) + integral over u > u0* of stick(u) dF``
 (:func:`agglomtool.bed.speeds.sticking_probability`). Above ``u0*`` a pair sticks again only
