@@ -33,7 +33,7 @@ from ._fields import (
     short_unit,
 )
 from ._validate import check_range
-from .api import MODES, collide, critical_impact_speed
+from .api import _FUSED, MODES, _fused_inputs, collide, critical_impact_speed
 from .bed.speed_models import IMPACT_SPEED_MODELS, mixed_law, speed_law
 from .bed.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
 from .inputs import Bed, Liquid, Particle
@@ -758,6 +758,21 @@ class Resolved:
         common["beta_deg"], common["e"] = cut(common["beta_deg"]), cut(common["e"])
         return lambda u0: collide(p_i, p_j, u0=u0, details=False, **common)
 
+    def sticking_pair(self, u_star):
+        """The collisions of this scene as the fused kernels take them, for the compiled
+        sticking set of :func:`~agglomtool.bed.speeds.sticking_probability` (its ``pair``):
+        ``(ins, steps, shape, tier, body, particle_slip)`` over the broadcast of the
+        inputs and ``u_star``; None where the tier has no fused kernel."""
+        mode = self.v["mode"]
+        if mode not in _FUSED:
+            return None
+        p_i, p_j = self.particles
+        c = self._common()
+        shape, ins, steps, _ = _fused_inputs(
+            p_i, p_j, c["liquid"], c["gas"], c["bed"], c["beta_deg"], c["e"],
+            np.zeros(np.shape(u_star)), None, check=False)
+        return ins, steps, shape, _FUSED[mode], c["body_forces"], c["drag_slip"] == "particle"
+
     @cached_property
     def u_star(self):
         """Critical impact speed ``u0*`` [m/s] (shape of the inputs it depends on); ``inf``
@@ -841,7 +856,7 @@ def collision_outputs(r: Resolved, u_star, nodes: int) -> dict:
     shape = np.broadcast_shapes(res.e_w.shape, np.shape(u_star), np.shape(r.U),
                                 np.shape(u_typ))
     prop = sticking_probability(r.speeds, u_star, r.collide, nodes=nodes, shape=shape,
-                                collide_on=r.collide_on)
+                                collide_on=r.collide_on, pair=r.sticking_pair)
     with np.errstate(divide="ignore"):
         margin = np.where(np.isinf(u_star), 0.0, u_typ / u_star)
     b = np.broadcast_to

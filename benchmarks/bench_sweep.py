@@ -2,6 +2,9 @@
 
     python benchmarks/bench_sweep.py             # both
     python benchmarks/bench_sweep.py --map       # 1e6-point map, best and median of 5
+    python benchmarks/bench_sweep.py --speeds    # 1e6-point maps of water and the slag with
+                                                 # each speed law, against one plain 1e6
+                                                 # collide of the same pairs
     python benchmarks/bench_sweep.py --big DIR   # 1e7 points into a store in DIR, then
                                                  # again over the finished store
     python benchmarks/bench_sweep.py --speed-models  # the 1e6-point map under each
@@ -12,6 +15,13 @@ liquid properties, U_mf, 1e4 u0* solves (u0* does not depend on U/U_mf), 1e6 col
 at the typical speed and 16 quadrature nodes per point for the propensity. Peak memory is
 the process's maximum resident set size (``resource.getrusage``), measured in a fresh
 subprocess so that nothing else counts.
+
+``--speeds``: 1e6-point maps (u0* at every point, propensity) of water (300 um sand, T x h0
+x a speed axis) and of the slag (as above), with the default excess-gas speeds (U/U_mf
+axis), and fixed, lognormal (sigma_ln 0.5) and Maxwellian speeds (an axis of u0 or of the
+granular temperature); each against one plain 1e6-point ``collide`` of the same pairs at
+their typical speed, timed in the same run (best and median of ``--repeats``, the load
+average at the start and the end).
 """
 
 import argparse
@@ -101,6 +111,69 @@ def bench_speed_models(repeats: int = 5) -> None:
     print(f"load average {load} at start, {os.getloadavg()} at end")
 
 
+WATER = Scene(liquid="water", T=298.15, d_i=300e-6)
+#: name -> (scene, its T and h0 axes)
+MATERIALS = {
+    "water": (WATER, dict(T=np.linspace(283.15, 363.15, 100), h0=np.geomspace(1e-6, 30e-6, 100))),
+    "slag": (SCENE, dict(T=np.linspace(900.0, 1300.0, 100), h0=np.geomspace(0.12e-6, 2e-6, 100))),
+}
+#: speed law -> (its scene fields, its swept axis)
+LAWS = {
+    "excess-gas": ({}, dict(U_Umf=np.linspace(1.2, 8.0, 100))),
+    "fixed": ({"speed": "fixed", "u0": 0.1}, dict(u0=np.geomspace(0.01, 2.0, 100))),
+    "lognormal": ({"speed": "lognormal", "u0": 0.1, "sigma_ln": 0.5},
+                  dict(u0=np.geomspace(0.01, 2.0, 100))),
+    "maxwellian": ({"speed": "maxwellian", "granular_temperature": 0.01},
+                   dict(granular_temperature=np.geomspace(1e-4, 1.0, 100))),
+}
+
+
+def _plain_collide(scene, axes):
+    """A function timing one plain ``collide`` of the map's 1e6 pairs at their typical
+    speed (the inputs resolved beforehand, outside the timing)."""
+    from agglomtool.scene import Resolved
+
+    names = list(axes)
+    values = dict(scene.values())
+    for k, name in enumerate(names):
+        shape = [1] * len(names)
+        shape[k] = -1
+        values[name] = np.asarray(axes[name]).reshape(shape)
+    r = Resolved(values)
+    shape = tuple(len(axes[n]) for n in names)
+    u = np.broadcast_to(r.u_typical, shape)
+    r.collide(u[:1, :1, :1])
+    return lambda: r.collide(u)
+
+
+def bench_speeds(repeats: int = 5, which=None) -> None:
+    for mat, (scene, base) in MATERIALS.items():
+        for law, (fields, axis) in LAWS.items():
+            if which and f"{mat}/{law}" not in which:
+                continue
+            sc = Scene(**{**scene.values(), **fields})
+            axes = {**base, **axis}
+            small = {k: v[::33] for k, v in axes.items()}
+            sweep(sc, **small)  # compile and warm the property tables
+            plain = _plain_collide(sc, axes)
+            plain()
+            load = os.getloadavg()
+            t_map, t_col = [], []
+            for _ in range(repeats):
+                t = time.perf_counter()
+                ds = sweep(sc, **axes)
+                t_map.append(time.perf_counter() - t)
+                t = time.perf_counter()
+                plain()
+                t_col.append(time.perf_counter() - t)
+            ratio = np.median(t_map) / np.median(t_col)
+            print(f"{mat:5s} {law:10s} map ({ds.propensity.size} points, mean propensity "
+                  f"{float(ds.propensity.mean()):.4f}): best {min(t_map):.3f} s, median "
+                  f"{np.median(t_map):.3f} s; plain collide best {min(t_col):.3f} s, median "
+                  f"{np.median(t_col):.3f} s; map / collide (medians) {ratio:.1f}x; load "
+                  f"{load[0]:.2f} -> {os.getloadavg()[0]:.2f}", flush=True)
+
+
 def bench_big(store: str) -> None:
     t = time.perf_counter()
     ds = sweep(SCENE, store=store, progress=True, **grid(100, 1000, 100))
@@ -122,11 +195,16 @@ if __name__ == "__main__":
     ap.add_argument("--map", action="store_true")
     ap.add_argument("--big", metavar="DIR")
     ap.add_argument("--speed-models", action="store_true")
+    ap.add_argument("--speeds", nargs="*", metavar="MATERIAL/LAW",
+                    help="the maps of each speed law (all, or those named: water/fixed ...)")
+    ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args()
-    if a.map:
-        bench_map()
+    if a.speeds is not None:
+        bench_speeds(a.repeats, a.speeds)
     elif a.speed_models:
         bench_speed_models()
+    elif a.map:
+        bench_map(a.repeats)
     elif a.big:
         bench_big(a.big)
     else:

@@ -40,6 +40,16 @@ equal-probability nodes placed at the quantile midpoints of the part above ``u0*
 
 When ``e_w`` is monotonic the sum is zero and ``P = F(u0*)`` exactly, whatever ``N``;
 a sticking window above ``u0*`` is resolved to ``(1 - F(u0*)) / (2N)`` in probability.
+
+Given the collisions as the fused kernels take them (``pair``, as scenes, maps and beds
+pass it), the set of speeds above ``u0*`` at which the pair sticks again is found in
+compiled code instead (:mod:`agglomtool.collision.sticking`: modes ``"relative"`` and
+``"paper"`` without body forces on the axis) and the CDF integrated over it exactly::
+
+    P = F(u0*) + sum_k F(b_k) - F(max(a_k, u0*))
+
+Collisions without a proven bracket there keep the quadrature above, which is also the
+reference the compiled set is tested against.
 """
 
 from __future__ import annotations
@@ -120,7 +130,7 @@ class SpeedModel:
 
 
 def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16,
-                         shape=None, collide_on=None) -> np.ndarray:
+                         shape=None, collide_on=None, pair=None, report=None) -> np.ndarray:
     """Probability that a collision sticks when ``u0`` follows ``speeds`` [-].
 
     Parameters
@@ -139,6 +149,17 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
         ``collide_on(mask)`` -> ``f(u0)``, the collisions of the elements where ``mask`` is
         true (``u0`` 1-D, there only). Given, the nodes are evaluated only where probability
         lies above ``u0*`` (elsewhere ``P = 1`` without a collision); the same numbers.
+    pair : callable, optional
+        ``pair(u_star)`` -> ``(ins, steps, shape, tier, body, particle_slip)``, the
+        collisions as the fused kernels take them (:mod:`agglomtool.collision.fused`), or
+        None where the tier has no compiled sticking set. Given (and not None), the set of
+        speeds above ``u0*`` at which the pair sticks again is found in compiled code
+        (:mod:`agglomtool.collision.sticking`) and the law's CDF integrated over it:
+        exact, no quadrature. Collisions whose set has no proven bracket are integrated by
+        the ``nodes`` quadrature as without ``pair``.
+    report : dict, optional
+        Filled with ``"exact"`` (elements whose ``P`` came from the compiled sticking set)
+        and ``"quadrature"`` (elements integrated by the nodes).
 
     Returns
     -------
@@ -148,6 +169,76 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
     if nodes < 1:
         raise ValueError(f"nodes = {nodes!r} must be >= 1")
     u_star = np.asarray(u_star, dtype=float)
+    fused = None if pair is None else pair(u_star)
+    if fused is not None:
+        out = _exact(speeds, u_star, fused, shape)
+        if out is not None:
+            p, left = out
+            if report is not None:
+                report["exact"] = int(p.size - np.count_nonzero(left))
+                report["quadrature"] = int(np.count_nonzero(left))
+            if left.any():
+                p[left] = _quadrature(speeds, u_star, collide, nodes, p.shape, collide_on,
+                                      within=left)[left]
+            return p
+    p = _quadrature(speeds, u_star, collide, nodes, shape, collide_on)
+    if report is not None:
+        report["exact"], report["quadrature"] = 0, int(p.size)
+    return p
+
+
+#: Family codes of the compiled integration (:mod:`agglomtool.collision.sticking`).
+_FAMILY_CODES = {"fixed": 0, "lognormal": 1, "maxwellian": 2}
+
+
+def _flat_param(a, shape):
+    """A law parameter as a float64 array of length 1 or of ``shape``'s size."""
+    a = np.asarray(a, dtype=float)
+    if a.size == 1:
+        return a.reshape(1)
+    return np.ascontiguousarray(np.broadcast_to(a, shape)).reshape(-1)
+
+
+def _exact(speeds: SpeedModel, u_star, fused, shape):
+    """``(P, left)``: ``P`` from the compiled sticking sets, ``left`` (a boolean array) where
+    a collision's set was not proven and the quadrature must fill ``P`` in; None where the
+    collisions' shape does not broadcast to ``shape``."""
+    from ..collision.sticking import propensity_from_windows, sticking_windows
+
+    ins, steps, cshape, tier, body, particle_slip = fused
+    cshape = tuple(cshape)
+    if shape is None:
+        shape = np.broadcast_shapes(u_star.shape, cshape, np.shape(speeds.median()))
+    shape = tuple(shape)
+    try:
+        if np.broadcast_shapes(shape, cshape) != shape:
+            return None
+    except ValueError:
+        return None
+    n_c = int(np.prod(cshape, dtype=np.int64))
+    us = np.ascontiguousarray(np.broadcast_to(u_star, cshape), dtype=float).reshape(-1)
+    lo, hi, count, status = sticking_windows(ins, steps, n_c, tier, body, particle_slip, us)
+    if cshape == shape:
+        idx = np.arange(n_c, dtype=np.int64)
+    else:
+        idx = np.ascontiguousarray(np.broadcast_to(
+            np.arange(n_c, dtype=np.int64).reshape(cshape), shape)).reshape(-1)
+    fam = speeds.family
+    if fam == "maxwellian":
+        p1, p2 = speeds.theta, 1.0
+    elif fam == "lognormal":
+        p1, p2 = speeds.u0, speeds.sigma_ln
+    else:
+        p1, p2 = speeds.u0, 1.0
+    p = propensity_from_windows(idx, _FAMILY_CODES[fam], _flat_param(p1, shape),
+                                _flat_param(p2, shape), us, lo, hi, count, status)
+    p = p.reshape(shape)
+    return p, np.isnan(p)
+
+
+def _quadrature(speeds: SpeedModel, u_star, collide, nodes, shape, collide_on, within=None):
+    """The node quadrature of the module docstring (the reference), over the elements
+    ``within`` only where given (elsewhere the result is meaningless)."""
     f_star = speeds.cdf(u_star)
     if shape is None:
         shape = np.broadcast_shapes(f_star.shape, np.shape(speeds.median()))
@@ -156,6 +247,8 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
     # Below 1e-12 of probability left above u0*, P = 1 to that accuracy (and a quantile
     # node would round to q = 1, an infinite speed).
     open_ = rest > 1e-12
+    if within is not None:
+        open_ = open_ & within
     n = 1 if speeds.family == "fixed" else int(nodes)
     stuck = np.zeros(shape)
     if open_.any():

@@ -268,8 +268,11 @@ def _dataset_attrs(base: dict, grid: dict, nodes: int) -> dict:
         "scene": json.dumps(base),
         "grid": json.dumps(list(grid)),
         "propensity_method": (
-            f"F(u0*) plus the sticking indicator integrated over {nodes} equal-probability "
-            "nodes above u0* (agglomtool.maps.speeds)"),
+            "F(u0*) plus the probability of the speeds above u0* at which the pair sticks "
+            "again, found in compiled code (modes relative, and paper without body forces "
+            "on the axis: agglomtool.collision.sticking), elsewhere the sticking indicator "
+            f"integrated over {nodes} equal-probability nodes above u0* "
+            "(agglomtool.bed.speeds)"),
         "quadrature_nodes": int(nodes),
         "material_sources": json.dumps(sources),
     }

@@ -1,0 +1,461 @@
+"""The sticking set above ``u0*`` and the propensity over it, compiled.
+
+The propensity of a speed law ``F`` is ``P = F(u0*) + integral over u > u0* of stick(u) dF``
+(:func:`agglomtool.bed.speeds.sticking_probability`). Above ``u0*`` a pair sticks again only
+on a set of speeds that the tier's structure bounds; this module finds that set as a union
+of intervals ``[a_k, b_k]`` and integrates the law's CDF over them,
+``P = F(u0*) + sum_k F(b_k) - F(max(a_k, u0*))``, with no quadrature.
+
+Mode "relative" (:mod:`.relative`, :mod:`.critical_relative`)
+-------------------------------------------------------------
+Both stages are quadratic energy balances in the speed entering them. The approach sticks
+every relative speed up to ``w_app``; above it the pair reaches contact and leaves it with
+``w_s`` rising strictly with ``w``, and with ``t = sqrt(Ca) = sqrt(mu_l w_s / gamma)`` the
+separation rebounds iff the bridge is broken at contact (``h(t) = h_b (1 + t) <= Ha``) or
+``F(t) > 0``, ``F`` the separation's balance of :mod:`.critical_relative`. There ``F`` is
+shown convex on ``[t_0, t_E]`` and on ``[t_E, inf)`` (``t_E``: where the capillary and body
+work of the separation changes sign, only with a body force pulling the pair apart), with
+``t_0`` the larger of the smallest ``t`` that reaches contact and the ``t`` at which the
+bridge starts to hold at contact. On a convex piece the set ``F <= 0`` is one interval
+(possibly empty), so the sticking set above ``w_app`` is at most two intervals, found per
+piece:
+
+- from a point where ``F > 0`` and ``F' >= 0`` the rest of the piece rebounds (convexity):
+  at ``u0*`` itself, the kernel's first rebound, this ends the work on most pairs after one
+  evaluation of ``F``;
+- otherwise the piece's minimum is bracketed by the sign of ``F'`` (bisection, at most
+  :data:`MAX_STEPS` steps) while the two tangents at the bracket's ends bound ``F`` from
+  below: a positive bound proves the piece rebounds throughout; a point with ``F <= 0``
+  proves a window, whose ends are then found by bisection between a rebounding and a
+  sticking ``t`` (a bracket that cannot run away) to :data:`T_RTOL`.
+
+Each window found is checked with the tier's kernel (it sticks inside, and rebounds just
+outside where that lies above ``u0*``). Mode "paper" without body forces equals mode
+"relative" to rounding (:mod:`.relative`) and takes the same set, checked with the paper's
+kernel. Where no bracket is proven (mode "paper" with body forces, a drag that depends on
+the particles' speed, a failed check, an iteration that did not settle) the collision is
+flagged :data:`FALLBACK` and the caller integrates it by the node quadrature (the checked
+reference).
+
+Accuracy: the window ends are bisected to ``T_RTOL`` (1e-13) of ``t``, i.e. ``2e-13`` of
+the speed at contact; in probability each end is then within ``f(u) u 1e-12`` of the true
+one (``f`` the speed law's density), far below 1e-9 for any law of this package.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .._jit import CACHE, parallel_launch
+from .critical_relative import _e_zero, _sep, kernel_constants
+from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one, tier_kernel
+
+__all__ = ["sticking_windows", "propensity_from_windows", "FIXED", "LOGNORMAL",
+           "MAXWELLIAN", "EXACT", "FALLBACK", "MAX_WINDOWS", "T_RTOL", "MAX_STEPS"]
+
+#: Speed-law family codes of :func:`propensity_from_windows`.
+FIXED, LOGNORMAL, MAXWELLIAN = 0, 1, 2
+#: Status of a collision's sticking set: found and checked, or left to the quadrature.
+EXACT, FALLBACK = 0, 1
+#: Intervals of sticking speeds above ``u0*`` a collision may hold: the approach's (when
+#: ``u0*`` lies below it by rounding) and one per convex piece of the separation.
+MAX_WINDOWS = 3
+#: Relative width in ``t = sqrt(Ca)`` to which a window's ends are bisected.
+T_RTOL = 1e-13
+#: Steps allowed to any one bracketing or bisection.
+MAX_STEPS = 2100
+#: Relative offset of the checks just outside a window's ends.
+CHECK_OFFSET = 1e-9
+#: ``1 - F(u0*)`` below which ``P = 1`` (as the quadrature takes it).
+REST_MIN = 1e-12
+
+
+@njit(cache=CACHE)
+def _w_of_t(t, kappa, e, e_a, m_r, w_v, wc_min, w_app):
+    """Relative impact speed [m/s] at which the separation starts at ``t = sqrt(Ca)``
+    (:func:`.critical_relative.threshold_from`'s way back through contact and approach)."""
+    w_c = (t * t / kappa) / e
+    if e_a < 0.0:
+        if not w_c > wc_min:
+            return w_app
+        return w_v + math.sqrt((w_c - wc_min) * (w_c + wc_min))
+    return w_v + math.sqrt(w_c * w_c + 2.0 * e_a / m_r)
+
+
+@njit(cache=CACHE)
+def _t_of_w(w, kappa, e, e_a, m_r, w_v, wc_min, w_app):
+    """``t = sqrt(Ca)`` at the start of the separation of an impact at relative speed
+    ``w > w_app`` [m/s]: ``w_c = sqrt((w - w_v)^2 - 2 E_a / m_r)``, the difference of
+    squares factored where ``E_a >= 0``."""
+    if e_a < 0.0:
+        w_c = math.hypot(w - w_v, wc_min)
+    else:
+        s = w_app - w_v
+        w_c = math.sqrt((w - w_app) * (w - w_v + s))
+    return math.sqrt(kappa * e * w_c)
+
+
+@njit(cache=CACHE)
+def _bisect_t(lo, hi, lo_sticks, args):
+    """A crossing of ``F`` between ``lo`` and ``hi`` (``F(lo) <= 0`` where ``lo_sticks``,
+    else ``F(hi) <= 0``; the other end ``> 0``), bisected to :data:`T_RTOL`. Returns
+    ``(t, ok)``."""
+    kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha = args
+    for _ in range(MAX_STEPS):
+        if hi - lo <= T_RTOL * hi:
+            return 0.5 * (lo + hi), True
+        mid = 0.5 * (lo + hi)
+        f, _ = _sep(mid, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        if (f <= 0.0) == lo_sticks:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi), False
+
+
+@njit(cache=CACHE)
+def _upper(a, step, args):
+    """A ``t > a`` with ``F(t) > 0`` (``F`` grows like ``t^2``): ``a + step`` doubled."""
+    kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha = args
+    for _ in range(MAX_STEPS):
+        t = a + step
+        f, _ = _sep(t, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        if f > 0.0:
+            return t, True
+        step *= 2.0
+    return math.inf, False
+
+
+@njit(cache=CACHE)
+def _piece(a, a_inner, b, scale, args):
+    """The interval where ``F <= 0`` in the convex piece ``[a, b]`` (``b`` may be inf).
+
+    ``a_inner``: ``a`` lies inside the piece, so ``F'(a)`` is a one-sided slope of the
+    convex ``F`` there (else ``a`` is the piece's end, where ``F'`` may be unbounded, and
+    only ``F(a)`` is used). ``scale``: a step in ``t`` to search upwards from ``a``.
+    Returns ``(found, t_a, t_b, ok)``."""
+    kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha = args
+    inf = math.inf
+    fa, dfa = _sep(a, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+    if not a_inner:
+        dfa = -inf
+    if fa <= 0.0:  # sticks from a on: the window ends at the crossing
+        if b < inf:
+            fb, _ = _sep(b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+            if fb <= 0.0:
+                return True, a, b, True
+            hi, ok = b, True
+        else:
+            hi, ok = _upper(a, max(scale, a), args)
+        if not ok:
+            return False, a, a, False
+        t_b, ok = _bisect_t(a, hi, True, args)
+        return True, a, t_b, ok
+    if dfa >= 0.0:  # F > 0 and rising on a convex piece: rebounds throughout
+        return False, a, a, True
+    lo, flo, dlo = a, fa, dfa
+    if b < inf:
+        hi = b
+        fhi, _ = _sep(b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        dhi = inf
+        if fhi <= 0.0:
+            t_a, ok = _bisect_t(a, b, False, args)
+            return True, t_a, b, ok
+    else:  # step up until F rises (or a point sticks)
+        step = max(scale, a)
+        hi = lo + step
+        found = False
+        for _ in range(MAX_STEPS):
+            hi = lo + step
+            fhi, dhi = _sep(hi, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+            if fhi <= 0.0 or dhi > 0.0:
+                found = True
+                break
+            lo, flo, dlo = hi, fhi, dhi
+            step *= 2.0
+        if not found:
+            return False, a, a, False
+        if fhi <= 0.0:
+            t_a, ok_a = _bisect_t(lo, hi, False, args)
+            top, ok_u = _upper(hi, max(scale, hi), args)
+            t_b, ok_b = _bisect_t(hi, top, True, args)
+            return True, t_a, t_b, ok_a and ok_u and ok_b
+    # F(lo) > 0 falling, F(hi) > 0 rising: the minimum lies between. The tangents at the
+    # ends bound F from below; bisect on the sign of F'.
+    for _ in range(MAX_STEPS):
+        if dlo == -inf and dhi == inf:
+            bound = -inf
+        elif dlo == -inf:
+            bound = fhi + dhi * (lo - hi)
+        elif dhi == inf:
+            bound = flo + dlo * (hi - lo)
+        else:
+            tx = (fhi - flo + dlo * lo - dhi * hi) / (dlo - dhi)
+            bound = flo + dlo * (tx - lo)
+        if bound > 0.0:
+            return False, a, a, True
+        if hi - lo <= T_RTOL * hi:
+            # The minimum is pinned to rounding and no point there sticks: a window, if
+            # any, narrower than the bracket (no probability to this accuracy).
+            return False, a, a, True
+        mid = 0.5 * (lo + hi)
+        fm, dm = _sep(mid, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        if fm <= 0.0:
+            t_a, ok_a = _bisect_t(lo, mid, False, args)
+            t_b, ok_b = _bisect_t(mid, hi, True, args)
+            return True, t_a, t_b, ok_a and ok_b
+        if dm < 0.0:
+            lo, flo, dlo = mid, fm, dm
+        else:
+            hi, fhi, dhi = mid, fm, dm
+    return False, a, a, False
+
+
+@njit(cache=CACHE)
+def _sticks(tier, vals, mu_l, gamma, e, w, empty):
+    m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, _ = vals
+    ew, _, _ = tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
+                           fn_j, e, empty)
+    return ew == 0.0
+
+
+@njit(cache=CACHE)
+def _windows_one(raw, u_star, tier, body, particle_slip, lo, hi, empty):
+    """The sticking set of one collision above ``u_star`` [m/s] (head-on lab speed) as
+    intervals of head-on speed written to ``lo``, ``hi``; returns ``(count, status)``."""
+    if not u_star >= 0.0:
+        return 0, FALLBACK  # NaN: nothing to integrate from
+    if math.isinf(u_star):
+        return 0, EXACT  # sticks at every speed: P = 1 from F(u0*) alone
+    vals = prepare_one(raw[0], raw[1], raw[2], raw[3], raw[4], raw[5], raw[6], raw[7],
+                       raw[8], raw[9], raw[10], raw[11], raw[12], raw[13], raw[14], raw[15],
+                       raw[16], raw[17], 0.0, math.nan, body, particle_slip)
+    m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, wpu = vals
+    mu_l, gamma, e = raw[8], raw[9], raw[17]
+    if not H0 > Ha:
+        if e > 0.0:
+            return 0, EXACT  # no bridge: every approach rebounds
+        lo[0], hi[0] = u_star, math.inf
+        return 1, EXACT
+    if e == 0.0 or Ha == 0.0:
+        lo[0], hi[0] = u_star, math.inf  # sticks at every speed
+        return 1, EXACT
+    if body and particle_slip:
+        return 0, FALLBACK  # the body forces change with the speed: no fixed balance
+    if tier == TIER_PAPER and (fn_i != 0.0 or fn_j != 0.0):
+        return 0, FALLBACK  # the paper's own bookkeeping with body forces: no bracket
+    kc = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j)
+    m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
+    c_m = c / m_r
+    w_v = c_m * d_app
+    e_a = kcap * g_app - f_b * (H0 - Ha)
+    wc_min = math.sqrt(-2.0 * e_a / m_r) if e_a < 0.0 else 0.0
+    w_app = w_v + (0.0 if e_a < 0.0 else math.sqrt(2.0 * e_a / m_r))
+    if not math.isfinite(w_app):
+        return 0, FALLBACK
+    kappa = mu_l / gamma
+    hb = (1.0 + 0.5 * theta) * v13
+    t_min = math.sqrt(kappa * e * wc_min)
+    args = (kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+    w_lo = u_star * wpu
+    count = 0
+    # ---- the approach sticks up to w_app
+    if w_lo < w_app:
+        lo[count], hi[count] = w_lo, w_app
+        count += 1
+        t_lo = t_min
+    else:
+        t_lo = _t_of_w(w_lo, kappa, e, e_a, m_r, w_v, wc_min, w_app)
+    # ---- the separation's convex pieces
+    t_0 = max(t_min, Ha / hb - 1.0)  # below Ha / hb - 1 the bridge is broken at contact
+    t_e = math.inf
+    if f_b < 0.0 and kcap * (a2 / (H0 + Ha)) / H0 + f_b > 0.0:
+        h_e, ok = _e_zero(Ha, a2, kcap, f_b, 60)
+        if not ok:
+            return 0, FALLBACK
+        t_e = h_e / hb - 1.0
+    scale = math.sqrt(kappa * e * max(w_v, w_app))  # t at a speed of the approach's scale
+    if not scale > 0.0:
+        scale = max(t_0, 1e-150)
+    starts = (t_0, t_e)
+    ends = (t_e, math.inf)
+    for p in range(2):
+        a, b = starts[p], ends[p]
+        if not a < b:
+            continue
+        inner = False
+        if t_lo >= b:
+            continue
+        if t_lo > a:
+            a, inner = t_lo, True
+        found, t_a, t_b, ok = _piece(a, inner, b, scale, args)
+        if not ok:
+            return 0, FALLBACK
+        if found:
+            wa = _w_of_t(t_a, kappa, e, e_a, m_r, w_v, wc_min, w_app)
+            wb = _w_of_t(t_b, kappa, e, e_a, m_r, w_v, wc_min, w_app)
+            if count > 0 and wa <= hi[count - 1]:
+                hi[count - 1] = max(hi[count - 1], wb)  # adjoins the previous window
+            else:
+                lo[count], hi[count] = wa, wb
+                count += 1
+    # ---- each window checked with the tier's kernel
+    for k in range(count):
+        wa, wb = lo[k], hi[k]
+        if math.isfinite(wb):
+            if not _sticks(tier, vals, mu_l, gamma, e, math.sqrt(wa) * math.sqrt(wb), empty):
+                return 0, FALLBACK
+            if _sticks(tier, vals, mu_l, gamma, e, wb * (1.0 + CHECK_OFFSET), empty):
+                return 0, FALLBACK
+        below = wa * (1.0 - CHECK_OFFSET)
+        if below > w_lo and _sticks(tier, vals, mu_l, gamma, e, below, empty):
+            return 0, FALLBACK
+        lo[k], hi[k] = wa / wpu, wb / wpu
+    return count, EXACT
+
+
+@njit(cache=CACHE, inline="always")
+def _raw(ins, st, q):
+    return (
+        ins[0][q * st[0]], ins[1][q * st[1]], ins[2][q * st[2]], ins[3][q * st[3]],
+        ins[4][q * st[4]], ins[5][q * st[5]], ins[6][q * st[6]], ins[7][q * st[7]],
+        ins[8][q * st[8]], ins[9][q * st[9]], ins[10][q * st[10]], ins[11][q * st[11]],
+        ins[12][q * st[12]], ins[13][q * st[13]], ins[14][q * st[14]], ins[15][q * st[15]],
+        ins[16][q * st[16]], ins[17][q * st[17]],
+    )
+
+
+@njit(cache=CACHE)
+def _windows_range(ins, st, u_star, su, tier, body, particle_slip, lo, hi, count, status,
+                   q0, q1):
+    empty = np.empty(0)
+    for q in range(q0, q1):
+        c, s = _windows_one(_raw(ins, st, q), u_star[q * su], tier, body, particle_slip,
+                            lo[q], hi[q], empty)
+        count[q] = c
+        status[q] = s
+
+
+@njit(cache=CACHE)
+def _windows_serial(ins, st, u_star, su, tier, body, particle_slip, lo, hi, count, status):
+    _windows_range(ins, st, u_star, su, tier, body, particle_slip, lo, hi, count, status, 0,
+                   count.shape[0])
+
+
+@njit(parallel=True, cache=CACHE)
+def _windows_parallel(ins, st, u_star, su, tier, body, particle_slip, lo, hi, count, status):
+    n = count.shape[0]
+    nb = (n + 255) // 256
+    for b in prange(nb):
+        _windows_range(ins, st, u_star, su, tier, body, particle_slip, lo, hi, count, status,
+                       b * 256, min(n, (b + 1) * 256))
+
+
+def sticking_windows(ins, steps, n, tier, body, particle_slip, u_star):
+    """The sticking sets above ``u_star`` of ``n`` collisions given as the fused kernels'
+    inputs (:mod:`.fused`; the lab speeds are not read) for ``tier`` ``fused.TIER_PAPER``
+    or ``fused.TIER_RELATIVE``.
+
+    ``u_star``: a float64 array of length 1 or ``n``, the head-on ``u0*`` [m/s]. Returns
+    ``(lo, hi, count, status)``: collision ``q`` sticks (above ``u_star``) on the head-on
+    speeds ``[lo[q, k], hi[q, k]]``, ``k < count[q]``; ``status[q]`` is :data:`EXACT` or
+    :data:`FALLBACK` (no proven bracket: integrate it by the quadrature).
+    """
+    u_star = np.ascontiguousarray(u_star, dtype=np.float64).reshape(-1)
+    su = 1 if u_star.shape[0] > 1 else 0
+    lo = np.zeros((n, MAX_WINDOWS))
+    hi = np.zeros((n, MAX_WINDOWS))
+    count = np.zeros(n, dtype=np.int8)
+    status = np.zeros(n, dtype=np.int8)
+    particle = True if particle_slip else None
+    args = (ins, steps, u_star, su, int(tier), bool(body), particle, lo, hi, count, status)
+    if n < SERIAL_BELOW // 4:
+        _windows_serial(*args)
+    else:
+        parallel_launch(_windows_parallel, *args)
+    return lo, hi, count, status
+
+
+@njit(cache=CACHE, inline="always")
+def _cdf(family, u, p1, p2):
+    """``F(u) = P(u0 < u)`` of the speed law (``p1``: the fixed speed, the lognormal median
+    or the granular temperature; ``p2``: the lognormal ``sigma_ln``), as
+    :meth:`agglomtool.bed.speeds.SpeedModel.cdf`."""
+    if family == FIXED:
+        return 1.0 if u > p1 else 0.0
+    if family == LOGNORMAL:
+        if not u > 0.0:
+            return 0.0
+        z = math.log(u / p1) / p2
+        return 0.5 * math.erfc(-z / math.sqrt(2.0))
+    return -math.expm1(-(u * u) / p1)
+
+
+@njit(cache=CACHE)
+def _integrate_range(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out, k0,
+                     k1):
+    for k in range(k0, k1):
+        q = idx[k]
+        us = u_star[q]
+        a = p1[k * s1]
+        b = p2[k * s2]
+        f_star = _cdf(family, us, a, b)
+        if not (1.0 - f_star) > REST_MIN:
+            out[k] = 1.0
+            continue
+        if status[q] != EXACT:
+            out[k] = math.nan
+            continue
+        if family == FIXED:
+            # Every collision at p1 >= u0*: it sticks iff p1 lies in a window.
+            stuck = 0.0
+            if not a > 0.0:
+                stuck = 1.0  # a speed of 0 cannot collide: sticks, as the quadrature says
+            for j in range(count[q]):
+                if lo[q, j] <= a <= hi[q, j]:
+                    stuck = 1.0
+            out[k] = f_star + (1.0 - f_star) * stuck
+            continue
+        p = f_star
+        for j in range(count[q]):
+            top = hi[q, j]
+            if top > us:
+                p += _cdf(family, top, a, b) - _cdf(family, max(lo[q, j], us), a, b)
+        out[k] = min(p, 1.0)
+
+
+@njit(cache=CACHE)
+def _integrate_serial(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out):
+    _integrate_range(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out, 0,
+                     out.shape[0])
+
+
+@njit(parallel=True, cache=CACHE)
+def _integrate_parallel(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out):
+    n = out.shape[0]
+    nb = (n + 4095) // 4096
+    for b in prange(nb):
+        _integrate_range(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out,
+                         b * 4096, min(n, (b + 1) * 4096))
+
+
+def propensity_from_windows(idx, family, p1, p2, u_star, lo, hi, count, status):
+    """``P`` at ``idx.size`` elements, element ``k`` of collision ``idx[k]`` of
+    :func:`sticking_windows` (its ``u_star``, ``lo``, ``hi``, ``count``, ``status``):
+    ``F(u0*) + sum_k F(hi_k) - F(max(lo_k, u0*))`` with the law ``family``
+    (:data:`FIXED`, :data:`LOGNORMAL`, :data:`MAXWELLIAN`) of parameters ``p1``, ``p2``
+    (float64 arrays of length 1 or ``idx.size``). NaN where the collision's status is
+    :data:`FALLBACK` and probability lies above ``u0*`` (the caller fills those in)."""
+    n = idx.shape[0]
+    out = np.empty(n)
+    s1 = 1 if p1.shape[0] > 1 else 0
+    s2 = 1 if p2.shape[0] > 1 else 0
+    args = (idx, int(family), p1, s1, p2, s2, u_star, lo, hi, count, status, out)
+    if n < SERIAL_BELOW:
+        _integrate_serial(*args)
+    else:
+        parallel_launch(_integrate_parallel, *args)
+    return out
