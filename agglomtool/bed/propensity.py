@@ -45,11 +45,13 @@ velocity of the drag and the speed distribution.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import xarray as xr
 
+from .. import materials
 from .._fields import short_unit
 from .._validate import check_range
 from .._version import __version__
@@ -65,12 +67,13 @@ from ..scene import (
     Resolved,
     Scene,
     assumed_inputs,
-    collision_outputs,
     critical_outputs,
     provenance,
 )
 from ..units import to_si_array
 from .mixture import Component
+from .speed_models import IMPACT_SPEED_MODELS
+from .speeds import sticking_probability
 
 __all__ = ["bed_propensity", "bed_sweep", "direction_nodes", "BED_GRID_FIELDS",
            "DEFAULT_DIRECTIONS"]
@@ -173,11 +176,68 @@ def _fractions(comps, frac, mix):
     return out
 
 
+def _pair_table(K: int, cidx, D: int, symmetric: bool):
+    """The (class i, class j, direction k) the batch computes and where each result goes.
+
+    ``(i, j, k)`` and ``(j, i, D - 1 - k)`` are one collision seen from either particle (the
+    nodes are +-s pairs), so with a speed law shared by every pair (``symmetric``) the
+    batch takes ``i < j`` in every direction and ``i = j`` in the first half of the
+    directions, and fills both places: ``K (K - 1) / 2 D + K ceil(D / 2)`` collisions.
+    A law read from particle i (its size or density) is not symmetric: there every order
+    within a component is computed, and only the blocks of two components are mirrored.
+    Returns the index arrays ``i, j, k`` and the flat targets ``first, mirror`` in a
+    ``(K, K, D)`` matrix."""
+    i, j, k = (x.reshape(-1) for x in np.meshgrid(np.arange(K), np.arange(K), np.arange(D),
+                                                   indexing="ij"))
+    if symmetric:
+        keep = (i < j) | ((i == j) & (k <= D - 1 - k))
+    else:
+        keep = (cidx[i] < cidx[j]) | (cidx[i] == cidx[j])
+    i, j, k = i[keep], j[keep], k[keep]
+    first = (i * K + j) * D + k
+    mirror = (j * K + i) * D + (D - 1 - k)
+    if not symmetric:  # mirrors only across components
+        across = cidx[i] != cidx[j]
+        mirror = np.where(across, mirror, first)
+    return i, j, k, first, mirror
+
+
+def _symmetric_law(base: dict) -> bool:
+    """True where the impact-speed law is the same for every pair of the bed (it reads no
+    property of particle i)."""
+    model = IMPACT_SPEED_MODELS.get(base["speed"])
+    return model is None or not {"d_p", "rho_p"} & set(model.needs)
+
+
+class _PairBatch(Resolved):
+    """A :class:`~agglomtool.scene.Resolved` whose two particles are arrays over the pairs of
+    a bed (solids given by their database values, not by name), over operating points that
+    share the properties already found for the bed (``liquid``, ``gas``)."""
+
+    def __init__(self, values: dict, *, Umf, particles, e, rho_p, liquid, gas_arrays,
+                 gas_source):
+        super().__init__(values, Umf=Umf)
+        self.__dict__.update(particles=particles, e=e, liquid=liquid,
+                             _gas_arrays=gas_arrays)
+        self._gas_source = gas_source
+        self._rho_p = rho_p
+
+    def _speed_inputs(self) -> dict:
+        get = super()._speed_inputs()
+        get["rho_p"] = lambda: self._rho_p
+        return get
+
+
 def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions: int,
-              progress: bool = False):
-    """Pair matrices of ``G`` operating points: ``u_star``, ``P`` (G, K, K, D), ``W``
-    (G, K, K), ``U_mf``, ``U`` (G,), and the class table. ``progress``: a progress bar
-    (tqdm) of the operating points on stderr."""
+              progress: bool = False, pairs: bool = True):
+    """The bed at ``G`` operating points: the coalescence efficiency ``E`` (G, K, K), the
+    rate weights ``W`` (G, K, K), ``U_mf``, ``U`` (G,) and the class table; with ``pairs``
+    also ``u_star`` and the sticking probability ``prob`` per direction (G, K, K, D).
+    ``progress``: a progress bar (tqdm) of the operating points on stderr.
+
+    Every distinct collision of a block of points (:func:`_pair_table`) goes through one
+    u0* pass and one :func:`~agglomtool.bed.speeds.sticking_probability` call; each element
+    is the arithmetic of a Scene evaluation of that pair (the same inputs, broadcast)."""
     from ..maps.progress import SweepBar
 
     base = scene.values()
@@ -186,12 +246,14 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
     K = d.size
     s, beta, wdir = direction_nodes(directions)
     D = s.size
+    solids = [materials.solid(c.solid) for c in comps]  # once per component and call
     col = {k: np.asarray(v, dtype=float).reshape(G) for k, v in points.items()}
     h0_scene = col.get("h0", np.full(G, float(base["h0"])))
     h0_c = np.stack([h0_scene if c.h0 is None else np.full(G, float(c.h0)) for c in comps],
                     axis=1)                                          # (G, C)
     h0_k = h0_c[:, cidx]                                             # (G, K)
-    rho_s = np.array([c.density for c in comps])[cidx]               # (K,)
+    rho_c = np.array([m.density for m in solids])
+    rho_s = rho_c[cidx]                                              # (K,)
     w_bed = frac_cg[:, cidx] * w_in[None, :]                         # (G, K)
     n = w_bed / (rho_s * d**3)                                       # number density, scaled
     # One U_mf for the bed: Sauter mean wet diameter, mean wet density.
@@ -207,47 +269,67 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
     # Collision-rate weights over ordered pairs of classes.
     W = n[:, :, None] * n[:, None, :] * (D_wet[:, :, None] + D_wet[:, None, :]) ** 2
     W = W / W.sum(axis=(1, 2), keepdims=True)
-    u_star = np.empty((G, K, K, D))
-    prob = np.empty((G, K, K, D))
+    # The distinct collisions and each class's database values.
+    ii, jj, kk, first, mirror = _pair_table(K, cidx, D, _symmetric_law(base))
+    M = ii.size
+    ha_c = np.array([m.asperity_height if c.ha is None else float(c.ha)
+                     for c, m in zip(comps, solids, strict=True)])
+    e_c = np.array([m.restitution_dry for m in solids])
+    ci, cj = cidx[ii], cidx[jj]
+    e_pair = 0.5 * (e_c[ci] + e_c[cj]) if base["e"] is None else r0.num("e")
+    liq, (mu_g, rho_g) = r0.liquid, r0._gas_arrays
+
+    def at_points(a, g):  # a value of the G points (or a scalar) for the points g, (gn, 1)
+        a = np.asarray(a, dtype=float)
+        return a if a.ndim == 0 else np.broadcast_to(a, (G,))[g][:, None]
+
+    E = np.empty((G, K, K))
+    if pairs:
+        u_star = np.empty((G, K, K, D))
+        prob = np.empty((G, K, K, D))
     U = np.empty(G)
-    per_point = K * K * D
-    step = max(1, _BLOCK_COLLISIONS // per_point)
+    step = max(1, _BLOCK_COLLISIONS // M)
     bar = SweepBar(G, -(-G // step), "bed", progress)
-    for g0 in range(0, G, step):  # blocks of operating points, each vectorised
+    for g0 in range(0, G, step):  # blocks of operating points, each one batch of collisions
         g = slice(g0, min(G, g0 + step))
         gn = g.stop - g.start
-        pts = {k: v[g].reshape(gn, 1, 1, 1) for k, v in col.items() if k in base}
-        for a, ca in enumerate(comps):
-            ia = np.flatnonzero(cidx == a)
-            # A loop over unordered component pairs (names are scalars in a Resolved); the
-            # block (b, a) is the block (a, b) with i and j swapped and the direction
-            # reversed (node k -> D - 1 - k: the nodes are +-s pairs). Blocks (a, a) are
-            # computed whole, both orders.
-            for b in range(a, len(comps)):
-                cb = comps[b]
-                ib = np.flatnonzero(cidx == b)
-                vals = {**base, **pts, "solid_i": ca.name, "solid_j": cb.name,
-                        "d_i": d[ia].reshape(1, -1, 1, 1), "d_j": d[ib].reshape(1, 1, -1, 1),
-                        "h0": h0_c[g, a].reshape(gn, 1, 1, 1),
-                        "h0_j": h0_c[g, b].reshape(gn, 1, 1, 1),
-                        "ha_i": ca.ha, "ha_j": cb.ha, "beta_deg": beta.reshape(1, 1, 1, D)}
-                r = Resolved(vals, Umf=Umf[g].reshape(gn, 1, 1, 1))
-                crit = critical_outputs(r)
-                coll = collision_outputs(r, crit["u_star"], nodes)
-                shape = (gn, ia.size, ib.size, D)
-                u_star[g, ia[:, None], ib[None, :], :] = np.broadcast_to(crit["u_star"], shape)
-                prob[g, ia[:, None], ib[None, :], :] = np.broadcast_to(coll["propensity"],
-                                                                       shape)
-                if b != a:
-                    for m in (u_star, prob):
-                        m[g, ib[:, None], ia[None, :], :] = np.swapaxes(
-                            m[g, ia[:, None], ib[None, :], :], 1, 2)[..., ::-1]
-        U[g] = np.broadcast_to(r.U, (gn, 1, 1, 1)).reshape(gn)
+        pts = {k: v[g][:, None] for k, v in col.items() if k in base}
+        h0_c_g = h0_c[g]
+        p_i = Particle(d=d[ii], rho=rho_c[ci], h0=h0_c_g[:, ci], ha=ha_c[ci])
+        p_j = Particle(d=d[jj], rho=rho_c[cj], h0=h0_c_g[:, cj], ha=ha_c[cj])
+        liquid = dataclasses.replace(
+            liq, **{f: at_points(getattr(liq, f), g) for f in ("mu", "gamma", "rho",
+                                                               "theta_deg")})
+        vals = {**base, **pts, "solid_i": solids[0].name, "solid_j": solids[0].name,
+                "d_i": d[ii], "d_j": d[jj], "h0": p_i.h0, "h0_j": p_j.h0,
+                "ha_i": p_i.ha, "ha_j": p_j.ha, "beta_deg": beta[kk]}
+        r = _PairBatch(vals, Umf=Umf[g][:, None], particles=(p_i, p_j),
+                       e=pts.get("e", e_pair), rho_p=rho_c[ci], liquid=liquid,
+                       gas_arrays=(at_points(mu_g, g), at_points(rho_g, g)),
+                       gas_source=r0._gas_source)
+        shape = (gn, M)
+        us = np.broadcast_to(critical_outputs(r)["u_star"], shape)
+        p = sticking_probability(r.speeds, us, r.collide, nodes=nodes, shape=shape,
+                                 collide_on=r.collide_on)
+        pm = np.empty((gn, K * K * D))
+        pm[:, first] = p
+        pm[:, mirror] = p
+        pm = pm.reshape(gn, K, K, D)
+        E[g] = np.einsum("gabk,k->gab", pm, wdir)
+        if pairs:
+            um = u_star[g].reshape(gn, -1)
+            um[:, first] = us
+            um[:, mirror] = us
+            prob[g] = pm
+        U[g] = np.broadcast_to(r.U, (gn, 1)).reshape(gn)
         bar.update(gn)
     bar.close()
-    return dict(u_star=u_star, prob=prob, W=W, Umf=Umf, U=U, n=n, w_bed=w_bed, cidx=cidx,
-                d=d, lo=lo, hi=hi, D_wet=D_wet, h0_c=h0_c, s=s, beta=beta, wdir=wdir,
-                d32=d32, rho_mean=rho_mean)
+    out = dict(E=E, W=W, Umf=Umf, U=U, n=n, w_bed=w_bed, cidx=cidx, d=d, lo=lo, hi=hi,
+               D_wet=D_wet, h0_c=h0_c, s=s, beta=beta, wdir=wdir, d32=d32,
+               rho_mean=rho_mean, names=[m.name for m in solids])
+    if pairs:
+        out.update(u_star=u_star, prob=prob)
+    return out
 
 
 def _attrs(units, long_name, description=None):
@@ -260,7 +342,7 @@ def _attrs(units, long_name, description=None):
 
 
 def _contributions(ev):
-    E = np.einsum("gabk,k->gab", ev["prob"], ev["wdir"])
+    E = ev["E"]
     WE = ev["W"] * E
     by_class = WE.sum(axis=2)                    # (G, K): half of each collision per partner
     C = int(ev["cidx"].max()) + 1
@@ -269,7 +351,7 @@ def _contributions(ev):
 
 
 def _class_coords(comps, ev, dim):
-    names = np.array([comps[k].name for k in ev["cidx"]])
+    names = np.array(ev["names"])[ev["cidx"]]
     idx = np.arange(ev["d"].size, dtype=np.int32)
     return {dim: xr.DataArray(idx, dims=[dim], attrs=_attrs("1", "size class (all components)")),
             f"component_{dim}": xr.DataArray(names, dims=[dim], attrs=_attrs(
