@@ -178,3 +178,34 @@ def test_materials_looked_up_per_component_not_per_class(monkeypatch):
         bed_propensity(scene, comps, directions=2)
         monkeypatch.setattr(materials, "solid", real)
     assert counts[0] == counts[1]
+
+
+def test_properties_evaluated_once_whatever_the_components(monkeypatch):
+    """The gas (and liquid) properties of a bed point are found a fixed number of times, not
+    once per pair of components (the sources attribute evaluated a Resolved per pair); the
+    sources are still every pair's."""
+    calls = []
+    real = scene_mod.gas_properties
+
+    def gas_properties(*a, **k):
+        calls.append(1)
+        return real(*a, **k)
+
+    monkeypatch.setattr(scene_mod, "gas_properties", gas_properties)
+    scene = at.Scene(**WATER)
+    counts = []
+    for comps in ([Component("silica-sand", 1.0, d50=700e-6)], _comps()):
+        calls.clear()
+        ds = bed_propensity(scene, comps, directions=2)
+        counts.append(len(calls))
+    assert counts[0] == counts[1]
+    import json
+
+    expected = {}
+    for a in comps:
+        for b in comps:
+            vals = {**scene.values(), "solid_i": a.name, "solid_j": b.name}
+            expected.update({k: " ".join(t.split())
+                             for k, t in scene_mod.Resolved(vals).sources.items()})
+    assert json.loads(ds.attrs["material_sources"]) == expected
+    assert list(json.loads(ds.attrs["material_sources"])) == list(expected)

@@ -30,9 +30,16 @@ body forces' component along the axis, linear in ``s``, so ``P_ab(s)`` is smooth
 where a bridge outcome switches (a kink); 8 nodes integrate polynomials of degree 15
 exactly, and on a 70 % sand (gsd 1.6) + 30 % ilmenite bed at the paper's water and slag
 conditions they are within 0.03 % (water) and 1e-5 absolute (slag) of 32 nodes (2 nodes:
-2 %). The nodes come in pairs ``+-s``, so ``E_ab = E_ba`` exactly (``(a, b)`` at ``beta``
-is ``(b, a)`` at ``-beta``): the blocks of two different components are computed once and
-the swapped block filled from them; within a component both orders are computed.
+2 %). The nodes come in pairs ``+-s``, and ``(a, b)`` at ``beta`` is ``(b, a)`` at
+``-beta``: with a speed distribution shared by every pair, each collision is computed once
+(``a < b`` in every direction, ``a = b`` in half of them) and copied to its mirror, so
+``E_ab = E_ba`` exactly. The kernel itself is symmetric to a few units in the last place
+(its arithmetic runs in another order when the particles swap; the tests hold it to
+1e-12). A speed law read from particle i's size or density (the bubble and
+collisional-balance models) differs between the orders: there both orders of a component's
+classes are computed and only the pairs of two components mirrored. All the distinct
+collisions of a block of operating points go through one u0* pass and one propensity
+pass (:func:`agglomtool.bed.speeds.sticking_probability`).
 The coalescence efficiency ``E_ab = sum_k (w_k / 2) P_ab(s_k)``, and the bed's
 propensity ``P_bed = sum_ab W_ab E_ab``: the fraction of all collisions that stick.
 
@@ -483,12 +490,18 @@ def _bed_attrs(scene, comps, nodes, directions, call, grid=None) -> dict:
     grid = grid or {}
     base = scene.values()
     first = {**base, **{k: float(v[0]) for k, v in grid.items() if k in base}}
-    pairs = [{**first, "solid_i": a.name, "solid_j": b.name, "ha_i": a.ha, "ha_j": b.ha}
-             for a in comps for b in comps]
-    assumed, sources = [], {}
+    names = [materials.solid(c.solid).name for c in comps]
+    pairs = [{**first, "solid_i": a, "solid_j": b, "ha_i": ca.ha, "ha_j": cb.ha}
+             for a, ca in zip(names, comps, strict=True)
+             for b, cb in zip(names, comps, strict=True)]
+    assumed = []
     for values in pairs:
         assumed += [t for t in assumed_inputs(values) if t not in assumed]
-        sources.update({k: " ".join(t.split()) for k, t in Resolved(values).sources.items()})
+    # The liquid's and the gas's sources are those of the first point, whatever the solids:
+    # found once (each Resolved evaluates the properties), the solids' added in bed order.
+    sources = {k: " ".join(t.split()) for k, t in Resolved(pairs[0]).sources.items()}
+    for name in names[1:]:
+        sources.setdefault(f"solid {name}", " ".join(materials.solid(name).source.split()))
     return {
         **global_attrs("agglomtool bed propensity", call),
         "assumed_inputs": "; ".join(assumed) if assumed else "none",
@@ -565,8 +578,8 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
 
     Notes
     -----
-    The operating points are evaluated in blocks, each vectorised over points, classes and
-    directions (a loop over component pairs inside).
+    The operating points are evaluated in blocks of about 2**17 distinct collisions, each
+    block one batch over its points, pairs of classes and directions.
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene = {scene!r} must be an agglomtool.Scene")
