@@ -357,17 +357,17 @@ def _contributions(ev):
     return E, by_class, by_comp, by_class.sum(1)
 
 
-def _class_coords(comps, ev, dim):
+def _class_coords(ev, dim):
     names = np.array(ev["names"])[ev["cidx"]]
     idx = np.arange(ev["d"].size, dtype=np.int32)
-    return {dim: xr.DataArray(idx, dims=[dim], attrs=_attrs("1", "size class (all components)")),
-            f"component_{dim}": xr.DataArray(names, dims=[dim], attrs=_attrs(
+    return {dim: xr.Variable([dim], idx, attrs=_attrs("1", "size class (all components)")),
+            f"component_{dim}": xr.Variable([dim], names, attrs=_attrs(
                 None, "component (solid name) of the class")),
-            f"d_{dim}": xr.DataArray(ev["d"], dims=[dim], attrs=_attrs(
+            f"d_{dim}": xr.Variable([dim], ev["d"], attrs=_attrs(
                 "m", "solid diameter of the class")),
-            f"d_lo_{dim}": xr.DataArray(ev["lo"], dims=[dim], attrs=_attrs(
+            f"d_lo_{dim}": xr.Variable([dim], ev["lo"], attrs=_attrs(
                 "m", "lower edge of the class")),
-            f"d_hi_{dim}": xr.DataArray(ev["hi"], dims=[dim], attrs=_attrs(
+            f"d_hi_{dim}": xr.Variable([dim], ev["hi"], attrs=_attrs(
                 "m", "upper edge of the class"))}
 
 
@@ -420,19 +420,18 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
     warn_findings(bed_findings(scene.values(), comps), stacklevel=3)
     ev = _evaluate(scene, comps, {}, _fractions(comps, None, None), nodes, directions)
     E, by_class, by_comp, total = _contributions(ev)
-    coords = {**_class_coords(comps, ev, "cls"), **_class_coords(comps, ev, "cls_i"),
-              **_class_coords(comps, ev, "cls_j")}
-    coords["direction"] = xr.DataArray(np.arange(ev["s"].size, dtype=np.int32),
-                                       dims=["direction"],
-                                       attrs=_attrs("1", "collision direction"))
-    coords["sin_beta"] = xr.DataArray(ev["s"], dims=["direction"], attrs=_attrs(
+    coords = {**_class_coords(ev, "cls"), **_class_coords(ev, "cls_i"),
+              **_class_coords(ev, "cls_j")}
+    coords["direction"] = xr.Variable(["direction"], np.arange(ev["s"].size, dtype=np.int32),
+                                      attrs=_attrs("1", "collision direction"))
+    coords["sin_beta"] = xr.Variable(["direction"], ev["s"], attrs=_attrs(
         "1", "sine of the elevation of the axis i -> j (Gauss-Legendre node)"))
-    coords["beta_deg"] = xr.DataArray(ev["beta"], dims=["direction"], attrs=_attrs(
+    coords["beta_deg"] = xr.Variable(["direction"], ev["beta"], attrs=_attrs(
         "degree", "elevation of the axis i -> j from the horizontal"))
-    coords["direction_weight"] = xr.DataArray(ev["wdir"], dims=["direction"], attrs=_attrs(
+    coords["direction_weight"] = xr.Variable(["direction"], ev["wdir"], attrs=_attrs(
         "1", "weight of the direction (isotropic normals)"))
-    coords["component"] = xr.DataArray([c.name for c in comps], dims=["component"],
-                                       attrs=_attrs(None, "component (solid name)"))
+    coords["component"] = xr.Variable(["component"], ev["names"],
+                                      attrs=_attrs(None, "component (solid name)"))
     pair4, pair2 = ("cls_i", "cls_j", "direction"), ("cls_i", "cls_j")
     n0 = ev["n"][0]
     W0 = ev["W"][0]
@@ -477,11 +476,11 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
                     coords=coords)
     ds.attrs.update(_bed_attrs(scene, comps, nodes, directions, call_text(
         "agglomtool.bed_propensity", {}, ("scene", "components"), nodes=nodes,
-        directions=directions)))
+        directions=directions), names=ev["names"]))
     return ds
 
 
-def _bed_attrs(scene, comps, nodes, directions, call, grid=None) -> dict:
+def _bed_attrs(scene, comps, nodes, directions, call, grid=None, names=None) -> dict:
     """Global attributes of a bed: what a map's carry (CF's, the provenance of every input,
     the database values that are assumptions, the materials' sources) and the bed's own
     (components, quadrature nodes, weighting)."""
@@ -490,7 +489,7 @@ def _bed_attrs(scene, comps, nodes, directions, call, grid=None) -> dict:
     grid = grid or {}
     base = scene.values()
     first = {**base, **{k: float(v[0]) for k, v in grid.items() if k in base}}
-    names = [materials.solid(c.solid).name for c in comps]
+    names = names or [materials.solid(c.solid).name for c in comps]
     pairs = [{**first, "solid_i": a, "solid_j": b, "ha_i": ca.ha, "ha_j": cb.ha}
              for a, ca in zip(names, comps, strict=True)
              for b, cb in zip(names, comps, strict=True)]
@@ -505,7 +504,7 @@ def _bed_attrs(scene, comps, nodes, directions, call, grid=None) -> dict:
     return {
         **global_attrs("agglomtool bed propensity", call),
         "assumed_inputs": "; ".join(assumed) if assumed else "none",
-        "provenance": provenance_attr(_bed_provenance(first, comps, grid)),
+        "provenance": provenance_attr(_bed_provenance(first, comps, grid, names)),
         "agglomtool_version": __version__,
         "model_tier": str(base["mode"]),
         "scene": json.dumps(base),
@@ -518,7 +517,7 @@ def _bed_attrs(scene, comps, nodes, directions, call, grid=None) -> dict:
     }
 
 
-def _bed_provenance(first: dict, comps, grid: dict) -> dict:
+def _bed_provenance(first: dict, comps, grid: dict, names) -> dict:
     """:func:`agglomtool.scene.provenance` of a bed: the scene's inputs that the components
     and the grid do not set, and per solid the database values the bed uses (density,
     asperity height where a component gives none, dry restitution where the scene gives
@@ -527,18 +526,18 @@ def _bed_provenance(first: dict, comps, grid: dict) -> dict:
     own = {*_OWN, "solid_i", "solid_j", "rho_i", "rho_j"}
     if first["e"] is None:
         own.add("e")  # each pair: the mean of its two solids' dry restitution
-    out = {k: v for k, v in provenance({**first, "solid_i": comps[0].name}).items()
+    out = {k: v for k, v in provenance({**first, "solid_i": names[0]}).items()
            if k not in own and k not in grid}
-    for c in comps:
-        p = provenance({**first, "solid_i": c.name, "solid_j": c.name, "ha_i": c.ha,
+    for c, name in zip(comps, names, strict=True):
+        p = provenance({**first, "solid_i": name, "solid_j": name, "ha_i": c.ha,
                         "ha_j": c.ha})
-        out[f"{c.name} density"] = p["rho_i"]
+        out[f"{name} density"] = p["rho_i"]
         if c.ha is None:
-            out[f"{c.name} asperity_height"] = p["ha_i"]
+            out[f"{name} asperity_height"] = p["ha_i"]
         if first["e"] is None:
             value, units, _, conf = p["e"]
-            out[f"{c.name} restitution_dry"] = (
-                value, units, f"database: solid {c.name}.restitution_dry (a pair takes the "
+            out[f"{name} restitution_dry"] = (
+                value, units, f"database: solid {name}.restitution_dry (a pair takes the "
                 "mean of its two solids')", conf)
     return out
 
@@ -603,13 +602,13 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     coords = {}
     for k in names:
         if k == "fraction":
-            attrs = _attrs("1", f"mass fraction of {comps[mix_i].name} in the bed")
+            attrs = _attrs("1", f"mass fraction of {ev['names'][mix_i]} in the bed")
         else:
             attrs = _attrs(*FIELD_META[k])
-        coords[k] = xr.DataArray(axes[k], dims=[k], attrs=attrs)
-    coords.update(_class_coords(comps, ev, "cls"))
-    coords["component"] = xr.DataArray([c.name for c in comps], dims=["component"],
-                                       attrs=_attrs(None, "component (solid name)"))
+        coords[k] = xr.Variable([k], axes[k], attrs=attrs)
+    coords.update(_class_coords(ev, "cls"))
+    coords["component"] = xr.Variable(["component"], ev["names"],
+                                      attrs=_attrs(None, "component (solid name)"))
     dims = tuple(names)
     data = {
         "propensity": (dims, total.reshape(shape), _attrs(
@@ -628,17 +627,17 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     if "U" in coords:  # swept: the coordinate is the superficial gas velocity
         del data["U"]
     if matrix:
-        coords.update(_class_coords(comps, ev, "cls_i"))
-        coords.update(_class_coords(comps, ev, "cls_j"))
+        coords.update(_class_coords(ev, "cls_i"))
+        coords.update(_class_coords(ev, "cls_j"))
         data["efficiency"] = (dims + ("cls_i", "cls_j"), E.reshape(shape + E.shape[1:]),
                               _attrs("1", "coalescence efficiency",
                                      "sticking probability averaged over directions"))
     ds = xr.Dataset({k: xr.Variable(d_, v, a) for k, (d_, v, a) in data.items()},
                     coords=coords)
-    options = {"mix": comps[mix_i].name} if mix_i is not None else {}
+    options = {"mix": ev["names"][mix_i]} if mix_i is not None else {}
     ds.attrs.update(_bed_attrs(scene, comps, nodes, directions, call_text(
         "agglomtool.bed_sweep", axes, ("scene", "components"), **options, nodes=nodes,
-        directions=directions, matrix=bool(matrix)), grid=axes))
+        directions=directions, matrix=bool(matrix)), grid=axes, names=ev["names"]))
     if mix_i is not None:
-        ds.attrs["mix"] = comps[mix_i].name
+        ds.attrs["mix"] = ev["names"][mix_i]
     return ds
