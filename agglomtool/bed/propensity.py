@@ -94,7 +94,9 @@ _OWN = ("d_i", "d_j", "h0_j", "ha_i", "ha_j", "beta_deg")
 #: that follows the scene) and ``fraction`` (the mass fraction of the component ``mix``).
 BED_GRID_FIELDS = tuple(f for f in NUMERIC_FIELDS if f not in _OWN) + ("fraction",)
 
-#: Points of the operating grid evaluated together (memory: points x classes**2 x nodes).
+#: Distinct collisions of a block of operating points evaluated together (at least one
+#: point): one u0* pass and one propensity pass each; memory about 30 float arrays of this
+#: size, plus the block's (points, classes, classes, directions) matrix.
 _BLOCK_COLLISIONS = 2**17
 
 
