@@ -225,3 +225,19 @@ def test_properties_evaluated_once_whatever_the_components(monkeypatch):
                              for k, t in scene_mod.Resolved(vals).sources.items()})
     assert json.loads(ds.attrs["material_sources"]) == expected
     assert list(json.loads(ds.attrs["material_sources"])) == list(expected)
+
+
+def test_direction_nodes_are_the_callers_own():
+    """The nodes are computed once per count; a caller that changes its arrays changes no
+    later call's."""
+    from agglomtool.bed.propensity import direction_nodes
+
+    s, beta, w = direction_nodes(4)
+    ref_s, ref_w = np.polynomial.legendre.leggauss(4)
+    np.testing.assert_array_equal(s, ref_s)
+    np.testing.assert_array_equal(w, ref_w / 2.0)
+    np.testing.assert_array_equal(beta, np.degrees(np.arcsin(ref_s)))
+    s[:] = 0.0
+    w[:] = 0.0
+    np.testing.assert_array_equal(direction_nodes(4)[0], ref_s)
+    np.testing.assert_array_equal(direction_nodes(4)[2], ref_w / 2.0)

@@ -53,6 +53,7 @@ velocity of the drag and the speed distribution.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 import numpy as np
@@ -105,7 +106,14 @@ def direction_nodes(n: int = DEFAULT_DIRECTIONS):
     average, weights summing to 1."""
     if not isinstance(n, int | np.integer) or not 1 <= n <= 64:
         raise ValueError(f"directions = {n!r} is outside the allowed range 1-64 (an integer)")
-    s, w = np.polynomial.legendre.leggauss(int(n))
+    return tuple(a.copy() for a in _direction_nodes(int(n)))
+
+
+@functools.lru_cache(maxsize=64)
+def _direction_nodes(n: int):
+    """:func:`direction_nodes` computed once per ``n`` (numpy's leggauss solves an
+    eigenvalue problem each call: about 0.1 ms, 1 % of a small bed point)."""
+    s, w = np.polynomial.legendre.leggauss(n)
     return s, np.degrees(np.arcsin(s)), w / 2.0
 
 
@@ -335,7 +343,7 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
     bar.close()
     out = dict(E=E, W=W, Umf=Umf, U=U, n=n, w_bed=w_bed, cidx=cidx, d=d, lo=lo, hi=hi,
                D_wet=D_wet, h0_c=h0_c, s=s, beta=beta, wdir=wdir, d32=d32,
-               rho_mean=rho_mean, names=[m.name for m in solids])
+               rho_mean=rho_mean, names=[m.name for m in solids], resolved=r0)
     if pairs:
         out.update(u_star=u_star, prob=prob)
     return out
@@ -478,14 +486,16 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
                     coords=coords)
     ds.attrs.update(_bed_attrs(scene, comps, nodes, directions, call_text(
         "agglomtool.bed_propensity", {}, ("scene", "components"), nodes=nodes,
-        directions=directions), names=ev["names"]))
+        directions=directions), names=ev["names"], resolved=ev["resolved"]))
     return ds
 
 
-def _bed_attrs(scene, comps, nodes, directions, call, grid=None, names=None) -> dict:
+def _bed_attrs(scene, comps, nodes, directions, call, grid=None, names=None,
+               resolved=None) -> dict:
     """Global attributes of a bed: what a map's carry (CF's, the provenance of every input,
     the database values that are assumptions, the materials' sources) and the bed's own
-    (components, quadrature nodes, weighting)."""
+    (components, quadrature nodes, weighting). ``resolved``: a Resolved of the first point
+    whose liquid and gas sources to take (their properties already found)."""
     import json
 
     grid = grid or {}
@@ -500,7 +510,10 @@ def _bed_attrs(scene, comps, nodes, directions, call, grid=None, names=None) -> 
         assumed += [t for t in assumed_inputs(values) if t not in assumed]
     # The liquid's and the gas's sources are those of the first point, whatever the solids:
     # found once (each Resolved evaluates the properties), the solids' added in bed order.
-    sources = {k: " ".join(t.split()) for k, t in Resolved(pairs[0]).sources.items()}
+    r = Resolved(pairs[0]) if resolved is None else resolved
+    sources = {f"solid {names[0]}": " ".join(materials.solid(names[0]).source.split())}
+    sources.update({k: " ".join(t.split()) for k, t in r.sources.items()
+                    if not k.startswith("solid ")})
     for name in names[1:]:
         sources.setdefault(f"solid {name}", " ".join(materials.solid(name).source.split()))
     return {
