@@ -1,4 +1,4 @@
-"""Speed of the bed propensity (issue 26 goals).
+"""Speed of the bed propensity against its goals.
 
 Cases: a 3-component bed of 20 size classes each (60 classes, 8 collision directions, 16
 speed nodes; water and slag) at one operating point; the same bed's distinct work done as

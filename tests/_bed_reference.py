@@ -1,8 +1,8 @@
-"""The bed's pair matrices by the per-block path of agglomtool 0.x before the batched pass
-(issue 26): one Scene-level evaluation (``u0*``, then the propensity) per pair of
-components, classes as array axes; blocks of two different components computed once and the
-swapped block filled by the symmetry ``(a, b, s) = (b, a, -s)``, blocks of one component
-computed in both orders. Kept here as the reference the batched pass is tested against."""
+"""The bed's pair matrices by the per-block path that the batched pass replaced: one
+Scene-level evaluation (``u0*``, then the propensity) per pair of components, classes as
+array axes; blocks of two different components computed once and the swapped block filled
+by the symmetry ``(a, b, s) = (b, a, -s)``, blocks of one component computed in both
+orders. Kept here as the reference the batched pass is tested against."""
 
 from __future__ import annotations
 

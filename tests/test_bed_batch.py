@@ -1,4 +1,4 @@
-"""A bed point as one batch (issue 26): every distinct pair of classes and direction in one
+"""A bed point as one batch: every distinct pair of classes and direction in one
 kernel pass, the pair symmetry ``(a, b, s) = (b, a, -s)`` used within components too, no
 collision at the typical speed, and the outputs of the per-block path kept."""
 
