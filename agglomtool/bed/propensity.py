@@ -612,7 +612,7 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     frac = points.pop("fraction", None)
     fr = _fractions(comps, frac, mix_i)
     fr = np.broadcast_to(fr, (G, len(comps)))
-    ev = _evaluate(scene, comps, points, fr, nodes, directions, progress)
+    ev = _evaluate(scene, comps, points, fr, nodes, directions, progress, pairs=False)
     E, by_class, by_comp, total = _contributions(ev)
     coords = {}
     for k in names:
