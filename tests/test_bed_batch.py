@@ -241,3 +241,34 @@ def test_direction_nodes_are_the_callers_own():
     w[:] = 0.0
     np.testing.assert_array_equal(direction_nodes(4)[0], ref_s)
     np.testing.assert_array_equal(direction_nodes(4)[2], ref_w / 2.0)
+
+
+def test_a_point_larger_than_a_block_is_cut_into_passes(monkeypatch):
+    """A bed whose distinct collisions exceed the block size (many components of many
+    classes) takes several passes per point, each at most a block, so memory stays bounded;
+    the values are those of one pass, bitwise (each collision is computed alone)."""
+    from agglomtool.bed import propensity
+
+    scene = at.Scene(**WATER)
+    comps = _comps()
+    whole = bed_propensity(scene, comps, directions=3)
+    sweep = bed_sweep(scene, comps, directions=3, matrix=True, U_Umf=[1.5, 2.0])
+    sizes = []
+    real = scene_mod.critical_impact_speed
+
+    def u_star(*a, **k):
+        out = real(*a, **k)
+        sizes.append(np.size(out))
+        return out
+
+    monkeypatch.setattr(scene_mod, "critical_impact_speed", u_star)
+    monkeypatch.setattr(propensity, "_BLOCK_COLLISIONS", 50)
+    cut = bed_propensity(scene, comps, directions=3)
+    K = whole.sizes["cls"]
+    distinct = K * (K - 1) // 2 * 3 + K * 2
+    assert max(sizes) <= 50 and sum(sizes) == distinct and len(sizes) == -(-distinct // 50)
+    for name in ("u_star", "sticking_probability", "efficiency", "propensity"):
+        np.testing.assert_array_equal(cut[name].values, whole[name].values, err_msg=name)
+    cut_sweep = bed_sweep(scene, comps, directions=3, matrix=True, U_Umf=[1.5, 2.0])
+    np.testing.assert_array_equal(cut_sweep.efficiency.values, sweep.efficiency.values)
+    np.testing.assert_array_equal(cut_sweep.propensity.values, sweep.propensity.values)

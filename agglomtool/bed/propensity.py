@@ -305,38 +305,44 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
         u_star = np.empty((G, K, K, D))
         prob = np.empty((G, K, K, D))
     U = np.empty(G)
-    step = max(1, _BLOCK_COLLISIONS // M)
+    step = max(1, _BLOCK_COLLISIONS // M)  # points per block
+    chunk = min(M, _BLOCK_COLLISIONS)  # collisions per pass (a point may take several)
     bar = SweepBar(G, -(-G // step), "bed", progress)
     for g0 in range(0, G, step):  # blocks of operating points, each one batch of collisions
         g = slice(g0, min(G, g0 + step))
         gn = g.stop - g.start
         pts = {k: v[g][:, None] for k, v in col.items() if k in base}
         h0_c_g = h0_c[g]
-        p_i = Particle(d=d[ii], rho=rho_c[ci], h0=h0_c_g[:, ci], ha=ha_c[ci])
-        p_j = Particle(d=d[jj], rho=rho_c[cj], h0=h0_c_g[:, cj], ha=ha_c[cj])
         liquid = dataclasses.replace(
             liq, **{f: at_points(getattr(liq, f), g) for f in ("mu", "gamma", "rho",
                                                                "theta_deg")})
-        vals = {**base, **pts, "solid_i": solids[0].name, "solid_j": solids[0].name,
-                "d_i": d[ii], "d_j": d[jj], "h0": p_i.h0, "h0_j": p_j.h0,
-                "ha_i": p_i.ha, "ha_j": p_j.ha, "beta_deg": beta[kk]}
-        r = _PairBatch(vals, Umf=Umf[g][:, None], particles=(p_i, p_j),
-                       e=pts.get("e", e_pair), rho_p=rho_c[ci], liquid=liquid,
-                       gas_arrays=(at_points(mu_g, g), at_points(rho_g, g)),
-                       gas_source=r0._gas_source)
-        shape = (gn, M)
-        us = np.broadcast_to(critical_outputs(r)["u_star"], shape)
-        p = sticking_probability(r.speeds, us, r.collide, nodes=nodes, shape=shape,
-                                 collide_on=r.collide_on)
         pm = np.empty((gn, K * K * D))
-        pm[:, first] = p
-        pm[:, mirror] = p
+        um = u_star[g].reshape(gn, -1) if pairs else None
+        for m0 in range(0, M, chunk):  # one pass unless a point has more collisions
+            m = slice(m0, min(M, m0 + chunk))
+            i_, j_, c_i, c_j = ii[m], jj[m], ci[m], cj[m]
+            p_i = Particle(d=d[i_], rho=rho_c[c_i], h0=h0_c_g[:, c_i], ha=ha_c[c_i])
+            p_j = Particle(d=d[j_], rho=rho_c[c_j], h0=h0_c_g[:, c_j], ha=ha_c[c_j])
+            vals = {**base, **pts, "solid_i": solids[0].name, "solid_j": solids[0].name,
+                    "d_i": d[i_], "d_j": d[j_], "h0": p_i.h0, "h0_j": p_j.h0,
+                    "ha_i": p_i.ha, "ha_j": p_j.ha, "beta_deg": beta[kk[m]]}
+            e = pts.get("e", e_pair if np.ndim(e_pair) == 0 else e_pair[m])
+            r = _PairBatch(vals, Umf=Umf[g][:, None], particles=(p_i, p_j), e=e,
+                           rho_p=rho_c[c_i], liquid=liquid,
+                           gas_arrays=(at_points(mu_g, g), at_points(rho_g, g)),
+                           gas_source=r0._gas_source)
+            shape = (gn, m.stop - m.start)
+            us = np.broadcast_to(critical_outputs(r)["u_star"], shape)
+            p = sticking_probability(r.speeds, us, r.collide, nodes=nodes, shape=shape,
+                                     collide_on=r.collide_on)
+            pm[:, first[m]] = p
+            pm[:, mirror[m]] = p
+            if pairs:
+                um[:, first[m]] = us
+                um[:, mirror[m]] = us
         pm = pm.reshape(gn, K, K, D)
         E[g] = np.einsum("gabk,k->gab", pm, wdir)
         if pairs:
-            um = u_star[g].reshape(gn, -1)
-            um[:, first] = us
-            um[:, mirror] = us
             prob[g] = pm
         U[g] = np.broadcast_to(r.U, (gn, 1)).reshape(gn)
         bar.update(gn)
