@@ -30,9 +30,16 @@ body forces' component along the axis, linear in ``s``, so ``P_ab(s)`` is smooth
 where a bridge outcome switches (a kink); 8 nodes integrate polynomials of degree 15
 exactly, and on a 70 % sand (gsd 1.6) + 30 % ilmenite bed at the paper's water and slag
 conditions they are within 0.03 % (water) and 1e-5 absolute (slag) of 32 nodes (2 nodes:
-2 %). The nodes come in pairs ``+-s``, so ``E_ab = E_ba`` exactly (``(a, b)`` at ``beta``
-is ``(b, a)`` at ``-beta``): the blocks of two different components are computed once and
-the swapped block filled from them; within a component both orders are computed.
+2 %). The nodes come in pairs ``+-s``, and ``(a, b)`` at ``beta`` is ``(b, a)`` at
+``-beta``: with a speed distribution shared by every pair, each collision is computed once
+(``a < b`` in every direction, ``a = b`` in half of them) and copied to its mirror, so
+``E_ab = E_ba`` exactly. The kernel itself is symmetric to a few units in the last place
+(its arithmetic runs in another order when the particles swap; the tests hold it to
+1e-12). A speed law read from particle i's size or density (the bubble and
+collisional-balance models) differs between the orders: there both orders of a component's
+classes are computed and only the pairs of two components mirrored. All the distinct
+collisions of a block of operating points go through one u0* pass and one propensity
+pass (:func:`agglomtool.bed.speeds.sticking_probability`).
 The coalescence efficiency ``E_ab = sum_k (w_k / 2) P_ab(s_k)``, and the bed's
 propensity ``P_bed = sum_ab W_ab E_ab``: the fraction of all collisions that stick.
 
@@ -45,11 +52,14 @@ velocity of the drag and the speed distribution.
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 
 import numpy as np
 import xarray as xr
 
+from .. import materials
 from .._fields import short_unit
 from .._validate import check_range
 from .._version import __version__
@@ -65,12 +75,13 @@ from ..scene import (
     Resolved,
     Scene,
     assumed_inputs,
-    collision_outputs,
     critical_outputs,
     provenance,
 )
 from ..units import to_si_array
 from .mixture import Component
+from .speed_models import IMPACT_SPEED_MODELS
+from .speeds import sticking_probability
 
 __all__ = ["bed_propensity", "bed_sweep", "direction_nodes", "BED_GRID_FIELDS",
            "DEFAULT_DIRECTIONS"]
@@ -84,7 +95,9 @@ _OWN = ("d_i", "d_j", "h0_j", "ha_i", "ha_j", "beta_deg")
 #: that follows the scene) and ``fraction`` (the mass fraction of the component ``mix``).
 BED_GRID_FIELDS = tuple(f for f in NUMERIC_FIELDS if f not in _OWN) + ("fraction",)
 
-#: Points of the operating grid evaluated together (memory: points x classes**2 x nodes).
+#: Distinct collisions of a block of operating points evaluated together (at least one
+#: point): one u0* pass and one propensity pass each; memory about 30 float arrays of this
+#: size, plus the block's (points, classes, classes, directions) matrix.
 _BLOCK_COLLISIONS = 2**17
 
 
@@ -93,7 +106,14 @@ def direction_nodes(n: int = DEFAULT_DIRECTIONS):
     average, weights summing to 1."""
     if not isinstance(n, int | np.integer) or not 1 <= n <= 64:
         raise ValueError(f"directions = {n!r} is outside the allowed range 1-64 (an integer)")
-    s, w = np.polynomial.legendre.leggauss(int(n))
+    return tuple(a.copy() for a in _direction_nodes(int(n)))
+
+
+@functools.lru_cache(maxsize=64)
+def _direction_nodes(n: int):
+    """:func:`direction_nodes` computed once per ``n`` (numpy's leggauss solves an
+    eigenvalue problem each call: about 0.1 ms, 1 % of a small bed point)."""
+    s, w = np.polynomial.legendre.leggauss(n)
     return s, np.degrees(np.arcsin(s)), w / 2.0
 
 
@@ -173,11 +193,68 @@ def _fractions(comps, frac, mix):
     return out
 
 
+def _pair_table(K: int, cidx, D: int, symmetric: bool):
+    """The (class i, class j, direction k) the batch computes and where each result goes.
+
+    ``(i, j, k)`` and ``(j, i, D - 1 - k)`` are one collision seen from either particle (the
+    nodes are +-s pairs), so with a speed law shared by every pair (``symmetric``) the
+    batch takes ``i < j`` in every direction and ``i = j`` in the first half of the
+    directions, and fills both places: ``K (K - 1) / 2 D + K ceil(D / 2)`` collisions.
+    A law read from particle i (its size or density) is not symmetric: there every order
+    within a component is computed, and only the blocks of two components are mirrored.
+    Returns the index arrays ``i, j, k`` and the flat targets ``first, mirror`` in a
+    ``(K, K, D)`` matrix."""
+    i, j, k = (x.reshape(-1) for x in np.meshgrid(np.arange(K), np.arange(K), np.arange(D),
+                                                   indexing="ij"))
+    if symmetric:
+        keep = (i < j) | ((i == j) & (k <= D - 1 - k))
+    else:
+        keep = (cidx[i] < cidx[j]) | (cidx[i] == cidx[j])
+    i, j, k = i[keep], j[keep], k[keep]
+    first = (i * K + j) * D + k
+    mirror = (j * K + i) * D + (D - 1 - k)
+    if not symmetric:  # mirrors only across components
+        across = cidx[i] != cidx[j]
+        mirror = np.where(across, mirror, first)
+    return i, j, k, first, mirror
+
+
+def _symmetric_law(base: dict) -> bool:
+    """True where the impact-speed law is the same for every pair of the bed (it reads no
+    property of particle i)."""
+    model = IMPACT_SPEED_MODELS.get(base["speed"])
+    return model is None or not {"d_p", "rho_p"} & set(model.needs)
+
+
+class _PairBatch(Resolved):
+    """A :class:`~agglomtool.scene.Resolved` whose two particles are arrays over the pairs of
+    a bed (solids given by their database values, not by name), over operating points that
+    share the properties already found for the bed (``liquid``, ``gas``)."""
+
+    def __init__(self, values: dict, *, Umf, particles, e, rho_p, liquid, gas_arrays,
+                 gas_source):
+        super().__init__(values, Umf=Umf)
+        self.__dict__.update(particles=particles, e=e, liquid=liquid,
+                             _gas_arrays=gas_arrays)
+        self._gas_source = gas_source
+        self._rho_p = rho_p
+
+    def _speed_inputs(self) -> dict:
+        get = super()._speed_inputs()
+        get["rho_p"] = lambda: self._rho_p
+        return get
+
+
 def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions: int,
-              progress: bool = False):
-    """Pair matrices of ``G`` operating points: ``u_star``, ``P`` (G, K, K, D), ``W``
-    (G, K, K), ``U_mf``, ``U`` (G,), and the class table. ``progress``: a progress bar
-    (tqdm) of the operating points on stderr."""
+              progress: bool = False, pairs: bool = True):
+    """The bed at ``G`` operating points: the coalescence efficiency ``E`` (G, K, K), the
+    rate weights ``W`` (G, K, K), ``U_mf``, ``U`` (G,) and the class table; with ``pairs``
+    also ``u_star`` and the sticking probability ``prob`` per direction (G, K, K, D).
+    ``progress``: a progress bar (tqdm) of the operating points on stderr.
+
+    Every distinct collision of a block of points (:func:`_pair_table`) goes through one
+    u0* pass and one :func:`~agglomtool.bed.speeds.sticking_probability` call; each element
+    is the arithmetic of a Scene evaluation of that pair (the same inputs, broadcast)."""
     from ..maps.progress import SweepBar
 
     base = scene.values()
@@ -186,12 +263,14 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
     K = d.size
     s, beta, wdir = direction_nodes(directions)
     D = s.size
+    solids = [materials.solid(c.solid) for c in comps]  # once per component and call
     col = {k: np.asarray(v, dtype=float).reshape(G) for k, v in points.items()}
     h0_scene = col.get("h0", np.full(G, float(base["h0"])))
     h0_c = np.stack([h0_scene if c.h0 is None else np.full(G, float(c.h0)) for c in comps],
                     axis=1)                                          # (G, C)
     h0_k = h0_c[:, cidx]                                             # (G, K)
-    rho_s = np.array([c.density for c in comps])[cidx]               # (K,)
+    rho_c = np.array([m.density for m in solids])
+    rho_s = rho_c[cidx]                                              # (K,)
     w_bed = frac_cg[:, cidx] * w_in[None, :]                         # (G, K)
     n = w_bed / (rho_s * d**3)                                       # number density, scaled
     # One U_mf for the bed: Sauter mean wet diameter, mean wet density.
@@ -207,49 +286,77 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
     # Collision-rate weights over ordered pairs of classes.
     W = n[:, :, None] * n[:, None, :] * (D_wet[:, :, None] + D_wet[:, None, :]) ** 2
     W = W / W.sum(axis=(1, 2), keepdims=True)
+    # one granular temperature for every pair where the model reads the particle
     speed_fields = _bed_speed(fvals, r0, comps, cidx, n, d, rho_s, W, Umf)
-    u_star = np.empty((G, K, K, D))
-    prob = np.empty((G, K, K, D))
+    # The distinct collisions and each class's database values.
+    ii, jj, kk, first, mirror = _pair_table(K, cidx, D,
+                                                  bool(speed_fields) or _symmetric_law(base))
+    M = ii.size
+    ha_c = np.array([m.asperity_height if c.ha is None else float(c.ha)
+                     for c, m in zip(comps, solids, strict=True)])
+    e_c = np.array([m.restitution_dry for m in solids])
+    ci, cj = cidx[ii], cidx[jj]
+    e_pair = 0.5 * (e_c[ci] + e_c[cj]) if base["e"] is None else r0.num("e")
+    liq, (mu_g, rho_g) = r0.liquid, r0._gas_arrays
+
+    def at_points(a, g):  # a value of the G points (or a scalar) for the points g, (gn, 1)
+        a = np.asarray(a, dtype=float)
+        return a if a.ndim == 0 else np.broadcast_to(a, (G,))[g][:, None]
+
+    E = np.empty((G, K, K))
+    if pairs:
+        u_star = np.empty((G, K, K, D))
+        prob = np.empty((G, K, K, D))
     U = np.empty(G)
-    per_point = K * K * D
-    step = max(1, _BLOCK_COLLISIONS // per_point)
+    step = max(1, _BLOCK_COLLISIONS // M)  # points per block
+    chunk = min(M, _BLOCK_COLLISIONS)  # collisions per pass (a point may take several)
     bar = SweepBar(G, -(-G // step), "bed", progress)
-    for g0 in range(0, G, step):  # blocks of operating points, each vectorised
+    for g0 in range(0, G, step):  # blocks of operating points, each one batch of collisions
         g = slice(g0, min(G, g0 + step))
         gn = g.stop - g.start
-        pts = {k: v[g].reshape(gn, 1, 1, 1) for k, v in col.items() if k in base}
-        for a, ca in enumerate(comps):
-            ia = np.flatnonzero(cidx == a)
-            # A loop over unordered component pairs (names are scalars in a Resolved); the
-            # block (b, a) is the block (a, b) with i and j swapped and the direction
-            # reversed (node k -> D - 1 - k: the nodes are +-s pairs). Blocks (a, a) are
-            # computed whole, both orders.
-            for b in range(a, len(comps)):
-                cb = comps[b]
-                ib = np.flatnonzero(cidx == b)
-                vals = {**base, **pts, "solid_i": ca.name, "solid_j": cb.name,
-                        "d_i": d[ia].reshape(1, -1, 1, 1), "d_j": d[ib].reshape(1, 1, -1, 1),
-                        "h0": h0_c[g, a].reshape(gn, 1, 1, 1),
-                        "h0_j": h0_c[g, b].reshape(gn, 1, 1, 1),
-                        "ha_i": ca.ha, "ha_j": cb.ha, "beta_deg": beta.reshape(1, 1, 1, D),
-                        **{k: v[g].reshape(gn, 1, 1, 1) for k, v in speed_fields.items()}}
-                r = Resolved(vals, Umf=Umf[g].reshape(gn, 1, 1, 1))
-                crit = critical_outputs(r)
-                coll = collision_outputs(r, crit["u_star"], nodes)
-                shape = (gn, ia.size, ib.size, D)
-                u_star[g, ia[:, None], ib[None, :], :] = np.broadcast_to(crit["u_star"], shape)
-                prob[g, ia[:, None], ib[None, :], :] = np.broadcast_to(coll["propensity"],
-                                                                       shape)
-                if b != a:
-                    for m in (u_star, prob):
-                        m[g, ib[:, None], ia[None, :], :] = np.swapaxes(
-                            m[g, ia[:, None], ib[None, :], :], 1, 2)[..., ::-1]
-        U[g] = np.broadcast_to(r.U, (gn, 1, 1, 1)).reshape(gn)
+        pts = {k: v[g][:, None] for k, v in col.items() if k in base}
+        pts.update({k: v[g][:, None] for k, v in speed_fields.items()})
+        h0_c_g = h0_c[g]
+        liquid = dataclasses.replace(
+            liq, **{f: at_points(getattr(liq, f), g) for f in ("mu", "gamma", "rho",
+                                                               "theta_deg")})
+        pm = np.empty((gn, K * K * D))
+        um = u_star[g].reshape(gn, -1) if pairs else None
+        for m0 in range(0, M, chunk):  # one pass unless a point has more collisions
+            m = slice(m0, min(M, m0 + chunk))
+            i_, j_, c_i, c_j = ii[m], jj[m], ci[m], cj[m]
+            p_i = Particle(d=d[i_], rho=rho_c[c_i], h0=h0_c_g[:, c_i], ha=ha_c[c_i])
+            p_j = Particle(d=d[j_], rho=rho_c[c_j], h0=h0_c_g[:, c_j], ha=ha_c[c_j])
+            vals = {**base, **pts, "solid_i": solids[0].name, "solid_j": solids[0].name,
+                    "d_i": d[i_], "d_j": d[j_], "h0": p_i.h0, "h0_j": p_j.h0,
+                    "ha_i": p_i.ha, "ha_j": p_j.ha, "beta_deg": beta[kk[m]]}
+            e = pts.get("e", e_pair if np.ndim(e_pair) == 0 else e_pair[m])
+            r = _PairBatch(vals, Umf=Umf[g][:, None], particles=(p_i, p_j), e=e,
+                           rho_p=rho_c[c_i], liquid=liquid,
+                           gas_arrays=(at_points(mu_g, g), at_points(rho_g, g)),
+                           gas_source=r0._gas_source)
+            shape = (gn, m.stop - m.start)
+            us = np.broadcast_to(critical_outputs(r)["u_star"], shape)
+            p = sticking_probability(r.speeds, us, r.collide, nodes=nodes, shape=shape,
+                                     collide_on=r.collide_on)
+            pm[:, first[m]] = p
+            pm[:, mirror[m]] = p
+            if pairs:
+                um[:, first[m]] = us
+                um[:, mirror[m]] = us
+        pm = pm.reshape(gn, K, K, D)
+        E[g] = np.einsum("gabk,k->gab", pm, wdir)
+        if pairs:
+            prob[g] = pm
+        U[g] = np.broadcast_to(r.U, (gn, 1)).reshape(gn)
         bar.update(gn)
     bar.close()
-    return dict(u_star=u_star, prob=prob, W=W, Umf=Umf, U=U, n=n, w_bed=w_bed, cidx=cidx,
-                d=d, lo=lo, hi=hi, D_wet=D_wet, h0_c=h0_c, s=s, beta=beta, wdir=wdir,
-                d32=d32, rho_mean=rho_mean)
+    out = dict(E=E, W=W, Umf=Umf, U=U, n=n, w_bed=w_bed, cidx=cidx, d=d, lo=lo, hi=hi,
+               D_wet=D_wet, h0_c=h0_c, s=s, beta=beta, wdir=wdir, d32=d32,
+               rho_mean=rho_mean, names=[m.name for m in solids], resolved=r0)
+    if pairs:
+        out.update(u_star=u_star, prob=prob)
+    return out
 
 
 def _bed_speed(fvals, r0, comps, cidx, n, d, rho_s, W, Umf) -> dict:
@@ -285,7 +392,7 @@ def _attrs(units, long_name, description=None):
 
 
 def _contributions(ev):
-    E = np.einsum("gabk,k->gab", ev["prob"], ev["wdir"])
+    E = ev["E"]
     WE = ev["W"] * E
     by_class = WE.sum(axis=2)                    # (G, K): half of each collision per partner
     C = int(ev["cidx"].max()) + 1
@@ -293,17 +400,17 @@ def _contributions(ev):
     return E, by_class, by_comp, by_class.sum(1)
 
 
-def _class_coords(comps, ev, dim):
-    names = np.array([comps[k].name for k in ev["cidx"]])
+def _class_coords(ev, dim):
+    names = np.array(ev["names"])[ev["cidx"]]
     idx = np.arange(ev["d"].size, dtype=np.int32)
-    return {dim: xr.DataArray(idx, dims=[dim], attrs=_attrs("1", "size class (all components)")),
-            f"component_{dim}": xr.DataArray(names, dims=[dim], attrs=_attrs(
+    return {dim: xr.Variable([dim], idx, attrs=_attrs("1", "size class (all components)")),
+            f"component_{dim}": xr.Variable([dim], names, attrs=_attrs(
                 None, "component (solid name) of the class")),
-            f"d_{dim}": xr.DataArray(ev["d"], dims=[dim], attrs=_attrs(
+            f"d_{dim}": xr.Variable([dim], ev["d"], attrs=_attrs(
                 "m", "solid diameter of the class")),
-            f"d_lo_{dim}": xr.DataArray(ev["lo"], dims=[dim], attrs=_attrs(
+            f"d_lo_{dim}": xr.Variable([dim], ev["lo"], attrs=_attrs(
                 "m", "lower edge of the class")),
-            f"d_hi_{dim}": xr.DataArray(ev["hi"], dims=[dim], attrs=_attrs(
+            f"d_hi_{dim}": xr.Variable([dim], ev["hi"], attrs=_attrs(
                 "m", "upper edge of the class"))}
 
 
@@ -356,19 +463,18 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
     warn_findings(bed_findings(scene.values(), comps), stacklevel=3)
     ev = _evaluate(scene, comps, {}, _fractions(comps, None, None), nodes, directions)
     E, by_class, by_comp, total = _contributions(ev)
-    coords = {**_class_coords(comps, ev, "cls"), **_class_coords(comps, ev, "cls_i"),
-              **_class_coords(comps, ev, "cls_j")}
-    coords["direction"] = xr.DataArray(np.arange(ev["s"].size, dtype=np.int32),
-                                       dims=["direction"],
-                                       attrs=_attrs("1", "collision direction"))
-    coords["sin_beta"] = xr.DataArray(ev["s"], dims=["direction"], attrs=_attrs(
+    coords = {**_class_coords(ev, "cls"), **_class_coords(ev, "cls_i"),
+              **_class_coords(ev, "cls_j")}
+    coords["direction"] = xr.Variable(["direction"], np.arange(ev["s"].size, dtype=np.int32),
+                                      attrs=_attrs("1", "collision direction"))
+    coords["sin_beta"] = xr.Variable(["direction"], ev["s"], attrs=_attrs(
         "1", "sine of the elevation of the axis i -> j (Gauss-Legendre node)"))
-    coords["beta_deg"] = xr.DataArray(ev["beta"], dims=["direction"], attrs=_attrs(
+    coords["beta_deg"] = xr.Variable(["direction"], ev["beta"], attrs=_attrs(
         "degree", "elevation of the axis i -> j from the horizontal"))
-    coords["direction_weight"] = xr.DataArray(ev["wdir"], dims=["direction"], attrs=_attrs(
+    coords["direction_weight"] = xr.Variable(["direction"], ev["wdir"], attrs=_attrs(
         "1", "weight of the direction (isotropic normals)"))
-    coords["component"] = xr.DataArray([c.name for c in comps], dims=["component"],
-                                       attrs=_attrs(None, "component (solid name)"))
+    coords["component"] = xr.Variable(["component"], ev["names"],
+                                      attrs=_attrs(None, "component (solid name)"))
     pair4, pair2 = ("cls_i", "cls_j", "direction"), ("cls_i", "cls_j")
     n0 = ev["n"][0]
     W0 = ev["W"][0]
@@ -413,29 +519,40 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
                     coords=coords)
     ds.attrs.update(_bed_attrs(scene, comps, nodes, directions, call_text(
         "agglomtool.bed_propensity", {}, ("scene", "components"), nodes=nodes,
-        directions=directions)))
+        directions=directions), names=ev["names"], resolved=ev["resolved"]))
     return ds
 
 
-def _bed_attrs(scene, comps, nodes, directions, call, grid=None) -> dict:
+def _bed_attrs(scene, comps, nodes, directions, call, grid=None, names=None,
+               resolved=None) -> dict:
     """Global attributes of a bed: what a map's carry (CF's, the provenance of every input,
     the database values that are assumptions, the materials' sources) and the bed's own
-    (components, quadrature nodes, weighting)."""
+    (components, quadrature nodes, weighting). ``resolved``: a Resolved of the first point
+    whose liquid and gas sources to take (their properties already found)."""
     import json
 
     grid = grid or {}
     base = scene.values()
     first = {**base, **{k: float(v[0]) for k, v in grid.items() if k in base}}
-    pairs = [{**first, "solid_i": a.name, "solid_j": b.name, "ha_i": a.ha, "ha_j": b.ha}
-             for a in comps for b in comps]
-    assumed, sources = [], {}
+    names = names or [materials.solid(c.solid).name for c in comps]
+    pairs = [{**first, "solid_i": a, "solid_j": b, "ha_i": ca.ha, "ha_j": cb.ha}
+             for a, ca in zip(names, comps, strict=True)
+             for b, cb in zip(names, comps, strict=True)]
+    assumed = []
     for values in pairs:
         assumed += [t for t in assumed_inputs(values) if t not in assumed]
-        sources.update({k: " ".join(t.split()) for k, t in Resolved(values).sources.items()})
+    # The liquid's and the gas's sources are those of the first point, whatever the solids:
+    # found once (each Resolved evaluates the properties), the solids' added in bed order.
+    r = Resolved(pairs[0]) if resolved is None else resolved
+    sources = {f"solid {names[0]}": " ".join(materials.solid(names[0]).source.split())}
+    sources.update({k: " ".join(t.split()) for k, t in r.sources.items()
+                    if not k.startswith("solid ")})
+    for name in names[1:]:
+        sources.setdefault(f"solid {name}", " ".join(materials.solid(name).source.split()))
     return {
         **global_attrs("agglomtool bed propensity", call),
         "assumed_inputs": "; ".join(assumed) if assumed else "none",
-        "provenance": provenance_attr(_bed_provenance(first, comps, grid)),
+        "provenance": provenance_attr(_bed_provenance(first, comps, grid, names)),
         "agglomtool_version": __version__,
         "model_tier": str(base["mode"]),
         "scene": json.dumps(base),
@@ -448,7 +565,7 @@ def _bed_attrs(scene, comps, nodes, directions, call, grid=None) -> dict:
     }
 
 
-def _bed_provenance(first: dict, comps, grid: dict) -> dict:
+def _bed_provenance(first: dict, comps, grid: dict, names) -> dict:
     """:func:`agglomtool.scene.provenance` of a bed: the scene's inputs that the components
     and the grid do not set, and per solid the database values the bed uses (density,
     asperity height where a component gives none, dry restitution where the scene gives
@@ -457,18 +574,18 @@ def _bed_provenance(first: dict, comps, grid: dict) -> dict:
     own = {*_OWN, "solid_i", "solid_j", "rho_i", "rho_j"}
     if first["e"] is None:
         own.add("e")  # each pair: the mean of its two solids' dry restitution
-    out = {k: v for k, v in provenance({**first, "solid_i": comps[0].name}).items()
+    out = {k: v for k, v in provenance({**first, "solid_i": names[0]}).items()
            if k not in own and k not in grid}
-    for c in comps:
-        p = provenance({**first, "solid_i": c.name, "solid_j": c.name, "ha_i": c.ha,
+    for c, name in zip(comps, names, strict=True):
+        p = provenance({**first, "solid_i": name, "solid_j": name, "ha_i": c.ha,
                         "ha_j": c.ha})
-        out[f"{c.name} density"] = p["rho_i"]
+        out[f"{name} density"] = p["rho_i"]
         if c.ha is None:
-            out[f"{c.name} asperity_height"] = p["ha_i"]
+            out[f"{name} asperity_height"] = p["ha_i"]
         if first["e"] is None:
             value, units, _, conf = p["e"]
-            out[f"{c.name} restitution_dry"] = (
-                value, units, f"database: solid {c.name}.restitution_dry (a pair takes the "
+            out[f"{name} restitution_dry"] = (
+                value, units, f"database: solid {name}.restitution_dry (a pair takes the "
                 "mean of its two solids')", conf)
     return out
 
@@ -508,8 +625,8 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
 
     Notes
     -----
-    The operating points are evaluated in blocks, each vectorised over points, classes and
-    directions (a loop over component pairs inside).
+    The operating points are evaluated in blocks of about 2**17 distinct collisions, each
+    block one batch over its points, pairs of classes and directions.
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene = {scene!r} must be an agglomtool.Scene")
@@ -528,18 +645,18 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     frac = points.pop("fraction", None)
     fr = _fractions(comps, frac, mix_i)
     fr = np.broadcast_to(fr, (G, len(comps)))
-    ev = _evaluate(scene, comps, points, fr, nodes, directions, progress)
+    ev = _evaluate(scene, comps, points, fr, nodes, directions, progress, pairs=False)
     E, by_class, by_comp, total = _contributions(ev)
     coords = {}
     for k in names:
         if k == "fraction":
-            attrs = _attrs("1", f"mass fraction of {comps[mix_i].name} in the bed")
+            attrs = _attrs("1", f"mass fraction of {ev['names'][mix_i]} in the bed")
         else:
             attrs = _attrs(*FIELD_META[k])
-        coords[k] = xr.DataArray(axes[k], dims=[k], attrs=attrs)
-    coords.update(_class_coords(comps, ev, "cls"))
-    coords["component"] = xr.DataArray([c.name for c in comps], dims=["component"],
-                                       attrs=_attrs(None, "component (solid name)"))
+        coords[k] = xr.Variable([k], axes[k], attrs=attrs)
+    coords.update(_class_coords(ev, "cls"))
+    coords["component"] = xr.Variable(["component"], ev["names"],
+                                      attrs=_attrs(None, "component (solid name)"))
     dims = tuple(names)
     data = {
         "propensity": (dims, total.reshape(shape), _attrs(
@@ -558,17 +675,17 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     if "U" in coords:  # swept: the coordinate is the superficial gas velocity
         del data["U"]
     if matrix:
-        coords.update(_class_coords(comps, ev, "cls_i"))
-        coords.update(_class_coords(comps, ev, "cls_j"))
+        coords.update(_class_coords(ev, "cls_i"))
+        coords.update(_class_coords(ev, "cls_j"))
         data["efficiency"] = (dims + ("cls_i", "cls_j"), E.reshape(shape + E.shape[1:]),
                               _attrs("1", "coalescence efficiency",
                                      "sticking probability averaged over directions"))
     ds = xr.Dataset({k: xr.Variable(d_, v, a) for k, (d_, v, a) in data.items()},
                     coords=coords)
-    options = {"mix": comps[mix_i].name} if mix_i is not None else {}
+    options = {"mix": ev["names"][mix_i]} if mix_i is not None else {}
     ds.attrs.update(_bed_attrs(scene, comps, nodes, directions, call_text(
         "agglomtool.bed_sweep", axes, ("scene", "components"), **options, nodes=nodes,
-        directions=directions, matrix=bool(matrix)), grid=axes))
+        directions=directions, matrix=bool(matrix)), grid=axes, names=ev["names"]))
     if mix_i is not None:
-        ds.attrs["mix"] = comps[mix_i].name
+        ds.attrs["mix"] = ev["names"][mix_i]
     return ds
