@@ -45,7 +45,7 @@ def reference_pairs(scene, comps, directions, *, nodes=16, Umf, points=None,
             shape = (G, ia.size, ib.size, D)
             us = np.broadcast_to(us, shape)
             p = sticking_probability(r.speeds, us, r.collide, nodes=nodes, shape=shape,
-                                     collide_on=r.collide_on)
+                                     collide_on=r.collide_on, pair=r.sticking_pair)
             u_star[:, ia[:, None], ib[None, :], :] = us
             prob[:, ia[:, None], ib[None, :], :] = p
             if b != a:

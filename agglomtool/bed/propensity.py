@@ -338,7 +338,7 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
             shape = (gn, m.stop - m.start)
             us = np.broadcast_to(critical_outputs(r)["u_star"], shape)
             p = sticking_probability(r.speeds, us, r.collide, nodes=nodes, shape=shape,
-                                     collide_on=r.collide_on)
+                                     collide_on=r.collide_on, pair=r.sticking_pair)
             pm[:, first[m]] = p
             pm[:, mirror[m]] = p
             if pairs:
