@@ -1,111 +1,44 @@
 """Mode "auto": per collision, the cheapest tier whose error bound is within a tolerance.
 
-Three forms are candidates, in order of cost: the closed forms on the relative motion
-(:mod:`.relative`, ~0.1 us per collision), the same closed forms on pieces of each liquid
-stage (below, 0.25-0.5 us) and the integrated truth (:mod:`.ode`, ~2-3 us). The
-Ennis criterion (:mod:`.stokes`) is cheaper still but is never a candidate: against the
-integrated truth its error in ``e_w`` stays above 0.1 over most of the calibration set, even
-far above the critical speed (no capillary force, no volume correction, rupture at ``H0``);
-``benchmarks/fidelity.py`` reports it. Mode "paper" is not a candidate either: it costs as
-much as "relative" and is further from the truth wherever body forces act.
+Contract
+--------
+:func:`run_auto` takes the kernel inputs of :func:`~.paper.run_paper` and a tolerance
+``tol`` in ``e_w`` (default :data:`DEFAULT_TOL`, allowed 1e-6 to 0.5) and returns
+``(e_w, stage, path, det)`` like the other tiers (:func:`auto_batch` also returns the form
+used per collision; :func:`auto_fused` runs the same choice from the fused kernels' raw
+inputs, bitwise the same). For each collision the answer is that of the first candidate, in
+order of cost, whose error bound is within ``tol``:
 
-Error bound of the closed forms
--------------------------------
-The closed forms take each stage's viscous loss along the viscous-only speed history, while
-the capillary and body forces change that history. To first order the energy error of a
-stage is bounded by ``(c Delta / (m_r v_min)) |W_cons|``: its viscous number at the stage's
-lowest viscous-only speed ``v_min`` (the speed at its end) times the work ``W_cons`` of the
-capillary and body forces over it. Summed over approach and separation and divided by the
-initial relative kinetic energy this is ``eta`` [-]; the error of
-``e_w = sqrt(k_fin)`` then scales as ``g = eta / max(e_w, sqrt(eta))``. The bound used is
+1. the closed forms on the relative motion (:mod:`.relative`, ~0.1 us per collision): a
+   rebound is taken when ``CLOSED_FORM_BOUND * g <= tol`` and ``g <= G_MAX``, where ``g``
+   is the first-order error indicator of the closed forms (the viscous number of each
+   liquid stage at its lowest viscous-only speed times the work of the capillary and body
+   forces over it, summed and normalised by the initial relative kinetic energy ``eta``,
+   ``g = eta / max(e_w, sqrt(eta))``); a stick is taken when the closed forms still stick
+   at :data:`STICK_MARGIN` times the speed;
+2. the same closed forms on each liquid stage cut into ``n`` pieces of equal ``ln f``
+   (:data:`PIECES` in turn; 0.25-0.5 us), each piece re-anchored at the speed the previous
+   one left; taken when ``PIECEWISE_BOUND * g_n <= tol`` (``g_n <= G_MAX``) and every piece
+   is clear (its energy cannot come near 0 inside it), a stick when it holds at
+   :data:`PIECE_STICK_MARGIN` times the speed (not where viscosity alone stops the
+   separation against a body force pulling the pair apart: those go to "ode");
+3. otherwise the integrated truth (:mod:`.ode`, ~2-3 us) with :data:`ODE_STEPS`, at an
+   ``rtol`` chosen so that its error bound in ``k = e_w^2``, :data:`ODE_K_ERROR_PER_RTOL`
+   ``rtol``, is within ``tol^2`` (:func:`ode_rtol`; at most :data:`ODE_RTOL_MAX`),
+   stopping a separation as a stick as soon as the pair would stick even with that much
+   more energy (:func:`~.ode._must_stick`).
 
-``|e_w(relative) - e_w(ode)| <= CLOSED_FORM_BOUND * g``, trusted for ``g <= G_MAX``.
+The Ennis criterion (:mod:`.stokes`) and mode "paper" are never candidates (their errors
+against "ode" are reported by ``benchmarks/fidelity.py``).
 
-Where the closed forms say "stick", the pair is far enough below the critical speed when the
-closed forms still stick at ``STICK_MARGIN`` times the speed; then "ode" sticks too.
+The bounds are empirical: each constant below states the measured quantity it bounds and
+its safety factor. How they were measured (scenes, seeds, the figures, the cases where
+the estimates fail) is written up in ``benchmarks/results/auto_calibration.md``, also
+shown on the documentation's speed-against-error page (``docs/speed_vs_error.md``, "How
+mode auto's constants were measured"); ``benchmarks/calibrate_auto.py`` reproduces it.
 
-Piecewise closed forms
-----------------------
-Where that bound does not pass, each liquid stage (approach ``H0 -> Ha``, separation
-``Ha -> h_rupt``) is cut into ``n`` pieces and the same bookkeeping is applied on each
-piece from the speed the previous one left, so the viscous-only speed history is
-re-anchored at every boundary to the speed the capillary and body work have made. The
-pieces are of equal ``ln f`` (the distance function of :func:`~.bridge.ln_f`): then each
-has the same viscous number ``c Delta / n``, the factor the first-order error is linear
-in (pieces equal in ``ln D`` would spend most of themselves beyond ``D ~ a``, where
-``ln f`` is flat and nothing is lost to viscosity). The indicator is the same sum, over
-the pieces, of ``(c Delta_k / (m_r v_min,k)) |W_cons,k|``, normalised to ``g`` as above:
-it falls about as ``1 / n``. The rupture gap is Eq. 94's with ``Ca`` from the opening
-speed at contact, as in the whole-stage forms. One piece is the whole-stage forms,
-bitwise. The pieces stop the pair as those do (viscosity alone, or the energy spent at a
-piece's end); a piece whose energy may come near 0 inside it (neither its start less its
-losses nor its end less its gains exceeds the indicator so far) is not clear, and then no
-bound is claimed. Ladder: :data:`PIECES` in turn, the first whose bound
-``PIECEWISE_BOUND * g <= tol`` passes (``g <= G_MAX``), else "ode"; a count is skipped
-when ``PIECEWISE_BOUND`` times the whole stages' ``g`` exceeds ``n tol`` (the pieces
-divided ``g`` by at most about ``n``: at least 0.253 and 0.065 times it at 4 and 16 on
-the benchmark batch; this only saves time). A stick of the pieces is trusted when they
-still stick at :data:`PIECE_STICK_MARGIN` times the speed, neither time stopped by
-viscosity in the separation while the body force pulls the pair apart: there the
-integrated pair keeps moving under the body force, and such thresholds set a critical-
-speed error of 2.5 % however many pieces (measured), the others 1.6 % at 4 pieces and
-0.6 % at 16. A stick of the whole stages that viscosity alone stops in the separation
-while the body force pulls the pair apart, and that the stick margin does not confirm,
-goes to "ode" without trying the pieces: none of the 8157 such collisions of the
-benchmark batch was settled by them (a saving of time only; "ode" is always allowed).
-
-In the fused loop (:func:`auto_fused`) only the whole-stage forms are written into the
-loop body; the rest of the choice is a function call (:func:`_decide_beyond`). Most
-collisions stop at the whole stages, and a loop body that carried the ladder's code
-cost them about a fifth more time (measured).
-
-How the constants were measured
--------------------------------
-``benchmarks/calibrate_auto.py``: 400 random scenes (seed 20240611; diameters 0.2-3 mm, 15 %
-plates, densities 1000-5000 kg/m3, asperities 0.01-1 um, H0/Ha 1.2-500, viscosities
-1e-3-1e6 Pa s, surface tensions 0.02-0.5 N/m, contact angles 0-60 deg, e 0.3-1, beta 0-90
-deg, voidage 0.4-0.9, air at 25 or 800 C), 310 with a finite critical speed, each at 60
-speeds from 0.3 to 30 times its "ode" critical speed. Measured: the largest
-``|e_w(relative) - e_w(ode)| / g`` over the rebounds with ``g < 0.1`` was 0.119 (bins of
-``g`` from 1e-6 to 0.1 all gave 0.118-0.119; above ``g = 0.1`` up to 0.73); the largest
-ratio of the critical speeds ``u*(relative) / u*(ode)`` was 1.036. Re-run on the current
-property layer (314 scenes, 18840 collisions) the closed-form ratio reads 0.138 for
-``g < 1e-3`` (errors below 1.4e-4) and 0.115-0.122 from there to ``g = 0.1``: the bound
-below keeps a safety factor of at least 1.45.
-
-The piecewise closed forms, same scenes and collisions, over the rebounds whose pieces are
-clear: the largest ``|e_w(n pieces) - e_w(ode)| / g`` was 0.139, 0.150, 0.158, 0.167,
-0.174, 0.187 at 2, 3, 4, 6, 8, 16 pieces (0.199 at 32; every band of ``g`` from 1e-6 to
-1, the largest always at ``g < 1e-2``); 78 rebounds at 4 pieces and 17 at 16 were not
-clear. (With the clear test the whole stages' ratio above ``g = 0.1`` is 0.136 instead of
-0.40: the excess came from minima of the energy inside a stage.) The largest
-``u*(n pieces) / u*(ode)`` was 1.0250 at every count from 2 to 32 pieces, and, without
-the thresholds at a viscous stop against a pulling-apart body force (63-77 of the 314
-scenes), 1.0165, 1.0103, 1.0063 and 1.0037 at 4, 8, 16 and 32 pieces.
-
-The integrated tier inside "auto" runs with :data:`ODE_STEPS` (steps capped at 1 in
-``ln D``) and a stick stop (:func:`ode_options`): the separation ends as a stick as soon as
-the pair would stick even with :data:`ODE_K_ERROR_PER_RTOL` ``rtol`` more energy, by the
-capillary and body work left to the rupture gap or, where those forces pull the pair back
-all the way, by the bound on the speed they and viscosity leave (:func:`~.ode._must_stick`).
-A pair stopped there sticks in the exact integration too; it saves 3.1 of the 18.4 steps
-of a stick on the benchmark batch's integrated share (38 % of the sticks' steps on mixed
-pairs at 0.9-1.1 ``u0*``) and changes no other outcome (tested). Its error is measured in
-``k = e_w^2``, the quantity the integration controls: the largest ``|k - k(ode)| / rtol``
-against ``rtol = 1e-10`` was 2.3, 2.9 and 0.77 at ``rtol`` 1e-7, 1e-6 and 1e-5 (0.78 at
-1e-4, not used), with no outcome flipped (the same with the stick stop, 14.0 instead of
-14.5 steps per collision at 1e-5); on the fidelity suite 1.6, 1.3, 0.87; on the benchmark
-batch's integrated share (21 675 of 1e6 collisions) 0.94 at 1e-5 and 6.6 at 1e-6. Not
-everywhere: on a 2e5-collision batch drawn as the benchmark's, three slag rebounds
-(``e_w`` 0.15-0.31) erred by up to 378 ``rtol`` at 1e-5 (``e_w`` off by 0.006; a step of
-1 in ``ln D`` across their fast viscous decay fooled the estimate), but "auto" gives them
-to the whole-stage closed forms (its error there at most 1.2e-5, and within its reported
-bound on all 2e5); and at 1e-7 pairs whose energy dips to about 0 inside the bridge reach
-119 ``rtol`` (``e_w`` 0 against 0.0035), where the reference itself changes between stick
-and rebound with its tolerance. With mode "ode"'s own first step and no cap the ratio was
-90-190 on the calibration set: the error estimate of the embedded pair is only asymptotic
-and was fooled by steps of several units of ``ln D``, which put ``e_w`` off by up to 0.015
-at ``rtol = 1e-5`` just above the critical speed. The constants below add a safety factor to each.
+In the fused loop only the whole-stage forms are written into the loop body; the rest of
+the choice is a function call (:func:`_decide_beyond`), which keeps the common case fast.
 """
 
 from __future__ import annotations
@@ -176,9 +109,10 @@ __all__ = [
     "ode_options",
 ]
 
-#: Measured 0.119 (see the module docstring), with a safety factor 1.7.
+#: Measured 0.119 (``benchmarks/results/auto_calibration.md``), with a safety factor 1.7.
 CLOSED_FORM_BOUND = 0.2
-#: Largest ``g`` at which the closed-form bound is trusted (measured up to 0.1).
+#: Largest ``g`` at which the closed-form bound is trusted (measured up to 0.1:
+#: ``benchmarks/results/auto_calibration.md``).
 G_MAX = 0.05
 #: Measured largest ``u*(relative) / u*(ode)`` 1.036, with a safety factor ~2.6 on its log.
 STICK_MARGIN = 1.10
@@ -193,7 +127,8 @@ DEFAULT_TOL = 0.01
 #: error of 0.015 in ``e_w`` at ``rtol = 1e-5`` on the mixed benchmark batch).
 ODE_STEPS = dict(first_step=0.2, max_step=1.0, first_change=0.03)
 #: Bound of the error of "ode" (with :data:`ODE_STEPS`) in ``k = e_w^2`` per unit ``rtol``:
-#: measured at most 2.9 for rtol 1e-7 to 1e-5 (module docstring), with a safety factor 3.4.
+#: measured at most 2.9 for rtol 1e-7 to 1e-5 (``benchmarks/results/auto_calibration.md``),
+#: with a safety factor 3.4.
 ODE_K_ERROR_PER_RTOL = 10.0
 #: Largest integration tolerance used (the bound above is relied on from 1e-5 down; 1e-4
 #: was measured once, with the first step 0.1 and no rate limit, at 22 rtol).
@@ -204,11 +139,12 @@ TIER_RELATIVE, TIER_ODE = 1, 2
 #: on the benchmark batch (tol 0.01) 4 pieces take 8 % of the collisions, 16 pieces 4.5 %
 #: and leave 2.2 % to "ode" (14.7 % without the pieces); (8, 32) costs the same.
 PIECES = (4, 16)
-#: Measured at most 0.187 for 2 to 16 pieces (module docstring), safety factor 1.6.
+#: Measured at most 0.187 for 2 to 16 pieces (``benchmarks/results/auto_calibration.md``),
+#: safety factor 1.6.
 PIECEWISE_BOUND = 0.3
 #: Stick margins of the piecewise closed forms, per entry of :data:`PIECES`: measured
 #: ``u*(pieces) / u*(ode)`` at most 1.0165 (4) and 1.0063 (16) where the stick is trusted
-#: (module docstring), with safety factors 3.0 and 3.2 on the log.
+#: (``benchmarks/results/auto_calibration.md``), with safety factors 3.0 and 3.2 on the log.
 PIECE_STICK_MARGIN = (1.05, 1.02)
 
 _H_RUPT = DETAIL_NAMES.index("h_rupt")
@@ -482,7 +418,8 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
                      det):
     """One collision by the closed forms of :func:`~.relative.relative_kernel` applied on
     ``n`` pieces of each liquid stage, each piece starting from the speed the previous one
-    left (module docstring, "Piecewise closed forms").
+    left (module docstring, item 2; ``benchmarks/results/auto_calibration.md``, "Piecewise
+    closed forms").
 
     Returns ``(e_w, stage, path, g, clear)`` with ``g`` the error indicator summed over
     the pieces (``inf`` where the pair sticks) and ``clear`` False where the energy inside
