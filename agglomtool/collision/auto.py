@@ -49,39 +49,7 @@ import numpy as np
 from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
-from ._codes import (
-    APP_EN,
-    APP_VIS,
-    CA,
-    CONTACT,
-    H_RUPT,
-    K_APP_I,
-    K_APP_J,
-    K_FIN_I,
-    K_FIN_J,
-    K_INI_I,
-    K_INI_J,
-    K_SEP_I,
-    K_SEP_J,
-    L_BDW_APP_I,
-    L_BDW_APP_J,
-    L_BDW_SEP_I,
-    L_BDW_SEP_J,
-    L_C,
-    L_CAP_APP,
-    L_CAP_SEP,
-    L_VIS_APP,
-    L_VIS_SEP,
-    P_BROKEN,
-    P_NO_BRIDGE,
-    REBOUND,
-    SEP_EN,
-    SEP_VIS,
-    ST_APP,
-    W_BODY,
-    W_CONTACT,
-    W_VOLCORR,
-)
+from . import _codes as codes
 from .bridge import bridge_volume, g_diff, g_diff_s, gap_parts, ln_f_diff
 from .fused import (
     BLOCK,
@@ -197,8 +165,8 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
     the indicator. Bitwise the same ``(e_w, stage, path, g)`` (tested)."""
     if not H0 > Ha:
         if e > 0.0:
-            return e, REBOUND, P_NO_BRIDGE, 0.0
-        return 0.0, CONTACT, P_NO_BRIDGE, 0.0
+            return e, codes.REBOUND, codes.P_NO_BRIDGE, 0.0
+        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0.0
     return _whole_at(w, e, theta, mu_l, gamma,
                      _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
 
@@ -233,13 +201,13 @@ def _whole_at(w, e, theta, mu_l, gamma, parts):
     m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw, s_ha = parts[:14]
     k0 = 0.5 * m_r * w * w
     if not c_delta < m_r * w:
-        return 0.0, APP_VIS, 0, math.inf
+        return 0.0, codes.APP_VIS, 0, math.inf
     k_app = k0 - l_cap - _viscous_loss(w, m_r, c_delta) - l_bdw
     if not k_app > 0.0:
-        return 0.0, APP_EN, 0, math.inf
+        return 0.0, codes.APP_EN, 0, math.inf
     w_s = e * math.sqrt(2.0 * k_app / m_r)
     if not w_s > 0.0:
-        return 0.0, CONTACT, 0, math.inf
+        return 0.0, codes.CONTACT, 0, math.inf
     k_s = 0.5 * m_r * w_s * w_s
     # rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2)), cube root done once
     h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(mu_l * w_s / gamma)) * vol3
@@ -248,26 +216,26 @@ def _whole_at(w, e, theta, mu_l, gamma, parts):
     c_delta_s = 0.0
     l_cap_s = 0.0
     if not sep:
-        path |= P_BROKEN
+        path |= codes.P_BROKEN
         k_end = k_s
     else:
         s_hr, k_hr, v_hr = gap_parts(h_rupt, a2)
         c_delta_s = c * ((v_hr - v_ha) + (k_ha - k_hr) * _LN4)  # c * ln_f_diff(Ha, h_rupt)
         l_cap_s = kcap * g_diff_s(Ha, s_ha, h_rupt, s_hr, a2)
         if not c_delta_s < m_r * w_s:
-            return 0.0, SEP_VIS, path, math.inf
+            return 0.0, codes.SEP_VIS, path, math.inf
         k_end = k_s - l_cap_s - _viscous_loss(w_s, m_r, c_delta_s) - f_b * (h_rupt - Ha)
         if not k_end > 0.0:
-            return 0.0, SEP_EN, path, math.inf
+            return 0.0, codes.SEP_EN, path, math.inf
     ew = math.sqrt(k_end / k0)
     if not ew > 0.0:
-        return 0.0, SEP_EN, path, math.inf
+        return 0.0, codes.SEP_EN, path, math.inf
     eta = c_delta / (m_r * (w - c_delta / m_r)) * (abs(l_cap) + abs(f_b) * (H0 - Ha))
     if sep:
         eta += c_delta_s / (m_r * (w_s - c_delta_s / m_r)) * (abs(l_cap_s)
                                                               + abs(f_b) * (h_rupt - Ha))
     eta /= k0
-    return ew, REBOUND, path, eta / max(ew, math.sqrt(eta))
+    return ew, codes.REBOUND, path, eta / max(ew, math.sqrt(eta))
 
 
 _LN4 = math.log(4.0)
@@ -435,11 +403,11 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
             for q in range(det.shape[0]):
                 det[q] = nan
             m_r, _, _ = reduced_mass(m_i, m_j)
-            det[W_CONTACT] = w
-            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+            det[codes.W_CONTACT] = w
+            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
-            return e, REBOUND, P_NO_BRIDGE, 0.0, True
-        return 0.0, CONTACT, P_NO_BRIDGE, 0.0, True
+            return e, codes.REBOUND, codes.P_NO_BRIDGE, 0.0, True
+        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0.0, True
     return _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det,
                       _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
 
@@ -459,47 +427,47 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
     k0 = 0.5 * m_r * w * w
     h_rupt = nan
     if want:
-        det[K_INI_I] = frac_j * k0
-        det[K_INI_J] = frac_i * k0
-        det[ST_APP] = m_r * w / c
+        det[codes.K_INI_I] = frac_j * k0
+        det[codes.K_INI_J] = frac_i * k0
+        det[codes.ST_APP] = m_r * w / c
     k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(
         k0, w, H0, Ha, a2, m_r, c, kcap, f_b, n, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha, a,
         indicator)
     if want:
-        det[L_CAP_APP] = l_cap
-        det[L_BDW_APP_I] = frac_j * l_bdw
-        det[L_BDW_APP_J] = frac_i * l_bdw
+        det[codes.L_CAP_APP] = l_cap
+        det[codes.L_BDW_APP_I] = frac_j * l_bdw
+        det[codes.L_BDW_APP_J] = frac_i * l_bdw
         if code != 1:
-            det[L_VIS_APP] = l_vis
-    stage = REBOUND
+            det[codes.L_VIS_APP] = l_vis
+    stage = codes.REBOUND
     path = 0
     k_end = 0.0
     if code == 1:
-        stage = APP_VIS
+        stage = codes.APP_VIS
     elif code == 2:
-        stage = APP_EN
+        stage = codes.APP_EN
     else:
         w_c = math.sqrt(2.0 * k_app / m_r)
         w_s = e * w_c
         if want:
-            det[K_APP_I] = frac_j * k_app
-            det[K_APP_J] = frac_i * k_app
-            det[W_CONTACT] = w_c
-            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+            det[codes.K_APP_I] = frac_j * k_app
+            det[codes.K_APP_J] = frac_i * k_app
+            det[codes.W_CONTACT] = w_c
+            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
         if not w_s > 0.0:
-            stage = CONTACT
+            stage = codes.CONTACT
         else:
             k_s = 0.5 * m_r * w_s * w_s
             ca = mu_l * w_s / gamma
             # rupture_distance(theta, ca, bridge_volume(r, a2)), its cube root done once
             h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * vol3
             if want:
-                det[K_SEP_I] = frac_j * k_s
-                det[K_SEP_J] = frac_i * k_s
-                det[CA] = ca
-                det[H_RUPT] = h_rupt
+                det[codes.K_SEP_I] = frac_j * k_s
+                det[codes.K_SEP_J] = frac_i * k_s
+                det[codes.CA] = ca
+                det[codes.H_RUPT] = h_rupt
             if not h_rupt > Ha:
-                path |= P_BROKEN
+                path |= codes.P_BROKEN
                 k_end = k_s
             else:
                 s_hr, k_hr, v_hr = gap_parts(h_rupt, a2)
@@ -509,29 +477,29 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
                 eta = eta + eta_s
                 clear = clear and clear_s
                 if want:
-                    det[L_CAP_SEP] = l_cap
-                    det[L_BDW_SEP_I] = frac_j * l_bdw
-                    det[L_BDW_SEP_J] = frac_i * l_bdw
+                    det[codes.L_CAP_SEP] = l_cap
+                    det[codes.L_BDW_SEP_I] = frac_j * l_bdw
+                    det[codes.L_BDW_SEP_J] = frac_i * l_bdw
                     if code != 1:
-                        det[L_VIS_SEP] = l_vis
+                        det[codes.L_VIS_SEP] = l_vis
                 if code == 1:
-                    stage = SEP_VIS
+                    stage = codes.SEP_VIS
                 elif code == 2:
-                    stage = SEP_EN
-            if stage == REBOUND and want:
-                det[K_FIN_I] = frac_j * k_end
-                det[K_FIN_J] = frac_i * k_end
+                    stage = codes.SEP_EN
+            if stage == codes.REBOUND and want:
+                det[codes.K_FIN_I] = frac_j * k_end
+                det[codes.K_FIN_J] = frac_i * k_end
     if want:
         body, vol = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
-        det[W_BODY] = body
-        det[W_VOLCORR] = vol
-    if stage != REBOUND:
+        det[codes.W_BODY] = body
+        det[codes.W_VOLCORR] = vol
+    if stage != codes.REBOUND:
         return 0.0, stage, path, math.inf, False
     ew = math.sqrt(k_end / k0)
     if not ew > 0.0:
-        return 0.0, SEP_EN, path, math.inf, False
+        return 0.0, codes.SEP_EN, path, math.inf, False
     eta /= k0
-    return ew, REBOUND, path, eta / max(ew, math.sqrt(eta)), clear
+    return ew, codes.REBOUND, path, eta / max(ew, math.sqrt(eta)), clear
 
 
 @njit(parallel=True, cache=CACHE)
@@ -583,8 +551,8 @@ def _decide_inline(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j
     (:func:`_decide_beyond`, 15 % of the collisions on the benchmark batch) called."""
     if not H0 > Ha:
         if e > 0.0:
-            return e, REBOUND, P_NO_BRIDGE, 1, 0.0
-        return 0.0, CONTACT, P_NO_BRIDGE, 1, 0.0
+            return e, codes.REBOUND, codes.P_NO_BRIDGE, 1, 0.0
+        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 1, 0.0
     # closed_form_indicator_lean, its speed-independent part kept for a second speed
     whole = _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j)
     ew, st, pa, g = _whole_at(w, e, theta, mu_l, gamma, whole)
@@ -607,7 +575,7 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
         if not ew2 > 0.0:
             return ew, st, pa, 1, 0.0
     assisted = whole[4] < 0.0  # the relative body force pulls the pair apart
-    if st == SEP_VIS and assisted:
+    if st == codes.SEP_VIS and assisted:
         # Viscosity alone stopped the whole stages in the separation against a body force
         # that pulls the pair apart: the pieces' stick is not trusted there (below), and on
         # the benchmark batch none of these 8157 collisions (0.8 %) was decided by the
@@ -628,7 +596,7 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
             # the whole stages became a rebound of the pieces with a passing bound).
             ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
                                            empty, parts, False)
-            if ew2 > 0.0 or (st2 == SEP_VIS and assisted):
+            if ew2 > 0.0 or (st2 == codes.SEP_VIS and assisted):
                 continue
         ew_n, st_n, pa_n, g_n, clear = _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, empty,
                                                   parts)
@@ -636,7 +604,7 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
             b = PIECEWISE_BOUND * g_n
             if clear and g_n <= G_MAX and b <= tol:
                 return ew_n, st_n, pa_n, n, b
-        elif not (st_n == SEP_VIS and assisted):
+        elif not (st_n == codes.SEP_VIS and assisted):
             # A stick, trusted if the pieces still stick at the margin's speed, neither
             # time stopped by viscosity while the body force pulls the pair apart (then
             # the integrated pair keeps moving: such thresholds set the measured u* error
@@ -645,7 +613,7 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
                 return ew_n, st_n, pa_n, n, 0.0
             ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
                                            empty, parts, False)
-            if not ew2 > 0.0 and not (st2 == SEP_VIS and assisted):
+            if not ew2 > 0.0 and not (st2 == codes.SEP_VIS and assisted):
                 return ew_n, st_n, pa_n, n, 0.0
     return ew, st, pa, 0, 0.0
 
