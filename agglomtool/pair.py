@@ -170,7 +170,7 @@ def check_pair(p_i, p_j) -> None:
     elif d_i.max() < math.inf or d_j.max() < math.inf:
         both = False  # one side holds no plate at all (two reductions, no mask)
     else:
-        both = np.any(np.isinf(d_i) & np.isinf(d_j))
+        both = bool(np.any(np.isinf(d_i) & np.isinf(d_j)))
     if both:
         raise ValueError("p_i and p_j are both plates (d = inf); at most one may be")
 
@@ -243,9 +243,9 @@ def prepare_pair(
         m_i, m_j, r, p_i.h0 + p_j.h0, p_i.ha + p_j.ha, liquid.mu, liquid.gamma, np.cos(theta),
         theta, e, fn_i, fn_j, w_per_u0, U_e,
     )
-    fields = tuple(np.asarray(a, dtype=np.float64) for a in fields)
-    shape = np.broadcast_shapes(*(a.shape for a in fields))
-    return PairState(shape, *fields)
+    arrays = tuple(np.asarray(a, dtype=np.float64) for a in fields)
+    shape = np.broadcast_shapes(*(a.shape for a in arrays))
+    return PairState(shape, *arrays)
 
 
 def flatten(state: PairState, shape=None) -> PairState:

@@ -46,6 +46,7 @@ velocity of the drag and the speed distribution.
 from __future__ import annotations
 
 import math
+from typing import cast
 
 import numpy as np
 import xarray as xr
@@ -508,7 +509,7 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     coords = {}
     for k in names:
         if k == "fraction":
-            attrs = _attrs("1", f"mass fraction of {comps[mix_i].name} in the bed")
+            attrs = _attrs("1", f"mass fraction of {comps[cast(int, mix_i)].name} in the bed")
         else:
             attrs = _attrs(*FIELD_META[k])
         coords[k] = xr.DataArray(axes[k], dims=[k], attrs=attrs)

@@ -40,10 +40,7 @@ EPS_SWITCH = 0.8
 #: larger ``U_mf`` (the paper's Section 3.1 choice).
 U_E_PER_UMF = 1.1
 
-_JIT = dict(cache=CACHE, error_model="numpy")
-
-
-@njit(**_JIT)
+@njit(cache=CACHE, error_model="numpy")
 def wet_mass(d, rho, h0, rho_l):
     """Mass of a coated sphere [kg] (Eqs. 32-33): diameter ``d`` [m], density ``rho``
     [kg/m3], coating ``h0`` [m] of density ``rho_l`` [kg/m3]; ``inf`` for a plate
@@ -62,7 +59,7 @@ def wet_mass(d, rho, h0, rho_l):
     return math.inf if plate else m
 
 
-@njit(**_JIT)
+@njit(cache=CACHE, error_model="numpy")
 def umf_wen_yu(d, rho_p, mu_g, rho_g, c1, c2):
     """Minimum fluidization velocity [m/s] of spheres of diameter ``d`` [m] and density
     ``rho_p`` [kg/m3] in a gas of viscosity ``mu_g`` [Pa s] and density ``rho_g`` [kg/m3],
@@ -78,7 +75,7 @@ def umf_wen_yu(d, rho_p, mu_g, rho_g, c1, c2):
     return re_mf * mu_g / (rho_g * d)
 
 
-@njit(**_JIT)
+@njit(cache=CACHE, error_model="numpy")
 def wet_umf(d, h0, m, mu_g, rho_g, c1, c2):
     """:func:`umf_wen_yu` [m/s] of a coated sphere: its wet diameter ``d + 2 h0`` and its
     mean density, wet mass ``m`` [kg] over wet volume; 0 for a plate (``d = inf``), which
@@ -94,7 +91,7 @@ def wet_umf(d, h0, m, mu_g, rho_g, c1, c2):
     return 0.0 if plate else u
 
 
-@njit(**_JIT)
+@njit(cache=CACHE, error_model="numpy")
 def drag_gidaspow(slip, d, volume, eps, mu_g, rho_g):
     """Gidaspow's drag on one particle along the slip velocity [N] (signed like ``slip``
     [m/s]): diameter ``d`` [m] and volume ``volume`` [m3] of the wet particle, voidage

@@ -14,6 +14,7 @@ seed gives the same draws on both paths.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -174,7 +175,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
                      if f not in before and f not in findings]
         out = _map_outputs(base, drawn, nodes)
         e_w[sl], propensity[sl], u_star[sl] = out["e_w"], out["propensity"], out["u_star"]
-        if keep_samples:
+        if stage is not None:  # keep_samples
             stage[sl] = out["stage"]
             for k in ("e", "ha_i", "ha_j", "theta_deg", "fluctuation_ratio"):
                 if k in drawn and k not in fields:
@@ -217,7 +218,8 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
         for name, x in scene_values.items():
             unit, long_name = FIELD_META[name]
             ds[name] = ("sample", x, _attrs(unit, long_name + " (from the assumed draws)"))
-    set_by_draws = set(fields) | set(scene_fields(base, {k: 0.0 for k in assumed}))
+    zeros: dict[str, Any] = {k: 0.0 for k in assumed}
+    set_by_draws = set(fields) | set(scene_fields(base, zeros))
     prov = {f"provenance: {k}": f"{v} {u}; {o}; {c}"
             for k, (v, u, o, c) in provenance(base).items() if k not in set_by_draws}
     ds.attrs.update(
