@@ -1,4 +1,4 @@
-"""One source for each piece of pair physics (issue 25).
+"""One source for each piece of pair physics.
 
 The Wen-Yu ``U_mf``, Gidaspow's drag, the wet mass and the paper's ``U_e = 1.1 U_mf`` are
 each written once, as compiled scalar functions of :mod:`agglomtool.collision.physics`, and

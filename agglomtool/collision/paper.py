@@ -200,19 +200,21 @@ def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c,
     else:
         f_lo = _running_energy(d_i, d_start, start_kind, start_val, k, share, v, m, force, c,
                                kcap, a2)
-    return _narrow(lo, f_lo, hi, f_hi, d_start, s_start, start_kind, start_val, k, share, v, m,
-                   force, c, kcap, a2)
+    return _narrow(lo, f_lo, hi, f_hi, (d_start, s_start, start_kind, start_val, k, share, v,
+                                        m, force, c, kcap, a2))
 
 
 @njit(cache=CACHE)
-def _narrow(lo, f_lo, hi, f_hi, d_start, s_start, start_kind, start_val, k, share, v, m,
-            force, c, kcap, a2):
+def _narrow(lo, f_lo, hi, f_hi, energy):
     """The zero of the running energy (:func:`_running_energy`, evaluated as
     :func:`_cap_vis` gives its terms) in the bracket ``[lo, hi]`` with ``E(lo) = f_lo > 0``
     and ``E(hi) = f_hi <= 0``: the Illinois variant of regula falsi, to a relative width of
     1e-12. Every iterate stays inside the bracket and the loop is capped at 100 steps: it
-    cannot run away. Returns the bracket's end where ``E <= 0``. Shared by
-    :func:`_first_zero` and its reference :func:`_first_zero_scan`."""
+    cannot run away. Returns the bracket's end where ``E <= 0``. ``energy`` holds the
+    running energy's parameters, ``(d_start, s_start, start_kind, start_val, k, share, v, m,
+    force, c, kcap, a2)`` (:func:`_first_zero`'s, and ``s_start = sqrt(d_start^2 + a^2)``).
+    Shared by :func:`_first_zero` and its reference :func:`_first_zero_scan`."""
+    d_start, s_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2 = energy
     side = 0
     for _ in range(100):
         if abs(hi - lo) <= 1e-12 * max(abs(hi), abs(lo)) or f_hi == 0.0:
@@ -357,8 +359,9 @@ def _first_zero_scan(d_start, d_end, start_kind, start_val, k, share, v, m, forc
             hi, f_hi = d, f_d
             break
         lo, f_lo = d, f_d
-    return _narrow(lo, f_lo, hi, f_hi, d_start, math.sqrt(d_start * d_start + a2), start_kind,
-                   start_val, k, share, v, m, force, c, kcap, a2)
+    s_start = math.sqrt(d_start * d_start + a2)
+    return _narrow(lo, f_lo, hi, f_hi, (d_start, s_start, start_kind, start_val, k, share, v,
+                                        m, force, c, kcap, a2))
 
 
 @njit(cache=CACHE, inline="always")
