@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Mapping
+from typing import Any
 
 from ._fields import CATEGORICAL_FIELDS, CHOICES, DEFAULTS, DERIVED, FIELD_META, short_unit
 from ._version import __version__
@@ -193,8 +195,8 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
     cfg = load_compare_config(args.config)
     n = args.n if args.n is not None else cfg.n
-    ds = compare(cfg.scene, uncertain=cfg.uncertain, n=n, seed=cfg.seed,
-                 **{cfg.field: cfg.options})
+    options: dict[str, Any] = {cfg.field: cfg.options}
+    ds = compare(cfg.scene, uncertain=cfg.uncertain, n=n, seed=cfg.seed, **options)
     q = ds.propensity_quantile
     what = ("the values the database assumes" if cfg.uncertain == "assumed"
             else ds.attrs["uncertain_inputs"])
@@ -295,7 +297,7 @@ def _assumed_lines(scene) -> list[str]:
         if a.field.startswith("composition_wt "):  # one line for the whole composition
             if a.entry not in said:
                 said.add(a.entry)
-                wt = materials.liquid_entry(a.entry).composition_wt or {}
+                wt: Mapping[str, float] = materials.liquid_entry(a.entry).composition_wt or {}
                 lo, hi = a.law.params
                 out.append(f"  {a.entry} composition_wt = "
                            + ", ".join(f"{k} {w:g}" for k, w in wt.items())
@@ -410,7 +412,8 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
                         help=strict_help)
     sub = parser.add_subparsers(dest="command", required=True)
     _add_parser = sub.add_parser
-    sub.add_parser = lambda *a, **kw: _add_parser(*a, parents=[common], **kw)
+    # every subcommand takes the common options  # mypy: patching the bound method
+    sub.add_parser = lambda *a, **kw: _add_parser(*a, parents=[common], **kw)  # type: ignore[method-assign]
     ref = sub.add_parser(
         "reference",
         help="the paper's reference cases (water, slag): critical impact speed and e_w",

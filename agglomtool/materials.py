@@ -37,6 +37,7 @@ from functools import cache
 from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
+from typing import Any, cast
 
 from .inputs import Liquid, Particle
 
@@ -400,7 +401,7 @@ def _gas(ctx, entry) -> GasEntry:
     )
 
 
-_BUILDERS = {"solid": _solid, "liquid": _liquid, "gas": _gas}
+_BUILDERS: dict[str, Any] = {"solid": _solid, "liquid": _liquid, "gas": _gas}
 
 #: What a normalised entry name may hold (see :func:`_key`).
 _NAME = re.compile(r"[a-z0-9][a-z0-9.+()-]*")
@@ -500,7 +501,7 @@ def _dirs(extra_dirs) -> list[Path]:
 def _state(dirs: tuple[Path, ...]) -> tuple:
     """The TOML files of ``dirs`` with their modification times and sizes: a file edited,
     added or removed gives another state, so :func:`_load` reads the files again."""
-    out = []
+    out: list[tuple[str, int | None, int | None]] = []
     for d in dirs:
         for path in sorted(d.glob("*.toml")):
             try:
@@ -513,7 +514,7 @@ def _state(dirs: tuple[Path, ...]) -> tuple:
 
 @cache
 def _load(dirs: tuple[Path, ...], state: tuple = ()) -> MappingProxyType:
-    merged: dict[str, dict[str, object]] = {k: {} for k in KINDS}
+    merged: dict[str, dict[str, Any]] = {k: {} for k in KINDS}
     for d in dirs:
         for path in sorted(d.glob("*.toml")):
             for kind, entries in load_file(path).items():
@@ -632,7 +633,9 @@ def liquid(name: str, T=None, *, P=101325.0, theta_deg=None, extra_dirs=None,
     theta = entry.theta_deg if theta_deg is None else theta_deg
     label = f"{entry.name} ({entry.file})"
     if entry.model == "fixed":
-        return Liquid(mu=entry.mu, gamma=entry.gamma, rho=entry.rho, theta_deg=theta,
+        # A fixed entry has its three values (the loader requires them).
+        return Liquid(mu=cast(float, entry.mu), gamma=cast(float, entry.gamma),
+                      rho=cast(float, entry.rho), theta_deg=theta,
                       name=entry.name, source=f"fixed values: {entry.source}")
     if T is None:
         raise ValueError(f"liquid {label} depends on temperature: pass T [K]")
@@ -643,7 +646,7 @@ def liquid(name: str, T=None, *, P=101325.0, theta_deg=None, extra_dirs=None,
     from .properties.melt import melt_liquid
 
     return melt_liquid(
-        dict(entry.composition_wt), T, theta_deg=theta,
+        dict(cast(MappingProxyType, entry.composition_wt)), T, theta_deg=theta,
         viscosity_model=viscosity_model or entry.viscosity_model, name=entry.name,
     )
 

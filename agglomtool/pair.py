@@ -15,11 +15,16 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import vectorize
 
+from ._jit import CACHE
 from ._validate import as_float_array, check_range
+from .collision.physics import U_E_PER_UMF, WEN_YU_C1, WEN_YU_C2
+from .collision.physics import wet_mass as _wet_mass_scalar
+from .collision.physics import wet_umf as _wet_umf_scalar
 from .constants import GRAVITY
 from .inputs import Bed, Gas, Liquid, Particle
-from .properties import drag_force_gidaspow, umf_wen_yu
+from .properties import drag_force_gidaspow
 
 __all__ = [
     "PairState",
@@ -57,46 +62,44 @@ class PairState:
     U_e: np.ndarray
 
 
+@vectorize(["float64(float64, float64, float64, float64)"], cache=CACHE)
+def _wet_mass_ufunc(d, rho, h0, rho_l):
+    return _wet_mass_scalar(d, rho, h0, rho_l)
+
+
+@vectorize(["float64(float64, float64, float64, float64, float64, float64, float64)"],
+           cache=CACHE)
+def _wet_umf_ufunc(d, h0, m, mu_g, rho_g, c1, c2):
+    return _wet_umf_scalar(d, h0, m, mu_g, rho_g, c1, c2)
+
+
 def wet_mass(p: Particle, rho_l) -> np.ndarray:
     """Mass of a coated particle [kg] (Eqs. 32-33); ``inf`` for a plate.
 
-    The coating volume ``(4/3) pi ((r + h0)^3 - r^3)`` is written as
-    ``(4/3) pi h0 (3 r^2 + 3 r h0 + h0^2)``: no cancellation for thin coatings.
+    :func:`agglomtool.collision.physics.wet_mass` over the broadcast arrays (the coating
+    volume written without cancellation for thin coatings).
     """
-    r = 0.5 * p.d
-    plate = np.isinf(r)
-    r_f = np.where(plate, 1.0, r)
-    solid = p.rho * r_f**3
-    shell = rho_l * p.h0 * (3.0 * r_f * r_f + 3.0 * r_f * p.h0 + p.h0 * p.h0)
-    return np.where(plate, np.inf, (4.0 / 3.0) * np.pi * (solid + shell))
+    return np.asarray(_wet_mass_ufunc(p.d, p.rho, p.h0, rho_l))
 
 
 def _wet_volume_and_diameter(p: Particle):
     d_wet = p.d + 2.0 * p.h0
-    return (np.pi / 6.0) * d_wet**3, d_wet
+    return (np.pi / 6.0) * (d_wet * d_wet * d_wet), d_wet
 
 
 def emulsion_velocity(p_i, p_j, liquid, gas, bed) -> np.ndarray:
     """Emulsion superficial gas velocity [m/s]: ``bed.U``, or 1.1 x the larger Wen-Yu
-    ``U_mf`` of the pair (the paper's Section 3.1 choice), a plate not counting.
+    ``U_mf`` of the pair (the paper's Section 3.1 choice,
+    :data:`agglomtool.collision.physics.U_E_PER_UMF`), a plate not counting.
 
     ``U_mf`` uses the wet diameter and the wet particle's mean density (not stated
-    in the paper; immaterial at its coatings).
+    in the paper; immaterial at its coatings): :func:`agglomtool.collision.physics.wet_umf`.
     """
     if bed.U is not None:
         return np.asarray(bed.U, dtype=float)
-    umfs = []
-    for p in (p_i, p_j):
-        vol, d_wet = _wet_volume_and_diameter(p)
-        plate = np.isinf(p.d)
-        # A plate has no Umf: finite stand-ins (1 mm, 1000 x the gas density) keep the
-        # arithmetic clean, and its value is replaced by 0 below.
-        d_f = np.where(plate, 1e-3, d_wet)
-        mass = np.where(plate, 1.0, wet_mass(p, liquid.rho))
-        rho_p = np.where(plate, 1e3 * gas.rho, mass / np.where(plate, 1.0, vol))
-        umf = umf_wen_yu(d_f, rho_p, gas.mu, gas.rho)
-        umfs.append(np.where(plate, 0.0, umf))
-    return 1.1 * np.maximum(umfs[0], umfs[1])
+    umfs = [_wet_umf_ufunc(p.d, p.h0, wet_mass(p, liquid.rho), gas.mu, gas.rho, WEN_YU_C1,
+                           WEN_YU_C2) for p in (p_i, p_j)]
+    return np.asarray(U_E_PER_UMF * np.maximum(umfs[0], umfs[1]))
 
 
 def body_force_vector(p: Particle, m, liquid, gas, bed, U_e, u_vec, drag_slip):
@@ -167,7 +170,7 @@ def check_pair(p_i, p_j) -> None:
     elif d_i.max() < math.inf or d_j.max() < math.inf:
         both = False  # one side holds no plate at all (two reductions, no mask)
     else:
-        both = np.any(np.isinf(d_i) & np.isinf(d_j))
+        both = bool(np.any(np.isinf(d_i) & np.isinf(d_j)))
     if both:
         raise ValueError("p_i and p_j are both plates (d = inf); at most one may be")
 
@@ -240,9 +243,9 @@ def prepare_pair(
         m_i, m_j, r, p_i.h0 + p_j.h0, p_i.ha + p_j.ha, liquid.mu, liquid.gamma, np.cos(theta),
         theta, e, fn_i, fn_j, w_per_u0, U_e,
     )
-    fields = tuple(np.asarray(a, dtype=np.float64) for a in fields)
-    shape = np.broadcast_shapes(*(a.shape for a in fields))
-    return PairState(shape, *fields)
+    arrays = tuple(np.asarray(a, dtype=np.float64) for a in fields)
+    shape = np.broadcast_shapes(*(a.shape for a in arrays))
+    return PairState(shape, *arrays)
 
 
 def flatten(state: PairState, shape=None) -> PairState:

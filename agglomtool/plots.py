@@ -18,6 +18,7 @@ from __future__ import annotations
 import json
 import textwrap
 from dataclasses import dataclass, field
+from typing import Any, cast
 
 import numpy as np
 import xarray as xr
@@ -135,7 +136,7 @@ def plan_layout(ds: xr.Dataset, var: str = "propensity", *, x=None, y=None, col=
     """
     if var not in ds:
         raise ValueError(f"{var!r} is not a variable of the map; variables: "
-                         f"{sorted(ds.data_vars)}")
+                         f"{sorted(map(str, ds.data_vars))}")
     sel = dict(sel or {})
     for name, value in (("x", x), ("y", y), ("col", col), ("row", row)):
         if value is not None and value not in ds[var].dims:
@@ -272,7 +273,8 @@ class _Axis:
             self.order = np.arange(values.size)
             self.pos = np.arange(values.size, dtype=float)
             self.edges = np.arange(values.size + 1) - 0.5
-            self.ticks = (self.pos, [str(v) for v in values])
+            self.ticks: tuple[np.ndarray, list[str]] | None = (self.pos,
+                                                               [str(v) for v in values])
             self.label = _wrap(coord.attrs.get("long_name", name), width)
             return
         scale, offset, unit = _DISPLAY.get(name, (1.0, 0.0, None))
@@ -398,7 +400,7 @@ def _fixed_items(ds, sub, scene) -> list[str]:
         if field_name in skip or not uses.get(field_name, True):
             continue
         if field_name == "h0" and bed and all(c.get("h0") is not None
-                                              for c in _components(ds)):
+                                              for c in _components(ds) or []):
             continue
         if value is None:
             if field_name in derived:
@@ -491,7 +493,7 @@ def _hatch_cells(ax, xa: _Axis, ya: _Axis, mask: np.ndarray, hatch: str) -> None
     y0, y1 = ya.edges[rows], ya.edges[rows + 1]
     verts = np.stack([np.stack([x0, y0], 1), np.stack([x1, y0], 1), np.stack([x1, y1], 1),
                       np.stack([x0, y1], 1)], axis=1)
-    pc = PolyCollection(verts, facecolors="none", edgecolors="0.55", linewidths=0.0,
+    pc = PolyCollection(cast(Any, verts), facecolors="none", edgecolors="0.55", linewidths=0.0,
                         hatch=hatch)
     pc.set_hatchcolor("0.55")  # visible on dark and pale colours alike
     ax.add_collection(pc)
@@ -716,7 +718,10 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
     robust_drawn = set()
 
     # colours: categories present, or the shown data's own range (none if one value)
-    norm, cmap, legend, note = None, None, [], None
+    norm: Any = None
+    cmap: Any = None
+    legend: list[Any] = []
+    note = None
     if cats is not None:
         codes = sorted(cats)
         present = [c for c in codes if np.any(z_all == c)]
@@ -751,8 +756,8 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
             idx = tuple(k for k, d in ((i, row), (j, col)) if d is not None)
             z = z_plot[idx]
             nd = {d: sub[d].values[k] for k, d in ((i, row), (j, col)) if d is not None}
-            if y is None:
-                zz = np.ma.filled(np.ma.asarray(z, dtype=float), np.nan)[xa.order]
+            if ya is None:  # y is None
+                zz: np.ndarray = np.ma.filled(np.ma.asarray(z, dtype=float), np.nan)[xa.order]
                 raw = z_all[idx][xa.order]
                 if note is not None and cats is None:  # one value or none: no y range
                     zz = np.where(np.ma.getmaskarray(z)[xa.order], np.nan, 0.5)
@@ -855,7 +860,7 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
     if contoured:
         _labels_inside(fig, axs)
     _place_texts(fig, axs, title, legend, notes)
-    fig.layout = layout
+    fig.layout = layout  # type: ignore[attr-defined]  # read by the CLI and the tests
     if path is not None:
         fig.savefig(path, dpi=150, bbox_inches="tight")
     return fig

@@ -20,6 +20,7 @@ import math
 import warnings
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
@@ -311,7 +312,7 @@ def _check_geometry(values: dict) -> None:
     a bed no deeper than its particles, a height of interest above the bed, fewer than one
     orifice: a ``ValueError`` naming the fields. (A model that ignores the geometry leaves
     it unchecked: a unit slip in ``d_i`` is then the plausibility check's to name.)"""
-    model = IMPACT_SPEED_MODELS.get(values.get("speed"))
+    model = IMPACT_SPEED_MODELS.get(values.get("speed") or "")
     if model is None or "height" not in model.needs:
         return
 
@@ -421,7 +422,7 @@ def provenance(values: dict) -> dict:
         out["theta_deg"] = (entry.theta_deg, "degree", *db(entry, "liquid", "theta_deg"))
     if entry.model == "melt" and "composition_wt" in entry.assumed:
         out["liquid composition"] = (", ".join(f"{k} {w:g}" for k, w in
-                                               entry.composition_wt.items()), "wt %",
+                                               (entry.composition_wt or {}).items()), "wt %",
                                      f"database: liquid {entry.name}.composition_wt",
                                      "assumed")
     return out
@@ -433,8 +434,9 @@ def assumed_inputs(values: dict) -> list[str]:
     si = materials.solid(str(values["solid_i"]))
     sj = materials.solid(str(values.get("solid_j") or values["solid_i"]))
     liquid = materials.liquid_entry(str(values["liquid"]))
-    overridden = {"asperity_height": ("ha_i", "ha_j"), "restitution_dry": ("e",),
-                  "theta_deg": ("theta_deg",)}
+    overridden: dict[str, tuple[Any, ...]] = {
+        "asperity_height": ("ha_i", "ha_j"), "restitution_dry": ("e",),
+        "theta_deg": ("theta_deg",)}
     shown = {"asperity_height": lambda x: f"{x * 1e6:g} um", "density": lambda x: f"{x:g} kg/m3",
              "theta_deg": lambda x: f"{x:g} deg"}
     out = []
@@ -635,7 +637,7 @@ class Resolved:
             raise ValueError(f"liquid {entry.name!r} at its drawn compositions: {exc}") from None
         theta = self.num("theta_deg", entry.theta_deg)
         return Liquid(mu=liq.mu, gamma=liq.gamma, rho=liq.rho, theta_deg=theta,
-                      name=entry.name, source=liq.source + " (at drawn compositions)")
+                      name=entry.name, source=f"{liq.source} (at drawn compositions)")
 
     # --- particles, fluidization, bed ----------------------------------------------------
     @cached_property

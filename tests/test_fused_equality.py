@@ -3,10 +3,11 @@
 The reference is the path ``collide`` took before the fusion: ``pair.prepare_pair`` (numpy)
 then the tier's batch runner on the flat arrays. Stated bounds:
 
-- the prepared numbers agree to a relative 1e-12 (powers come from the C library in the
-  kernel and from numpy's vectorised ``power`` in the reference, at most an ulp apart); the
-  ones computed without a power (radius, gaps, contact angle, restitution, the speed) are
-  bitwise equal;
+- the prepared numbers agree to a relative 1e-12, the bound the kernels' callers rely on;
+  the ones computed without a power (radius, gaps, contact angle, restitution, the speed)
+  are bitwise equal here, and since the pair physics is written once
+  (``agglomtool.collision.physics``) the masses and body forces are bitwise equal as well
+  (``tests/test_one_source.py`` holds them to that);
 - given the same prepared numbers the kernels are the same compiled functions: the fused
   batch is bitwise equal to the batch runner on the compiled preparation, serial or parallel;
 - end to end: identical stage, path and stick/rebound outcome everywhere, bitwise equal

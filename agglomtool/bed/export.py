@@ -38,7 +38,7 @@ def _check(ds) -> None:
 
 def _matrix_dataset(ds: xr.Dataset) -> xr.Dataset:
     out = xr.Dataset({k: ds[k] for k in EXPORTED if k in ds})
-    keep = [c for c in out.coords if c.endswith(("cls_i", "cls_j"))]
+    keep = [c for c in out.coords if str(c).endswith(("cls_i", "cls_j"))]
     out = out.reset_coords(drop=True).assign_coords({c: ds[c] for c in keep})
     out.attrs.update({k: v for k, v in ds.attrs.items() if isinstance(v, str | int | float)})
     return out

@@ -341,7 +341,7 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
                                      collide_on=r.collide_on, pair=r.sticking_pair)
             pm[:, first[m]] = p
             pm[:, mirror[m]] = p
-            if pairs:
+            if um is not None:
                 um[:, first[m]] = us
                 um[:, mirror[m]] = us
         pm = pm.reshape(gn, K, K, D)

@@ -1,111 +1,44 @@
 """Mode "auto": per collision, the cheapest tier whose error bound is within a tolerance.
 
-Three forms are candidates, in order of cost: the closed forms on the relative motion
-(:mod:`.relative`, ~0.1 us per collision), the same closed forms on pieces of each liquid
-stage (below, 0.25-0.5 us) and the integrated truth (:mod:`.ode`, ~2-3 us). The
-Ennis criterion (:mod:`.stokes`) is cheaper still but is never a candidate: against the
-integrated truth its error in ``e_w`` stays above 0.1 over most of the calibration set, even
-far above the critical speed (no capillary force, no volume correction, rupture at ``H0``);
-``benchmarks/fidelity.py`` reports it. Mode "paper" is not a candidate either: it costs as
-much as "relative" and is further from the truth wherever body forces act.
+Contract
+--------
+:func:`run_auto` takes the kernel inputs of :func:`~.paper.run_paper` and a tolerance
+``tol`` in ``e_w`` (default :data:`DEFAULT_TOL`, allowed 1e-6 to 0.5) and returns
+``(e_w, stage, path, det)`` like the other tiers (:func:`auto_batch` also returns the form
+used per collision; :func:`auto_fused` runs the same choice from the fused kernels' raw
+inputs, bitwise the same). For each collision the answer is that of the first candidate, in
+order of cost, whose error bound is within ``tol``:
 
-Error bound of the closed forms
--------------------------------
-The closed forms take each stage's viscous loss along the viscous-only speed history, while
-the capillary and body forces change that history. To first order the energy error of a
-stage is bounded by ``(c Delta / (m_r v_min)) |W_cons|``: its viscous number at the stage's
-lowest viscous-only speed ``v_min`` (the speed at its end) times the work ``W_cons`` of the
-capillary and body forces over it. Summed over approach and separation and divided by the
-initial relative kinetic energy this is ``eta`` [-]; the error of
-``e_w = sqrt(k_fin)`` then scales as ``g = eta / max(e_w, sqrt(eta))``. The bound used is
+1. the closed forms on the relative motion (:mod:`.relative`, ~0.1 us per collision): a
+   rebound is taken when ``CLOSED_FORM_BOUND * g <= tol`` and ``g <= G_MAX``, where ``g``
+   is the first-order error indicator of the closed forms (the viscous number of each
+   liquid stage at its lowest viscous-only speed times the work of the capillary and body
+   forces over it, summed and normalised by the initial relative kinetic energy ``eta``,
+   ``g = eta / max(e_w, sqrt(eta))``); a stick is taken when the closed forms still stick
+   at :data:`STICK_MARGIN` times the speed;
+2. the same closed forms on each liquid stage cut into ``n`` pieces of equal ``ln f``
+   (:data:`PIECES` in turn; 0.25-0.5 us), each piece re-anchored at the speed the previous
+   one left; taken when ``PIECEWISE_BOUND * g_n <= tol`` (``g_n <= G_MAX``) and every piece
+   is clear (its energy cannot come near 0 inside it), a stick when it holds at
+   :data:`PIECE_STICK_MARGIN` times the speed (not where viscosity alone stops the
+   separation against a body force pulling the pair apart: those go to "ode");
+3. otherwise the integrated truth (:mod:`.ode`, ~2-3 us) with :data:`ODE_STEPS`, at an
+   ``rtol`` chosen so that its error bound in ``k = e_w^2``, :data:`ODE_K_ERROR_PER_RTOL`
+   ``rtol``, is within ``tol^2`` (:func:`ode_rtol`; at most :data:`ODE_RTOL_MAX`),
+   stopping a separation as a stick as soon as the pair would stick even with that much
+   more energy (:func:`~.ode._must_stick`).
 
-``|e_w(relative) - e_w(ode)| <= CLOSED_FORM_BOUND * g``, trusted for ``g <= G_MAX``.
+The Ennis criterion (:mod:`.stokes`) and mode "paper" are never candidates (their errors
+against "ode" are reported by ``benchmarks/fidelity.py``).
 
-Where the closed forms say "stick", the pair is far enough below the critical speed when the
-closed forms still stick at ``STICK_MARGIN`` times the speed; then "ode" sticks too.
+The bounds are empirical: each constant below states the measured quantity it bounds and
+its safety factor. How they were measured (scenes, seeds, the figures, the cases where
+the estimates fail) is written up in ``benchmarks/results/auto_calibration.md``, also
+shown on the documentation's speed-against-error page (``docs/speed_vs_error.md``, "How
+mode auto's constants were measured"); ``benchmarks/calibrate_auto.py`` reproduces it.
 
-Piecewise closed forms
-----------------------
-Where that bound does not pass, each liquid stage (approach ``H0 -> Ha``, separation
-``Ha -> h_rupt``) is cut into ``n`` pieces and the same bookkeeping is applied on each
-piece from the speed the previous one left, so the viscous-only speed history is
-re-anchored at every boundary to the speed the capillary and body work have made. The
-pieces are of equal ``ln f`` (the distance function of :func:`~.bridge.ln_f`): then each
-has the same viscous number ``c Delta / n``, the factor the first-order error is linear
-in (pieces equal in ``ln D`` would spend most of themselves beyond ``D ~ a``, where
-``ln f`` is flat and nothing is lost to viscosity). The indicator is the same sum, over
-the pieces, of ``(c Delta_k / (m_r v_min,k)) |W_cons,k|``, normalised to ``g`` as above:
-it falls about as ``1 / n``. The rupture gap is Eq. 94's with ``Ca`` from the opening
-speed at contact, as in the whole-stage forms. One piece is the whole-stage forms,
-bitwise. The pieces stop the pair as those do (viscosity alone, or the energy spent at a
-piece's end); a piece whose energy may come near 0 inside it (neither its start less its
-losses nor its end less its gains exceeds the indicator so far) is not clear, and then no
-bound is claimed. Ladder: :data:`PIECES` in turn, the first whose bound
-``PIECEWISE_BOUND * g <= tol`` passes (``g <= G_MAX``), else "ode"; a count is skipped
-when ``PIECEWISE_BOUND`` times the whole stages' ``g`` exceeds ``n tol`` (the pieces
-divided ``g`` by at most about ``n``: at least 0.253 and 0.065 times it at 4 and 16 on
-the benchmark batch; this only saves time). A stick of the pieces is trusted when they
-still stick at :data:`PIECE_STICK_MARGIN` times the speed, neither time stopped by
-viscosity in the separation while the body force pulls the pair apart: there the
-integrated pair keeps moving under the body force, and such thresholds set a critical-
-speed error of 2.5 % however many pieces (measured), the others 1.6 % at 4 pieces and
-0.6 % at 16. A stick of the whole stages that viscosity alone stops in the separation
-while the body force pulls the pair apart, and that the stick margin does not confirm,
-goes to "ode" without trying the pieces: none of the 8157 such collisions of the
-benchmark batch was settled by them (a saving of time only; "ode" is always allowed).
-
-In the fused loop (:func:`auto_fused`) only the whole-stage forms are written into the
-loop body; the rest of the choice is a function call (:func:`_decide_beyond`). Most
-collisions stop at the whole stages, and a loop body that carried the ladder's code
-cost them about a fifth more time (measured).
-
-How the constants were measured
--------------------------------
-``benchmarks/calibrate_auto.py``: 400 random scenes (seed 20240611; diameters 0.2-3 mm, 15 %
-plates, densities 1000-5000 kg/m3, asperities 0.01-1 um, H0/Ha 1.2-500, viscosities
-1e-3-1e6 Pa s, surface tensions 0.02-0.5 N/m, contact angles 0-60 deg, e 0.3-1, beta 0-90
-deg, voidage 0.4-0.9, air at 25 or 800 C), 310 with a finite critical speed, each at 60
-speeds from 0.3 to 30 times its "ode" critical speed. Measured: the largest
-``|e_w(relative) - e_w(ode)| / g`` over the rebounds with ``g < 0.1`` was 0.119 (bins of
-``g`` from 1e-6 to 0.1 all gave 0.118-0.119; above ``g = 0.1`` up to 0.73); the largest
-ratio of the critical speeds ``u*(relative) / u*(ode)`` was 1.036. Re-run on the current
-property layer (314 scenes, 18840 collisions) the closed-form ratio reads 0.138 for
-``g < 1e-3`` (errors below 1.4e-4) and 0.115-0.122 from there to ``g = 0.1``: the bound
-below keeps a safety factor of at least 1.45.
-
-The piecewise closed forms, same scenes and collisions, over the rebounds whose pieces are
-clear: the largest ``|e_w(n pieces) - e_w(ode)| / g`` was 0.139, 0.150, 0.158, 0.167,
-0.174, 0.187 at 2, 3, 4, 6, 8, 16 pieces (0.199 at 32; every band of ``g`` from 1e-6 to
-1, the largest always at ``g < 1e-2``); 78 rebounds at 4 pieces and 17 at 16 were not
-clear. (With the clear test the whole stages' ratio above ``g = 0.1`` is 0.136 instead of
-0.40: the excess came from minima of the energy inside a stage.) The largest
-``u*(n pieces) / u*(ode)`` was 1.0250 at every count from 2 to 32 pieces, and, without
-the thresholds at a viscous stop against a pulling-apart body force (63-77 of the 314
-scenes), 1.0165, 1.0103, 1.0063 and 1.0037 at 4, 8, 16 and 32 pieces.
-
-The integrated tier inside "auto" runs with :data:`ODE_STEPS` (steps capped at 1 in
-``ln D``) and a stick stop (:func:`ode_options`): the separation ends as a stick as soon as
-the pair would stick even with :data:`ODE_K_ERROR_PER_RTOL` ``rtol`` more energy, by the
-capillary and body work left to the rupture gap or, where those forces pull the pair back
-all the way, by the bound on the speed they and viscosity leave (:func:`~.ode._must_stick`).
-A pair stopped there sticks in the exact integration too; it saves 3.1 of the 18.4 steps
-of a stick on the benchmark batch's integrated share (38 % of the sticks' steps on mixed
-pairs at 0.9-1.1 ``u0*``) and changes no other outcome (tested). Its error is measured in
-``k = e_w^2``, the quantity the integration controls: the largest ``|k - k(ode)| / rtol``
-against ``rtol = 1e-10`` was 2.3, 2.9 and 0.77 at ``rtol`` 1e-7, 1e-6 and 1e-5 (0.78 at
-1e-4, not used), with no outcome flipped (the same with the stick stop, 14.0 instead of
-14.5 steps per collision at 1e-5); on the fidelity suite 1.6, 1.3, 0.87; on the benchmark
-batch's integrated share (21 675 of 1e6 collisions) 0.94 at 1e-5 and 6.6 at 1e-6. Not
-everywhere: on a 2e5-collision batch drawn as the benchmark's, three slag rebounds
-(``e_w`` 0.15-0.31) erred by up to 378 ``rtol`` at 1e-5 (``e_w`` off by 0.006; a step of
-1 in ``ln D`` across their fast viscous decay fooled the estimate), but "auto" gives them
-to the whole-stage closed forms (its error there at most 1.2e-5, and within its reported
-bound on all 2e5); and at 1e-7 pairs whose energy dips to about 0 inside the bridge reach
-119 ``rtol`` (``e_w`` 0 against 0.0035), where the reference itself changes between stick
-and rebound with its tolerance. With mode "ode"'s own first step and no cap the ratio was
-90-190 on the calibration set: the error estimate of the embedded pair is only asymptotic
-and was fooled by steps of several units of ``ln D``, which put ``e_w`` off by up to 0.015
-at ``rtol = 1e-5`` just above the critical speed. The constants below add a safety factor to each.
+In the fused loop only the whole-stage forms are written into the loop body; the rest of
+the choice is a function call (:func:`_decide_beyond`), which keeps the common case fast.
 """
 
 from __future__ import annotations
@@ -116,39 +49,7 @@ import numpy as np
 from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
-from ._codes import (
-    APP_EN,
-    APP_VIS,
-    CA,
-    CONTACT,
-    H_RUPT,
-    K_APP_I,
-    K_APP_J,
-    K_FIN_I,
-    K_FIN_J,
-    K_INI_I,
-    K_INI_J,
-    K_SEP_I,
-    K_SEP_J,
-    L_BDW_APP_I,
-    L_BDW_APP_J,
-    L_BDW_SEP_I,
-    L_BDW_SEP_J,
-    L_C,
-    L_CAP_APP,
-    L_CAP_SEP,
-    L_VIS_APP,
-    L_VIS_SEP,
-    P_BROKEN,
-    P_NO_BRIDGE,
-    REBOUND,
-    SEP_EN,
-    SEP_VIS,
-    ST_APP,
-    W_BODY,
-    W_CONTACT,
-    W_VOLCORR,
-)
+from . import _codes as codes
 from .bridge import bridge_volume, g_diff, g_diff_s, gap_parts, ln_f_diff
 from .fused import (
     BLOCK,
@@ -176,9 +77,10 @@ __all__ = [
     "ode_options",
 ]
 
-#: Measured 0.119 (see the module docstring), with a safety factor 1.7.
+#: Measured 0.119 (``benchmarks/results/auto_calibration.md``), with a safety factor 1.7.
 CLOSED_FORM_BOUND = 0.2
-#: Largest ``g`` at which the closed-form bound is trusted (measured up to 0.1).
+#: Largest ``g`` at which the closed-form bound is trusted (measured up to 0.1:
+#: ``benchmarks/results/auto_calibration.md``).
 G_MAX = 0.05
 #: Measured largest ``u*(relative) / u*(ode)`` 1.036, with a safety factor ~2.6 on its log.
 STICK_MARGIN = 1.10
@@ -193,7 +95,8 @@ DEFAULT_TOL = 0.01
 #: error of 0.015 in ``e_w`` at ``rtol = 1e-5`` on the mixed benchmark batch).
 ODE_STEPS = dict(first_step=0.2, max_step=1.0, first_change=0.03)
 #: Bound of the error of "ode" (with :data:`ODE_STEPS`) in ``k = e_w^2`` per unit ``rtol``:
-#: measured at most 2.9 for rtol 1e-7 to 1e-5 (module docstring), with a safety factor 3.4.
+#: measured at most 2.9 for rtol 1e-7 to 1e-5 (``benchmarks/results/auto_calibration.md``),
+#: with a safety factor 3.4.
 ODE_K_ERROR_PER_RTOL = 10.0
 #: Largest integration tolerance used (the bound above is relied on from 1e-5 down; 1e-4
 #: was measured once, with the first step 0.1 and no rate limit, at 22 rtol).
@@ -204,11 +107,12 @@ TIER_RELATIVE, TIER_ODE = 1, 2
 #: on the benchmark batch (tol 0.01) 4 pieces take 8 % of the collisions, 16 pieces 4.5 %
 #: and leave 2.2 % to "ode" (14.7 % without the pieces); (8, 32) costs the same.
 PIECES = (4, 16)
-#: Measured at most 0.187 for 2 to 16 pieces (module docstring), safety factor 1.6.
+#: Measured at most 0.187 for 2 to 16 pieces (``benchmarks/results/auto_calibration.md``),
+#: safety factor 1.6.
 PIECEWISE_BOUND = 0.3
 #: Stick margins of the piecewise closed forms, per entry of :data:`PIECES`: measured
 #: ``u*(pieces) / u*(ode)`` at most 1.0165 (4) and 1.0063 (16) where the stick is trusted
-#: (module docstring), with safety factors 3.0 and 3.2 on the log.
+#: (``benchmarks/results/auto_calibration.md``), with safety factors 3.0 and 3.2 on the log.
 PIECE_STICK_MARGIN = (1.05, 1.02)
 
 _H_RUPT = DETAIL_NAMES.index("h_rupt")
@@ -261,8 +165,8 @@ def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w
     the indicator. Bitwise the same ``(e_w, stage, path, g)`` (tested)."""
     if not H0 > Ha:
         if e > 0.0:
-            return e, REBOUND, P_NO_BRIDGE, 0.0
-        return 0.0, CONTACT, P_NO_BRIDGE, 0.0
+            return e, codes.REBOUND, codes.P_NO_BRIDGE, 0.0
+        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0.0
     return _whole_at(w, e, theta, mu_l, gamma,
                      _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
 
@@ -297,13 +201,13 @@ def _whole_at(w, e, theta, mu_l, gamma, parts):
     m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw, s_ha = parts[:14]
     k0 = 0.5 * m_r * w * w
     if not c_delta < m_r * w:
-        return 0.0, APP_VIS, 0, math.inf
+        return 0.0, codes.APP_VIS, 0, math.inf
     k_app = k0 - l_cap - _viscous_loss(w, m_r, c_delta) - l_bdw
     if not k_app > 0.0:
-        return 0.0, APP_EN, 0, math.inf
+        return 0.0, codes.APP_EN, 0, math.inf
     w_s = e * math.sqrt(2.0 * k_app / m_r)
     if not w_s > 0.0:
-        return 0.0, CONTACT, 0, math.inf
+        return 0.0, codes.CONTACT, 0, math.inf
     k_s = 0.5 * m_r * w_s * w_s
     # rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2)), cube root done once
     h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(mu_l * w_s / gamma)) * vol3
@@ -312,26 +216,26 @@ def _whole_at(w, e, theta, mu_l, gamma, parts):
     c_delta_s = 0.0
     l_cap_s = 0.0
     if not sep:
-        path |= P_BROKEN
+        path |= codes.P_BROKEN
         k_end = k_s
     else:
         s_hr, k_hr, v_hr = gap_parts(h_rupt, a2)
         c_delta_s = c * ((v_hr - v_ha) + (k_ha - k_hr) * _LN4)  # c * ln_f_diff(Ha, h_rupt)
         l_cap_s = kcap * g_diff_s(Ha, s_ha, h_rupt, s_hr, a2)
         if not c_delta_s < m_r * w_s:
-            return 0.0, SEP_VIS, path, math.inf
+            return 0.0, codes.SEP_VIS, path, math.inf
         k_end = k_s - l_cap_s - _viscous_loss(w_s, m_r, c_delta_s) - f_b * (h_rupt - Ha)
         if not k_end > 0.0:
-            return 0.0, SEP_EN, path, math.inf
+            return 0.0, codes.SEP_EN, path, math.inf
     ew = math.sqrt(k_end / k0)
     if not ew > 0.0:
-        return 0.0, SEP_EN, path, math.inf
+        return 0.0, codes.SEP_EN, path, math.inf
     eta = c_delta / (m_r * (w - c_delta / m_r)) * (abs(l_cap) + abs(f_b) * (H0 - Ha))
     if sep:
         eta += c_delta_s / (m_r * (w_s - c_delta_s / m_r)) * (abs(l_cap_s)
                                                               + abs(f_b) * (h_rupt - Ha))
     eta /= k0
-    return ew, REBOUND, path, eta / max(ew, math.sqrt(eta))
+    return ew, codes.REBOUND, path, eta / max(ew, math.sqrt(eta))
 
 
 _LN4 = math.log(4.0)
@@ -482,7 +386,8 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
                      det):
     """One collision by the closed forms of :func:`~.relative.relative_kernel` applied on
     ``n`` pieces of each liquid stage, each piece starting from the speed the previous one
-    left (module docstring, "Piecewise closed forms").
+    left (module docstring, item 2; ``benchmarks/results/auto_calibration.md``, "Piecewise
+    closed forms").
 
     Returns ``(e_w, stage, path, g, clear)`` with ``g`` the error indicator summed over
     the pieces (``inf`` where the pair sticks) and ``clear`` False where the energy inside
@@ -498,11 +403,11 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
             for q in range(det.shape[0]):
                 det[q] = nan
             m_r, _, _ = reduced_mass(m_i, m_j)
-            det[W_CONTACT] = w
-            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+            det[codes.W_CONTACT] = w
+            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
-            return e, REBOUND, P_NO_BRIDGE, 0.0, True
-        return 0.0, CONTACT, P_NO_BRIDGE, 0.0, True
+            return e, codes.REBOUND, codes.P_NO_BRIDGE, 0.0, True
+        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0.0, True
     return _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det,
                       _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
 
@@ -522,47 +427,47 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
     k0 = 0.5 * m_r * w * w
     h_rupt = nan
     if want:
-        det[K_INI_I] = frac_j * k0
-        det[K_INI_J] = frac_i * k0
-        det[ST_APP] = m_r * w / c
+        det[codes.K_INI_I] = frac_j * k0
+        det[codes.K_INI_J] = frac_i * k0
+        det[codes.ST_APP] = m_r * w / c
     k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(
         k0, w, H0, Ha, a2, m_r, c, kcap, f_b, n, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha, a,
         indicator)
     if want:
-        det[L_CAP_APP] = l_cap
-        det[L_BDW_APP_I] = frac_j * l_bdw
-        det[L_BDW_APP_J] = frac_i * l_bdw
+        det[codes.L_CAP_APP] = l_cap
+        det[codes.L_BDW_APP_I] = frac_j * l_bdw
+        det[codes.L_BDW_APP_J] = frac_i * l_bdw
         if code != 1:
-            det[L_VIS_APP] = l_vis
-    stage = REBOUND
+            det[codes.L_VIS_APP] = l_vis
+    stage = codes.REBOUND
     path = 0
     k_end = 0.0
     if code == 1:
-        stage = APP_VIS
+        stage = codes.APP_VIS
     elif code == 2:
-        stage = APP_EN
+        stage = codes.APP_EN
     else:
         w_c = math.sqrt(2.0 * k_app / m_r)
         w_s = e * w_c
         if want:
-            det[K_APP_I] = frac_j * k_app
-            det[K_APP_J] = frac_i * k_app
-            det[W_CONTACT] = w_c
-            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+            det[codes.K_APP_I] = frac_j * k_app
+            det[codes.K_APP_J] = frac_i * k_app
+            det[codes.W_CONTACT] = w_c
+            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
         if not w_s > 0.0:
-            stage = CONTACT
+            stage = codes.CONTACT
         else:
             k_s = 0.5 * m_r * w_s * w_s
             ca = mu_l * w_s / gamma
             # rupture_distance(theta, ca, bridge_volume(r, a2)), its cube root done once
             h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * vol3
             if want:
-                det[K_SEP_I] = frac_j * k_s
-                det[K_SEP_J] = frac_i * k_s
-                det[CA] = ca
-                det[H_RUPT] = h_rupt
+                det[codes.K_SEP_I] = frac_j * k_s
+                det[codes.K_SEP_J] = frac_i * k_s
+                det[codes.CA] = ca
+                det[codes.H_RUPT] = h_rupt
             if not h_rupt > Ha:
-                path |= P_BROKEN
+                path |= codes.P_BROKEN
                 k_end = k_s
             else:
                 s_hr, k_hr, v_hr = gap_parts(h_rupt, a2)
@@ -572,29 +477,29 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
                 eta = eta + eta_s
                 clear = clear and clear_s
                 if want:
-                    det[L_CAP_SEP] = l_cap
-                    det[L_BDW_SEP_I] = frac_j * l_bdw
-                    det[L_BDW_SEP_J] = frac_i * l_bdw
+                    det[codes.L_CAP_SEP] = l_cap
+                    det[codes.L_BDW_SEP_I] = frac_j * l_bdw
+                    det[codes.L_BDW_SEP_J] = frac_i * l_bdw
                     if code != 1:
-                        det[L_VIS_SEP] = l_vis
+                        det[codes.L_VIS_SEP] = l_vis
                 if code == 1:
-                    stage = SEP_VIS
+                    stage = codes.SEP_VIS
                 elif code == 2:
-                    stage = SEP_EN
-            if stage == REBOUND and want:
-                det[K_FIN_I] = frac_j * k_end
-                det[K_FIN_J] = frac_i * k_end
+                    stage = codes.SEP_EN
+            if stage == codes.REBOUND and want:
+                det[codes.K_FIN_I] = frac_j * k_end
+                det[codes.K_FIN_J] = frac_i * k_end
     if want:
         body, vol = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
-        det[W_BODY] = body
-        det[W_VOLCORR] = vol
-    if stage != REBOUND:
+        det[codes.W_BODY] = body
+        det[codes.W_VOLCORR] = vol
+    if stage != codes.REBOUND:
         return 0.0, stage, path, math.inf, False
     ew = math.sqrt(k_end / k0)
     if not ew > 0.0:
-        return 0.0, SEP_EN, path, math.inf, False
+        return 0.0, codes.SEP_EN, path, math.inf, False
     eta /= k0
-    return ew, REBOUND, path, eta / max(ew, math.sqrt(eta)), clear
+    return ew, codes.REBOUND, path, eta / max(ew, math.sqrt(eta)), clear
 
 
 @njit(parallel=True, cache=CACHE)
@@ -646,8 +551,8 @@ def _decide_inline(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j
     (:func:`_decide_beyond`, 15 % of the collisions on the benchmark batch) called."""
     if not H0 > Ha:
         if e > 0.0:
-            return e, REBOUND, P_NO_BRIDGE, 1, 0.0
-        return 0.0, CONTACT, P_NO_BRIDGE, 1, 0.0
+            return e, codes.REBOUND, codes.P_NO_BRIDGE, 1, 0.0
+        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 1, 0.0
     # closed_form_indicator_lean, its speed-independent part kept for a second speed
     whole = _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j)
     ew, st, pa, g = _whole_at(w, e, theta, mu_l, gamma, whole)
@@ -670,7 +575,7 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
         if not ew2 > 0.0:
             return ew, st, pa, 1, 0.0
     assisted = whole[4] < 0.0  # the relative body force pulls the pair apart
-    if st == SEP_VIS and assisted:
+    if st == codes.SEP_VIS and assisted:
         # Viscosity alone stopped the whole stages in the separation against a body force
         # that pulls the pair apart: the pieces' stick is not trusted there (below), and on
         # the benchmark batch none of these 8157 collisions (0.8 %) was decided by the
@@ -691,7 +596,7 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
             # the whole stages became a rebound of the pieces with a passing bound).
             ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
                                            empty, parts, False)
-            if ew2 > 0.0 or (st2 == SEP_VIS and assisted):
+            if ew2 > 0.0 or (st2 == codes.SEP_VIS and assisted):
                 continue
         ew_n, st_n, pa_n, g_n, clear = _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, empty,
                                                   parts)
@@ -699,7 +604,7 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
             b = PIECEWISE_BOUND * g_n
             if clear and g_n <= G_MAX and b <= tol:
                 return ew_n, st_n, pa_n, n, b
-        elif not (st_n == SEP_VIS and assisted):
+        elif not (st_n == codes.SEP_VIS and assisted):
             # A stick, trusted if the pieces still stick at the margin's speed, neither
             # time stopped by viscosity while the body force pulls the pair apart (then
             # the integrated pair keeps moving: such thresholds set the measured u* error
@@ -708,7 +613,7 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
                 return ew_n, st_n, pa_n, n, 0.0
             ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
                                            empty, parts, False)
-            if not ew2 > 0.0 and not (st2 == SEP_VIS and assisted):
+            if not ew2 > 0.0 and not (st2 == codes.SEP_VIS and assisted):
                 return ew_n, st_n, pa_n, n, 0.0
     return ew, st, pa, 0, 0.0
 

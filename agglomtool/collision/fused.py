@@ -7,18 +7,15 @@ module computes the same numbers per collision inside the compiled loop, so a ba
 intermediate arrays: the inputs are read once and only ``e_w``, ``stage``, ``path`` and ``w``
 are written.
 
-Same arithmetic, same order of operations as the reference, with three differences:
+The physics itself (wet mass, Wen-Yu ``U_mf``, Gidaspow's drag, ``U_e = 1.1 U_mf``) is
+written once, in :mod:`.physics`, and called by both; the reference and this module give
+bitwise the same masses and body forces (``tests/test_one_source.py``), the other prepared
+numbers likewise (``tests/test_fused_equality.py``). Two differences of evaluation, neither
+of value:
 
-- cubes are products here (``x * x * x``, each particle's wet volume formed once), where
-  the reference calls numpy's ``power``; a ``pow`` call costs several times a product, and
-  the cubes were a third of the preparation's time. A product of three factors is within
-  two units in the last place of the correctly rounded cube, ``power`` within one;
-- the other powers (``re**0.687``, ``eps**-1.65``) come from the C library here and from
-  numpy's own vectorised ``power`` there, again within one unit in the last place;
-  so the prepared numbers agree to a relative 1e-12 (tested: ``tests/test_fused_*``), and
-  the kernels are then the very same compiled functions;
-- only the drag branch that is used is evaluated (the reference computes both), and the
-  slip speed is ``|z|`` where the lateral slip is exactly zero (``hypot(0, z)`` is
+- only the drag branch that is used is evaluated (the reference broadcasts the scalar
+  drag over arrays, which takes one branch per element too);
+- the slip speed is ``|z|`` where the lateral slip is exactly zero (``hypot(0, z)`` is
   ``|z|``, without the overflow-safe ``hypot`` call); there the lateral force is a zero
   and its projection (``cos(beta)`` times it) is not formed, which can change only the
   sign of a zero force.
@@ -53,6 +50,7 @@ from .._jit import CACHE, parallel_launch
 from ..constants import GRAVITY
 from ._codes import N_DETAILS
 from .paper import paper_kernel
+from .physics import U_E_PER_UMF, WEN_YU_C1, WEN_YU_C2, drag_gidaspow, wet_mass, wet_umf
 from .relative import relative_kernel
 
 __all__ = [
@@ -123,51 +121,6 @@ def _tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, 
 
 
 _DEG = math.pi / 180.0  # numpy's deg2rad multiplies by the same constant
-_WY_C1, _WY_C2 = 33.7, 0.0408  # Wen and Yu (1966), as in properties.fluidization
-_EPS_SWITCH = 0.8  # Gidaspow's switch, as in properties.drag
-
-
-@njit(cache=CACHE)
-def _wet_mass(d, rho, h0, rho_l):
-    """Wet mass [kg] (Eqs. 32-33), ``inf`` for a plate; as ``pair.wet_mass``."""
-    r = 0.5 * d
-    if math.isinf(r):
-        return math.inf
-    solid = rho * (r * r * r)
-    shell = rho_l * h0 * (3.0 * r * r + 3.0 * r * h0 + h0 * h0)
-    return (4.0 / 3.0) * math.pi * (solid + shell)
-
-
-@njit(cache=CACHE)
-def _umf(d, h0, m, mu_g, rho_g):
-    """Wen-Yu ``U_mf`` of the wet particle [m/s]; 0 for a plate (``pair.emulsion_velocity``)."""
-    if math.isinf(d):
-        return 0.0
-    d_wet = d + 2.0 * h0
-    d3 = d_wet * d_wet * d_wet
-    vol = (math.pi / 6.0) * d3
-    rho_p = m / vol
-    ar = d3 * rho_g * (rho_p - rho_g) * GRAVITY / (mu_g * mu_g)
-    re_mf = _WY_C2 * ar / (math.sqrt(_WY_C1 * _WY_C1 + _WY_C2 * ar) + _WY_C1)
-    return re_mf * mu_g / (rho_g * d_wet)
-
-
-@njit(cache=CACHE)
-def _drag(speed, d, volume, eps, mu_g, rho_g):
-    """Gidaspow drag [N] at slip speed ``speed`` >= 0 (``properties.drag``), the used branch
-    only."""
-    if eps < _EPS_SWITCH:
-        return (
-            (150.0 * (1.0 - eps) * mu_g / (eps * d * d) + 1.75 * rho_g * speed / d)
-            * volume * speed
-        )
-    re = rho_g * eps * d * speed / mu_g
-    if re < 1000.0:
-        cd_re = 24.0 * (1.0 + 0.15 * re**0.687)
-    else:
-        cd_re = 0.44 * re
-    cd_speed = cd_re * mu_g / (rho_g * eps * d)
-    return 0.75 * cd_speed * rho_g * speed * eps**-1.65 * volume / d
 
 
 @njit(cache=CACHE)
@@ -190,7 +143,7 @@ def _body_force_n(d, h0, m, mu_g, rho_g, eps, U_e, uy, uz, particle_slip, cos_b,
         slip_z = slip_z - uz
     # hypot(0, z) is |z| exactly; the cheaper form where the lateral slip is zero.
     speed = math.hypot(slip_y, slip_z) if slip_y != 0.0 else abs(slip_z)
-    f_drag = _drag(speed, d_wet, vol, eps, mu_g, rho_g)
+    f_drag = drag_gidaspow(speed, d_wet, vol, eps, mu_g, rho_g)
     safe = speed if speed > 0.0 else 1.0
     f_z = f_drag * slip_z / safe + (rho_g * vol - m_f) * GRAVITY
     if slip_y == 0.0:
@@ -225,8 +178,8 @@ def _prepare(d_i, rho_i, h0_i, ha_i, d_j, rho_j, h0_j, ha_j, mu_l, gamma, rho_l,
     :func:`_angles`."""
     plate_i = math.isinf(d_i)
     plate_j = math.isinf(d_j)
-    m_i = _wet_mass(d_i, rho_i, h0_i, rho_l)
-    m_j = _wet_mass(d_j, rho_j, h0_j, rho_l)
+    m_i = wet_mass(d_i, rho_i, h0_i, rho_l)
+    m_j = wet_mass(d_j, rho_j, h0_j, rho_l)
     r = 2.0 / (2.0 / d_i + 2.0 / d_j)
     u_i = 0.0 if plate_i else u0
     if math.isnan(u0_j):
@@ -235,7 +188,9 @@ def _prepare(d_i, rho_i, h0_i, ha_i, d_j, rho_j, h0_j, ha_j, mu_l, gamma, rho_l,
         u_j = u0_j
     if body:
         if math.isnan(U):
-            U_e = 1.1 * max(_umf(d_i, h0_i, m_i, mu_g, rho_g), _umf(d_j, h0_j, m_j, mu_g, rho_g))
+            U_e = U_E_PER_UMF * max(
+                wet_umf(d_i, h0_i, m_i, mu_g, rho_g, WEN_YU_C1, WEN_YU_C2),
+                wet_umf(d_j, h0_j, m_j, mu_g, rho_g, WEN_YU_C1, WEN_YU_C2))
         else:
             U_e = U
         # The cosine of the collision angle only projects a lateral slip (particle_slip).

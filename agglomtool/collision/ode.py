@@ -48,39 +48,7 @@ import numpy as np
 from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
-from ._codes import (
-    APP_EN,
-    APP_VIS,
-    CA,
-    CONTACT,
-    H_RUPT,
-    K_APP_I,
-    K_APP_J,
-    K_FIN_I,
-    K_FIN_J,
-    K_INI_I,
-    K_INI_J,
-    K_SEP_I,
-    K_SEP_J,
-    L_BDW_APP_I,
-    L_BDW_APP_J,
-    L_BDW_SEP_I,
-    L_BDW_SEP_J,
-    L_C,
-    L_CAP_APP,
-    L_CAP_SEP,
-    L_VIS_APP,
-    L_VIS_SEP,
-    N_DETAILS,
-    P_BROKEN,
-    P_NO_BRIDGE,
-    REBOUND,
-    SEP_EN,
-    ST_APP,
-    W_BODY,
-    W_CONTACT,
-    W_VOLCORR,
-)
+from . import _codes as codes
 from .bridge import _LN4, bridge_volume, g_diff, g_diff_s, ln_f, ln_f_parts_s, rupture_distance
 from .relative import reduced_mass, relative_body_force, term_work_fractions
 
@@ -380,11 +348,11 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if not H0 > Ha:
         if want:
-            det[W_CONTACT] = w
-            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+            det[codes.W_CONTACT] = w
+            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
-            return e, REBOUND, P_NO_BRIDGE, 0, 0
-        return 0.0, CONTACT, P_NO_BRIDGE, 0, 0
+            return e, codes.REBOUND, codes.P_NO_BRIDGE, 0, 0
+        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0, 0
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
     kcap = 2.0 * math.pi * gamma * r * cos_t
@@ -399,14 +367,14 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     vol3 = vol ** (1.0 / 3.0)
     e2 = e * e
     if want:
-        det[K_INI_I] = frac_j * k0
-        det[K_INI_J] = frac_i * k0
-        det[ST_APP] = m_r * w / c
-        det[L_CAP_APP] = kcap * g_diff(H0, Ha, a2)
-        det[L_BDW_APP_I] = -frac_j * f_b * (H0 - Ha)
-        det[L_BDW_APP_J] = -frac_i * f_b * (H0 - Ha)
+        det[codes.K_INI_I] = frac_j * k0
+        det[codes.K_INI_J] = frac_i * k0
+        det[codes.ST_APP] = m_r * w / c
+        det[codes.L_CAP_APP] = kcap * g_diff(H0, Ha, a2)
+        det[codes.L_BDW_APP_I] = -frac_j * f_b * (H0 - Ha)
+        det[codes.L_BDW_APP_J] = -frac_i * f_b * (H0 - Ha)
     if not Ha > 0.0:  # an infinite lubrication loss before contact
-        return 0.0, APP_VIS, 0, 0, 0
+        return 0.0, codes.APP_VIS, 0, 0, 0
 
     # A lower bound of the opening energy any rebound needs: the bridge must at least be
     # stretched to h_min = h_rupt(Ca = 0). Capillary and (if F_b >= 0) body forces and
@@ -427,20 +395,20 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         e2, need, False, theta, 0.0, vol, h_first, h_max, first_change,
     )
     if status == _TOO_MANY:
-        return nan, APP_EN, 0, steps, _TOO_MANY
+        return nan, codes.APP_EN, 0, steps, _TOO_MANY
     if status == _STOPPED:
-        return 0.0, APP_EN, 0, steps, 0
+        return 0.0, codes.APP_EN, 0, steps, 0
     if status == _CANNOT:
-        return 0.0, APP_VIS, 0, steps, 0
+        return 0.0, codes.APP_VIS, 0, steps, 0
     w_c = w * math.sqrt(k_c)
     if want:
-        det[K_APP_I] = frac_j * k_c * k0
-        det[K_APP_J] = frac_i * k_c * k0
-        det[L_VIS_APP] = k0 * (1.0 - k_c) - det[L_CAP_APP] + f_b * (H0 - Ha)
-        det[W_CONTACT] = w_c
-        det[L_C] = 0.5 * m_r * (1.0 - e2) * w_c * w_c
+        det[codes.K_APP_I] = frac_j * k_c * k0
+        det[codes.K_APP_J] = frac_i * k_c * k0
+        det[codes.L_VIS_APP] = k0 * (1.0 - k_c) - det[codes.L_CAP_APP] + f_b * (H0 - Ha)
+        det[codes.W_CONTACT] = w_c
+        det[codes.L_C] = 0.5 * m_r * (1.0 - e2) * w_c * w_c
     if not e > 0.0:
-        return 0.0, CONTACT, 0, steps, 0
+        return 0.0, codes.CONTACT, 0, steps, 0
 
     # ---- separation
     k_s = e2 * k_c
@@ -449,7 +417,7 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * vol3
     path = 0
     if not h_rupt > Ha:
-        path |= P_BROKEN
+        path |= codes.P_BROKEN
         k_end = k_s
         status = _REACHED
     else:
@@ -464,31 +432,31 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         )
         steps += steps_sep
         if status == _TOO_MANY:
-            return nan, SEP_EN, path, steps, _TOO_MANY
+            return nan, codes.SEP_EN, path, steps, _TOO_MANY
         if self_consistent and status == _EVENT:
             h_rupt = math.exp(y_stop)
             ca = mu_l * w * math.sqrt(k_end) / gamma
     if want:
-        det[K_SEP_I] = frac_j * k_s * k0
-        det[K_SEP_J] = frac_i * k_s * k0
-        det[CA] = ca
-        det[H_RUPT] = h_rupt
+        det[codes.K_SEP_I] = frac_j * k_s * k0
+        det[codes.K_SEP_J] = frac_i * k_s * k0
+        det[codes.CA] = ca
+        det[codes.H_RUPT] = h_rupt
         body, volc = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
-        det[W_BODY] = body
-        det[W_VOLCORR] = volc
+        det[codes.W_BODY] = body
+        det[codes.W_VOLCORR] = volc
         if h_rupt > Ha and status != _STOPPED:
             l_cap = kcap * g_diff(Ha, h_rupt, a2)
             l_bdw = f_b * (h_rupt - Ha)
-            det[L_CAP_SEP] = l_cap
-            det[L_BDW_SEP_I] = frac_j * l_bdw
-            det[L_BDW_SEP_J] = frac_i * l_bdw
-            det[L_VIS_SEP] = k0 * (k_s - k_end) - l_cap - l_bdw
+            det[codes.L_CAP_SEP] = l_cap
+            det[codes.L_BDW_SEP_I] = frac_j * l_bdw
+            det[codes.L_BDW_SEP_J] = frac_i * l_bdw
+            det[codes.L_VIS_SEP] = k0 * (k_s - k_end) - l_cap - l_bdw
     if status == _STOPPED:
-        return 0.0, SEP_EN, path, steps, 0
+        return 0.0, codes.SEP_EN, path, steps, 0
     if want:
-        det[K_FIN_I] = frac_j * k_end * k0
-        det[K_FIN_J] = frac_i * k_end * k0
-    return math.sqrt(k_end), REBOUND, path, steps, 0
+        det[codes.K_FIN_I] = frac_j * k_end * k0
+        det[codes.K_FIN_J] = frac_i * k_end * k0
+    return math.sqrt(k_end), codes.REBOUND, path, steps, 0
 
 
 @njit(parallel=True, cache=CACHE)
@@ -558,7 +526,7 @@ def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     path = np.empty(n, dtype=np.int8)
     steps = np.empty(n, dtype=np.int64)
     status = np.empty(n, dtype=np.int8)
-    det = np.empty((n, N_DETAILS if details else 0))
+    det = np.empty((n, codes.N_DETAILS if details else 0))
     parallel_launch(
         _run_ode_batch,
         m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,

@@ -126,4 +126,4 @@ def stage_names(codes) -> np.ndarray:
 
 def path_names(flags: int) -> list[str]:
     """Names of the :class:`Path` flags set in one integer."""
-    return [p.name.lower() for p in Path if int(flags) & p.value]
+    return [str(p.name).lower() for p in Path if int(flags) & p.value]

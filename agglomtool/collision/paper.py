@@ -41,42 +41,7 @@ import numpy as np
 from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
-from ._codes import (
-    CA,
-    CONTACT,
-    D_STOP_APP,
-    D_STOP_SEP,
-    H_RUPT,
-    K_APP_I,
-    K_APP_J,
-    K_FIN_I,
-    K_FIN_J,
-    K_INI_I,
-    K_INI_J,
-    K_SEP_I,
-    K_SEP_J,
-    L_BDW_APP_I,
-    L_BDW_APP_J,
-    L_BDW_SEP_I,
-    L_BDW_SEP_J,
-    L_C,
-    L_CAP_APP,
-    L_CAP_SEP,
-    L_VIS_APP,
-    L_VIS_SEP,
-    N_DETAILS,
-    P_APP_I,
-    P_APP_J,
-    P_BROKEN,
-    P_NO_BRIDGE,
-    P_SEP_I,
-    P_SEP_J,
-    REBOUND,
-    SEP_EN,
-    SEP_VIS,
-    ST_APP,
-    W_CONTACT,
-)
+from . import _codes as codes
 from .bridge import (
     _LN4,
     bridge_volume,
@@ -235,6 +200,21 @@ def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c,
     else:
         f_lo = _running_energy(d_i, d_start, start_kind, start_val, k, share, v, m, force, c,
                                kcap, a2)
+    return _narrow(lo, f_lo, hi, f_hi, (d_start, s_start, start_kind, start_val, k, share, v,
+                                        m, force, c, kcap, a2))
+
+
+@njit(cache=CACHE)
+def _narrow(lo, f_lo, hi, f_hi, energy):
+    """The zero of the running energy (:func:`_running_energy`, evaluated as
+    :func:`_cap_vis` gives its terms) in the bracket ``[lo, hi]`` with ``E(lo) = f_lo > 0``
+    and ``E(hi) = f_hi <= 0``: the Illinois variant of regula falsi, to a relative width of
+    1e-12. Every iterate stays inside the bracket and the loop is capped at 100 steps: it
+    cannot run away. Returns the bracket's end where ``E <= 0``. ``energy`` holds the
+    running energy's parameters, ``(d_start, s_start, start_kind, start_val, k, share, v, m,
+    force, c, kcap, a2)`` (:func:`_first_zero`'s, and ``s_start = sqrt(d_start^2 + a^2)``).
+    Shared by :func:`_first_zero` and its reference :func:`_first_zero_scan`."""
+    d_start, s_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2 = energy
     side = 0
     for _ in range(100):
         if abs(hi - lo) <= 1e-12 * max(abs(hi), abs(lo)) or f_hi == 0.0:
@@ -360,9 +340,8 @@ def _first_zero_scan(d_start, d_end, start_kind, start_val, k, share, v, m, forc
     """Reference of :func:`_first_zero`: the same result by evaluating every scan point.
 
     ``E(d_start) = k > 0`` and ``E(d_end) <= 0`` on entry. A geometric scan of
-    :data:`SCAN_POINTS` points isolates the first sign change; the Illinois variant of
-    regula falsi then narrows that bracket to a relative width of 1e-12. Every iterate stays
-    inside the bracket and the loop is capped at 100 steps: it cannot run away.
+    :data:`SCAN_POINTS` points isolates the first sign change; the same regula falsi
+    (:func:`_narrow`) then narrows that bracket.
     """
     ratio = (d_end / d_start) ** (1.0 / SCAN_POINTS)
     lo, f_lo = d_start, k  # energy > 0 here
@@ -380,27 +359,9 @@ def _first_zero_scan(d_start, d_end, start_kind, start_val, k, share, v, m, forc
             hi, f_hi = d, f_d
             break
         lo, f_lo = d, f_d
-    side = 0
-    for _ in range(100):
-        if abs(hi - lo) <= 1e-12 * max(abs(hi), abs(lo)) or f_hi == 0.0:
-            break
-        x = hi - f_hi * (hi - lo) / (f_hi - f_lo)
-        if not (min(lo, hi) < x < max(lo, hi)):
-            x = 0.5 * (lo + hi)
-        f_x = _running_energy(
-            x, d_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2
-        )
-        if f_x <= 0.0:
-            hi, f_hi = x, f_x
-            if side == -1:
-                f_lo *= 0.5
-            side = -1
-        else:
-            lo, f_lo = x, f_x
-            if side == 1:
-                f_hi *= 0.5
-            side = 1
-    return hi
+    s_start = math.sqrt(d_start * d_start + a2)
+    return _narrow(lo, f_lo, hi, f_hi, (d_start, s_start, start_kind, start_val, k, share, v,
+                                        m, force, c, kcap, a2))
 
 
 @njit(cache=CACHE, inline="always")
@@ -523,13 +484,13 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
     path = 0
     # No bridge can form: a dry collision, no liquid losses at all.
     if not H0 > Ha:
-        path |= P_NO_BRIDGE
+        path |= codes.P_NO_BRIDGE
         if want:
-            det[W_CONTACT] = w
-            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+            det[codes.W_CONTACT] = w
+            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
-            return e, REBOUND, path
-        return 0.0, CONTACT, path
+            return e, codes.REBOUND, path
+        return 0.0, codes.CONTACT, path
 
     a2 = (H0 - Ha) * (H0 + Ha)  # Eq. 29-30, without cancellation
     c = 1.5 * math.pi * mu_l * r * r  # Eq. 26
@@ -540,9 +501,9 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
     k_i = 0.5 * p * frac_j * w
     k_j = 0.5 * p * frac_i * w
     if want:
-        det[K_INI_I] = k_i
-        det[K_INI_J] = k_j
-        det[ST_APP] = p / c
+        det[codes.K_INI_I] = k_i
+        det[codes.K_INI_J] = k_j
+        det[codes.ST_APP] = p / c
     s_h0, kind_h0, val_h0 = gap_parts(H0, a2)
     s_ha, kind_ha, val_ha = gap_parts(Ha, a2)
     code, ka_i, ka_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
@@ -550,29 +511,29 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
         frac_i * w, frac_j, frac_i, m_i, m_j, fn_i, -fn_j, p, c, kcap, a2
     )
     if flags == 1:
-        path |= P_APP_I
+        path |= codes.P_APP_I
     elif flags == 2:
-        path |= P_APP_J
+        path |= codes.P_APP_J
     if want:
-        det[L_CAP_APP] = l_cap
-        det[L_VIS_APP] = l_vis
-        det[L_BDW_APP_I] = lb_i
-        det[L_BDW_APP_J] = lb_j
-        det[D_STOP_APP] = d_stop
+        det[codes.L_CAP_APP] = l_cap
+        det[codes.L_VIS_APP] = l_vis
+        det[codes.L_BDW_APP_I] = lb_i
+        det[codes.L_BDW_APP_J] = lb_j
+        det[codes.D_STOP_APP] = d_stop
     if code != 0:
         return 0.0, code, path  # codes 1-4 are the approach stages
     if want:
-        det[K_APP_I] = ka_i
-        det[K_APP_J] = ka_j
+        det[codes.K_APP_I] = ka_i
+        det[codes.K_APP_J] = ka_j
 
     # ---- contact (Eqs. 44-55, 131-135): new CM frame, restitution along n
     w_c = math.sqrt(2.0 * ka_i / m_i) + math.sqrt(2.0 * ka_j / m_j)
     w_s = e * w_c
     if want:
-        det[W_CONTACT] = w_c
-        det[L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+        det[codes.W_CONTACT] = w_c
+        det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
     if not w_s > 0.0:
-        return 0.0, CONTACT, path
+        return 0.0, codes.CONTACT, path
     p_s = m_r * w_s
     ks_i = 0.5 * p_s * frac_j * w_s
     ks_j = 0.5 * p_s * frac_i * w_s
@@ -581,12 +542,12 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
     ca = mu_l * w_s / gamma
     h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
     if want:
-        det[K_SEP_I] = ks_i
-        det[K_SEP_J] = ks_j
-        det[CA] = ca
-        det[H_RUPT] = h_rupt
+        det[codes.K_SEP_I] = ks_i
+        det[codes.K_SEP_J] = ks_j
+        det[codes.CA] = ca
+        det[codes.H_RUPT] = h_rupt
     if not h_rupt > Ha:
-        path |= P_BROKEN
+        path |= codes.P_BROKEN
         kf_i, kf_j = ks_i, ks_j
     else:
         s_hr, kind_hr, val_hr = gap_parts(h_rupt, a2)
@@ -595,28 +556,28 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
             frac_j * w_s, frac_i * w_s, frac_j, frac_i, m_i, m_j, -fn_i, fn_j, p_s, c, kcap, a2,
         )
         if flags == 1:
-            path |= P_SEP_I
+            path |= codes.P_SEP_I
         elif flags == 2:
-            path |= P_SEP_J
+            path |= codes.P_SEP_J
         if want:
-            det[L_CAP_SEP] = l_cap
-            det[L_VIS_SEP] = l_vis
-            det[L_BDW_SEP_I] = lb_i
-            det[L_BDW_SEP_J] = lb_j
-            det[D_STOP_SEP] = d_stop
+            det[codes.L_CAP_SEP] = l_cap
+            det[codes.L_VIS_SEP] = l_vis
+            det[codes.L_BDW_SEP_I] = lb_i
+            det[codes.L_BDW_SEP_J] = lb_j
+            det[codes.D_STOP_SEP] = d_stop
         if code != 0:
-            return 0.0, SEP_VIS + code - 1, path
+            return 0.0, codes.SEP_VIS + code - 1, path
     if want:
-        det[K_FIN_I] = kf_i
-        det[K_FIN_J] = kf_j
+        det[codes.K_FIN_I] = kf_i
+        det[codes.K_FIN_J] = kf_j
     # Eq. 31 with Eqs. 67-70: the final CM-frame speeds add up to the relative speed.
     v_rel = math.sqrt(2.0 * kf_i / m_i) + math.sqrt(2.0 * kf_j / m_j)
     e_w = v_rel / w
     if not e_w > 0.0:
         # The energy left underflowed (e ~ 1e-200 makes K ~ 1e-400 J): nothing measurable
         # leaves the contact, a stick with the separation's energy spent.
-        return 0.0, SEP_EN, path
-    return e_w, REBOUND, path
+        return 0.0, codes.SEP_EN, path
+    return e_w, codes.REBOUND, path
 
 
 @njit(parallel=True, cache=CACHE)
@@ -644,7 +605,7 @@ def run_paper(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, 
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
-    det = np.empty((n, N_DETAILS if details else 0))
+    det = np.empty((n, codes.N_DETAILS if details else 0))
     parallel_launch(
         _run_paper_batch,
         m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path, det

@@ -42,40 +42,7 @@ import numpy as np
 from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
-from ._codes import (
-    APP_EN,
-    APP_VIS,
-    CA,
-    CONTACT,
-    H_RUPT,
-    K_APP_I,
-    K_APP_J,
-    K_FIN_I,
-    K_FIN_J,
-    K_INI_I,
-    K_INI_J,
-    K_SEP_I,
-    K_SEP_J,
-    L_BDW_APP_I,
-    L_BDW_APP_J,
-    L_BDW_SEP_I,
-    L_BDW_SEP_J,
-    L_C,
-    L_CAP_APP,
-    L_CAP_SEP,
-    L_VIS_APP,
-    L_VIS_SEP,
-    N_DETAILS,
-    P_BROKEN,
-    P_NO_BRIDGE,
-    REBOUND,
-    SEP_EN,
-    SEP_VIS,
-    ST_APP,
-    W_BODY,
-    W_CONTACT,
-    W_VOLCORR,
-)
+from . import _codes as codes
 from .bridge import (
     _LN4,
     bridge_volume,
@@ -154,6 +121,39 @@ def term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2):
     return body, (cap + vis) / k0
 
 
+@njit(cache=CACHE, inline="always")
+def _stage_energy(k, v, m_r, c_delta, l_cap, l_bdw):
+    """One liquid stage of the relative motion, entered with kinetic energy ``k`` [J] at
+    speed ``v`` [m/s], with its viscous ``c Delta`` and its capillary and body-force losses
+    [J]: ``(code, k_end, l_vis)``, ``code`` 0 where the pair goes through with ``k_end``
+    left, 1 where viscosity alone stops it (``c Delta >= m_r v``; ``k_end`` 0, ``l_vis``
+    NaN), 2 where the energy is spent (``k_end <= 0``)."""
+    if not c_delta < m_r * v:
+        return 1, 0.0, math.nan
+    l_vis = _viscous_loss(v, m_r, c_delta)
+    k_end = k - l_cap - l_vis - l_bdw
+    return (0 if k_end > 0.0 else 2), k_end, l_vis
+
+
+@njit(cache=CACHE, inline="always")
+def _work_details(det, pair, h_rupt):
+    """The detail columns of the body and volume-correction work fractions; ``pair`` is
+    ``(k0, w, c, kcap, f_b, H0, Ha, a2)`` (:func:`relative_kernel`'s names)."""
+    k0, w, c, kcap, f_b, H0, Ha, a2 = pair
+    body, vol = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
+    det[codes.W_BODY] = body
+    det[codes.W_VOLCORR] = vol
+
+
+@njit(cache=CACHE, inline="always")
+def _stuck(stage, path, det, want, pair, h_rupt):
+    """:func:`relative_kernel`'s answer where the pair sticks at ``stage``, the work
+    fractions written first (with details; ``pair`` as in :func:`_work_details`)."""
+    if want:
+        _work_details(det, pair, h_rupt)
+    return 0.0, stage, path, 0.0
+
+
 @njit(cache=CACHE)
 def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det):
     """One collision by the paper's closed forms on the relative motion.
@@ -172,21 +172,21 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
     m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if not H0 > Ha:
         if want:
-            det[W_CONTACT] = w
-            det[L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
+            det[codes.W_CONTACT] = w
+            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
-            return e, REBOUND, P_NO_BRIDGE, e * e
-        return 0.0, CONTACT, P_NO_BRIDGE, 0.0
+            return e, codes.REBOUND, codes.P_NO_BRIDGE, e * e
+        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0.0
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
     kcap = 2.0 * math.pi * gamma * r * cos_t
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
     k0 = 0.5 * m_r * w * w
-    h_rupt = nan
+    pair = (k0, w, c, kcap, f_b, H0, Ha, a2)
     if want:
-        det[K_INI_I] = frac_j * k0
-        det[K_INI_J] = frac_i * k0
-        det[ST_APP] = m_r * w / c
+        det[codes.K_INI_I] = frac_j * k0
+        det[codes.K_INI_J] = frac_i * k0
+        det[codes.ST_APP] = m_r * w / c
 
     # ---- approach, H0 -> Ha (each gap's square root and ln f parts taken once; the
     # differences formed as ln_f_diff and g_diff form them, bitwise)
@@ -195,80 +195,63 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
     c_delta = c * -((val_ha - val_h0) + (kind_h0 - kind_ha) * _LN4)
     l_cap = kcap * g_diff_s(H0, s_h0, Ha, s_ha, a2)
     l_bdw = -f_b * (H0 - Ha)
-    stage = REBOUND
-    k_fin = 0.0
+    code, k_app, l_vis = _stage_energy(k0, w, m_r, c_delta, l_cap, l_bdw)
+    if want:
+        det[codes.L_CAP_APP] = l_cap
+        det[codes.L_BDW_APP_I] = frac_j * l_bdw
+        det[codes.L_BDW_APP_J] = frac_i * l_bdw
+        det[codes.L_VIS_APP] = l_vis
+    if code:
+        return _stuck(codes.APP_VIS if code == 1 else codes.APP_EN, 0, det, want, pair,
+                      math.nan)
+
+    # ---- contact
+    w_c = math.sqrt(2.0 * k_app / m_r)
+    w_s = e * w_c
+    if want:
+        det[codes.K_APP_I] = frac_j * k_app
+        det[codes.K_APP_J] = frac_i * k_app
+        det[codes.W_CONTACT] = w_c
+        det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+    if not w_s > 0.0:
+        return _stuck(codes.CONTACT, 0, det, want, pair, math.nan)
+
+    # ---- separation, Ha -> h_rupt
+    k_s = 0.5 * m_r * w_s * w_s
+    ca = mu_l * w_s / gamma
+    h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
     path = 0
     if want:
-        det[L_CAP_APP] = l_cap
-        det[L_BDW_APP_I] = frac_j * l_bdw
-        det[L_BDW_APP_J] = frac_i * l_bdw
-    if not c_delta < m_r * w:
-        stage = APP_VIS
+        det[codes.K_SEP_I] = frac_j * k_s
+        det[codes.K_SEP_J] = frac_i * k_s
+        det[codes.CA] = ca
+        det[codes.H_RUPT] = h_rupt
+    if not h_rupt > Ha:
+        path |= codes.P_BROKEN
+        k_end = k_s
     else:
-        l_vis = _viscous_loss(w, m_r, c_delta)
-        k_app = k0 - l_cap - l_vis - l_bdw
+        s_hr, kind_hr, val_hr = gap_parts(h_rupt, a2)
+        c_delta = c * ((val_hr - val_ha) + (kind_ha - kind_hr) * _LN4)
+        l_cap = kcap * g_diff_s(Ha, s_ha, h_rupt, s_hr, a2)
+        l_bdw = f_b * (h_rupt - Ha)
+        code, k_end, l_vis = _stage_energy(k_s, w_s, m_r, c_delta, l_cap, l_bdw)
         if want:
-            det[L_VIS_APP] = l_vis
-        if not k_app > 0.0:
-            stage = APP_EN
-        else:
-            # ---- contact
-            w_c = math.sqrt(2.0 * k_app / m_r)
-            w_s = e * w_c
-            if want:
-                det[K_APP_I] = frac_j * k_app
-                det[K_APP_J] = frac_i * k_app
-                det[W_CONTACT] = w_c
-                det[L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
-            if not w_s > 0.0:
-                stage = CONTACT
-            else:
-                # ---- separation, Ha -> h_rupt
-                k_s = 0.5 * m_r * w_s * w_s
-                ca = mu_l * w_s / gamma
-                h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
-                if want:
-                    det[K_SEP_I] = frac_j * k_s
-                    det[K_SEP_J] = frac_i * k_s
-                    det[CA] = ca
-                    det[H_RUPT] = h_rupt
-                if not h_rupt > Ha:
-                    path |= P_BROKEN
-                    k_end = k_s
-                else:
-                    s_hr, kind_hr, val_hr = gap_parts(h_rupt, a2)
-                    c_delta = c * ((val_hr - val_ha) + (kind_ha - kind_hr) * _LN4)
-                    l_cap = kcap * g_diff_s(Ha, s_ha, h_rupt, s_hr, a2)
-                    l_bdw = f_b * (h_rupt - Ha)
-                    k_end = 0.0
-                    if want:
-                        det[L_CAP_SEP] = l_cap
-                        det[L_BDW_SEP_I] = frac_j * l_bdw
-                        det[L_BDW_SEP_J] = frac_i * l_bdw
-                    if not c_delta < m_r * w_s:
-                        stage = SEP_VIS
-                    else:
-                        l_vis = _viscous_loss(w_s, m_r, c_delta)
-                        k_end = k_s - l_cap - l_vis - l_bdw
-                        if want:
-                            det[L_VIS_SEP] = l_vis
-                        if not k_end > 0.0:
-                            stage = SEP_EN
-                if stage == REBOUND:
-                    k_fin = k_end / k0
-                    if want:
-                        det[K_FIN_I] = frac_j * k_end
-                        det[K_FIN_J] = frac_i * k_end
+            det[codes.L_CAP_SEP] = l_cap
+            det[codes.L_BDW_SEP_I] = frac_j * l_bdw
+            det[codes.L_BDW_SEP_J] = frac_i * l_bdw
+            det[codes.L_VIS_SEP] = l_vis
+        if code:
+            return _stuck(codes.SEP_VIS if code == 1 else codes.SEP_EN, path, det, want, pair,
+                          h_rupt)
+    k_fin = k_end / k0
     if want:
-        body, vol = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
-        det[W_BODY] = body
-        det[W_VOLCORR] = vol
-    if stage != REBOUND:
-        return 0.0, stage, path, 0.0
+        det[codes.K_FIN_I] = frac_j * k_end
+        det[codes.K_FIN_J] = frac_i * k_end
+        _work_details(det, pair, h_rupt)
     e_w = math.sqrt(k_fin)
     if not e_w > 0.0:  # the energy left underflowed: a stick, as in the paper kernel
-        return 0.0, SEP_EN, path, 0.0
-    return e_w, REBOUND, path, k_fin
+        return 0.0, codes.SEP_EN, path, 0.0
+    return e_w, codes.REBOUND, path, k_fin
 
 
 @njit(parallel=True, cache=CACHE)
@@ -296,7 +279,7 @@ def relative_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     k_fin = np.empty(n)
-    det = np.empty((n, N_DETAILS if details else 0))
+    det = np.empty((n, codes.N_DETAILS if details else 0))
     parallel_launch(
         _run_relative_batch,
         m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path,

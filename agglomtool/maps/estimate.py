@@ -25,6 +25,7 @@ import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
@@ -271,7 +272,7 @@ def _timed_block(plan, sl: dict, compute):
 def _spread(plan, skip, k: int) -> list:
     """``k`` blocks not in ``skip``, spread over the grid (at 1/2k, 3/2k, ... of the blocks'
     order)."""
-    n, out = plan.n_blocks, []
+    n, out = plan.n_blocks, cast(list, [])
     for i in range(k):
         pos = (2 * i + 1) * n // (2 * k)
         for p in itertools.chain(range(pos, n), range(pos)):

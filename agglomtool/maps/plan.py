@@ -23,6 +23,7 @@ import math
 import threading
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -185,7 +186,7 @@ class SweepPlan:
     @cached_property
     def eager(self) -> dict:
         """``{name: 0-d array}`` of the outputs of groups over no grid dimension."""
-        out = {}
+        out: dict[str, np.ndarray] = {}
         for group, (_, outs, _) in GROUPS.items():
             if self.group_dims[group]:
                 continue
@@ -320,14 +321,14 @@ def _lazy_arrays(plan) -> dict:
     token = tokenize(json.dumps(plan.base, sort_keys=True), list(plan.grid),
                      [plan.grid[k] for k in plan.grid], plan.chunks, plan.nodes, __version__)
     bname, pkey = f"agglomtool-sweep-{token}", f"agglomtool-sweep-plan-{token}"
-    blocks = {pkey: plan}
+    blocks: dict[Any, Any] = {pkey: plan}
     for idx, _ in plan.blocks():
         blocks[(bname, *idx)] = (_block_task, pkey, list(idx))
     out = {}
     for name in plan.lazy_names:
         dims, dtype, _ = plan.variables[name]
         vname = f"{name}-{token}"
-        layer = {}
+        layer: dict[Any, Any] = {}
         for j in itertools.product(*[range(len(plan.chunks[d])) for d in dims]):
             at = dict(zip(dims, j, strict=True))
             owner = tuple(at.get(d, 0) for d in plan.dims)

@@ -108,7 +108,7 @@ def compile_notice(say, seconds: float):
     """Inside the ``with`` block, the first Numba compilation calls ``say(text)`` once:
     ``"compiling kernels (first run only, ~N s)..."``, ``N`` = ``seconds`` (a figure
     measured on a reference machine: :data:`agglomtool.maps.estimate.COMPILE_SECONDS`)."""
-    said = []
+    said: list[str] = []
 
     def start():
         if not said:

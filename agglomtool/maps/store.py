@@ -47,6 +47,7 @@ import sys
 import warnings
 import zlib
 from pathlib import Path
+from typing import cast
 
 import dask
 import numpy as np
@@ -256,7 +257,7 @@ def _write_block(plan, data_path: str, region: dict, owned: list, used: dict,
     crcs = {}
     for name in owned:
         a = np.asarray(values[name]).copy(order="C")  # (ascontiguousarray makes 0-d 1-d)
-        group[name][tuple(region[d] for d in plan.variables[name][0])] = a
+        cast(zarr.Array, group[name])[tuple(region[d] for d in plan.variables[name][0])] = a
         crcs[name] = _crc(a)
     return crcs
 
@@ -433,7 +434,7 @@ def _check_blocks(dims: list, path: Path, sha: str, blocks, var_dims: dict
                 reason = "its record lists other variables"
             else:
                 for name in owned:
-                    a = group[name][tuple(sl[d] for d in var_dims[name])]
+                    a = cast(zarr.Array, group[name])[tuple(sl[d] for d in var_dims[name])]
                     if _crc(np.asarray(a)) != rec["crc32"][name]:
                         reason = f"{name} fails its checksum"
                         break

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from functools import cache
 from importlib import metadata
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -115,7 +116,7 @@ class Species:
 #: (whose records ask CoolProp for limits, so they are built on first use). ``Air`` is Lemmon
 #: et al.'s pseudo-pure fluid (doi:10.1063/1.1285884), with the Lemmon-Jacobsen (2004)
 #: viscosity.
-_SPECIES_ARGS = {
+_SPECIES_ARGS: dict[str, tuple[Any, ...]] = {
     "Air": ("Air",),
     "N2": ("Nitrogen",),
     "O2": ("Oxygen",),
@@ -196,12 +197,13 @@ def _load_cached(formula: str):
         return None
     try:
         with np.load(path) as data:
-            limits = {k: float(data[k]) for k in _LIMITS}
+            limits: dict[str, Any] = {k: float(data[k]) for k in _LIMITS}
             arrays = {k: data[k] for k in _TABLE_FIELDS}
     except (OSError, ValueError, KeyError):
         return None  # corrupt or from another layout: rebuilt and rewritten
     sp = Species(formula, *_SPECIES_ARGS[formula], **limits)
-    tab = _Table(**{k: (float(v) if v.ndim == 0 else v) for k, v in arrays.items()})
+    fields: dict[str, Any] = {k: (float(v) if v.ndim == 0 else v) for k, v in arrays.items()}
+    tab = _Table(**fields)
     return sp, tab
 
 

@@ -7,11 +7,17 @@ after Gidaspow (1994), *Multiphase Flow and Fluidization*, Academic Press.
 from __future__ import annotations
 
 import numpy as np
+from numba import vectorize
 
-__all__ = ["drag_force_gidaspow"]
+from .._jit import CACHE
+from ..collision.physics import EPS_SWITCH, drag_gidaspow
 
-#: Voidage at which Gidaspow switches from the Ergun branch to the Wen-Yu branch [-].
-EPS_SWITCH = 0.8
+__all__ = ["drag_force_gidaspow", "EPS_SWITCH"]
+
+
+@vectorize(["float64(float64, float64, float64, float64, float64, float64)"], cache=CACHE)
+def _drag_ufunc(slip, d, volume, eps, mu_g, rho_g):
+    return drag_gidaspow(slip, d, volume, eps, mu_g, rho_g)
 
 
 def drag_force_gidaspow(slip, d, volume, eps, mu_g, rho_g):
@@ -49,15 +55,7 @@ def drag_force_gidaspow(slip, d, volume, eps, mu_g, rho_g):
 
     The Schiller-Naumann form of ``C_d`` is written so that ``slip = 0`` gives 0, not NaN:
     ``C_d Re = 24 (1 + 0.15 Re^0.687)`` is used with ``|slip| / Re = mu_g / (rho_g eps d)``.
+    The formula is written once, :func:`agglomtool.collision.physics.drag_gidaspow` (which
+    the compiled kernels call too), and broadcast here over the arrays.
     """
-    slip = np.asarray(slip, dtype=float)
-    d = np.asarray(d, dtype=float)
-    eps = np.asarray(eps, dtype=float)
-    speed = np.abs(slip)
-    ergun = (150.0 * (1.0 - eps) * mu_g / (eps * d * d) + 1.75 * rho_g * speed / d) * volume * slip
-    re = rho_g * eps * d * speed / mu_g
-    # C_d |slip| = (C_d Re) * mu_g / (rho_g eps d): finite at zero slip.
-    cd_re = np.where(re < 1000.0, 24.0 * (1.0 + 0.15 * re**0.687), 0.44 * re)
-    cd_speed = cd_re * mu_g / (rho_g * eps * d)
-    wen_yu = 0.75 * cd_speed * rho_g * slip * eps**-1.65 * volume / d
-    return np.where(eps < EPS_SWITCH, ergun, wen_yu)
+    return np.asarray(_drag_ufunc(slip, d, volume, eps, mu_g, rho_g))

@@ -15,14 +15,20 @@ from numba import vectorize
 
 from .._jit import CACHE
 from .._validate import check_range
+from ..collision.physics import WEN_YU_C1, WEN_YU_C2, wet_mass
+from ..collision.physics import umf_wen_yu as _umf_scalar
 from ..constants import GRAVITY
 
 __all__ = ["umf_wen_yu", "umf_ergun", "umf", "umf_methods", "umf_coated", "UMF_C1_C2",
            "GRAVITY"]
 
 
+@vectorize(["float64(float64, float64, float64, float64, float64, float64)"], cache=CACHE)
+def _umf_ufunc(d, rho_p, mu_g, rho_g, c1, c2):
+    return _umf_scalar(d, rho_p, mu_g, rho_g, c1, c2)
 
-def umf_wen_yu(d, rho_p, mu_g, rho_g, c1=33.7, c2=0.0408):
+
+def umf_wen_yu(d, rho_p, mu_g, rho_g, c1=WEN_YU_C1, c2=WEN_YU_C2):
     """Minimum fluidization velocity by Wen and Yu (1966) [m/s].
 
     Parameters
@@ -51,16 +57,15 @@ def umf_wen_yu(d, rho_p, mu_g, rho_g, c1=33.7, c2=0.0408):
         U_mf = Re_mf mu_g / (rho_g d)
 
     The second form of ``Re_mf`` avoids cancellation for fine particles (small ``Ar``).
+    The formula is written once, :func:`agglomtool.collision.physics.umf_wen_yu` (which the
+    compiled kernels call too), and broadcast here over the arrays.
     """
-    d = np.asarray(d, dtype=float)
-    ar = d**3 * rho_g * (rho_p - rho_g) * GRAVITY / (mu_g * mu_g)
-    re_mf = c2 * ar / (np.sqrt(c1 * c1 + c2 * ar) + c1)
-    return re_mf * mu_g / (rho_g * d)
+    return np.asarray(_umf_ufunc(d, rho_p, mu_g, rho_g, c1, c2))
 
 
 #: Published (C1, C2) pairs of ``Re_mf = sqrt(C1^2 + C2 Ar) - C1``, with their sources.
 UMF_C1_C2 = {
-    "wen-yu": (33.7, 0.0408, "Wen & Yu (1966), AIChE J. 12:610, doi:10.1002/aic.690120343"),
+    "wen-yu": (WEN_YU_C1, WEN_YU_C2, "Wen & Yu (1966), AIChE J. 12:610, doi:10.1002/aic.690120343"),
     "richardson": (25.7, 0.0365, "Richardson (1971), in Fluidization, Academic Press"),
     "saxena-vogel": (25.3, 0.0571, "Saxena & Vogel (1977), Trans. IChemE 55:184"),
     "babu": (25.25, 0.0651, "Babu, Shah & Talwalkar (1978), AIChE Symp. Ser. 74(176):176"),
@@ -159,36 +164,32 @@ def umf(d, rho_p, gas, method="wen-yu", *, eps_mf=None, phi=1.0):
     return umf_wen_yu(d, rho_p, gas.mu, gas.rho, c1=c1, c2=c2)
 
 
-_FOUR_THIRDS_PI = (4.0 / 3.0) * math.pi
-
-
 @vectorize(["float64(float64, float64, float64, float64, float64, float64, float64, "
-            "float64, float64, float64, float64)"], cache=CACHE)
-def _coated_kernel(solid, geo, h0, rho_l, vol, d3, d_wet, mu_g, rho_g, c1, c2):
-    """:func:`umf_coated`'s one compiled pass: the wet mass, the wet density and
-    :func:`umf_wen_yu`, each operation as in the numpy forms (``solid = rho_s r^3``,
-    ``geo = 3 r^2 + 3 r h0 + h0^2``, ``vol`` and ``d3 = d_wet^3`` given); NaN where the wet
-    density does not exceed the gas's (or is NaN)."""
-    rho_p = _FOUR_THIRDS_PI * (solid + rho_l * h0 * geo) / vol
+            "float64, float64, float64)"], cache=CACHE)
+def _coated_kernel(d, rho_s, h0, rho_l, vol, d_wet, mu_g, rho_g, c1, c2):
+    """:func:`umf_coated`'s one compiled pass: the wet mass
+    (:func:`agglomtool.collision.physics.wet_mass`), the wet density over the given wet
+    volume ``vol`` and :func:`agglomtool.collision.physics.umf_wen_yu` of the wet diameter
+    ``d_wet``, as the numpy route takes them; NaN where the wet density does not exceed the
+    gas's (or is NaN)."""
+    rho_p = wet_mass(d, rho_s, h0, rho_l) / vol
     if not rho_p > rho_g:
         return math.nan
-    ar = d3 * rho_g * (rho_p - rho_g) * GRAVITY / (mu_g * mu_g)
-    re_mf = c2 * ar / (math.sqrt(c1 * c1 + c2 * ar) + c1)
-    return re_mf * mu_g / (rho_g * d_wet)
+    return _umf_scalar(d_wet, rho_p, mu_g, rho_g, c1, c2)
 
 
 def umf_coated(d, rho_s, h0, rho_l, mu_g, rho_g, method="wen-yu"):
     """``U_mf`` [m/s] of a sphere (diameter ``d`` [m], density ``rho_s`` [kg/m3]) coated
     with ``h0`` [m] of a liquid of density ``rho_l`` [kg/m3], fluidized by a gas of
     ``mu_g`` [Pa s] and ``rho_g`` [kg/m3]: :func:`umf` of the wet diameter ``d + 2 h0`` and
-    the wet particle's mean density (coating volume ``(4/3) pi h0 (3 r^2 + 3 r h0 + h0^2)``,
-    no cancellation for thin coatings), by a correlation of :data:`UMF_C1_C2`.
+    the wet particle's mean density (wet mass, :func:`agglomtool.pair.wet_mass`, over the
+    wet volume ``(pi/6) d_wet^3``), by a correlation of :data:`UMF_C1_C2`.
 
-    The same numbers as that numpy route (the powers taken by numpy on the inputs' own
-    shapes, every other operation in one compiled pass over the broadcast result, in the
-    same order), without its temporaries. Returns ``None`` where it does not apply (a plate,
-    a method outside :data:`UMF_C1_C2`, a wet density not above the gas's): the caller then
-    takes the numpy route, which answers or raises there.
+    The same numbers as that numpy route (the wet volume's power taken by numpy on the
+    inputs' own shapes, every other operation in one compiled pass over the broadcast
+    result, the same scalar functions), without its temporaries. Returns ``None`` where it
+    does not apply (a plate, a method outside :data:`UMF_C1_C2`, a wet density not above
+    the gas's): the caller then takes the numpy route, which answers or raises there.
     """
     if method not in UMF_C1_C2:
         return None
@@ -196,17 +197,11 @@ def umf_coated(d, rho_s, h0, rho_l, mu_g, rho_g, method="wen-yu"):
     d_wet = d + 2.0 * h0
     if not np.all(np.isfinite(d_wet)) or not np.all(d_wet > 0.0):
         return None
-    # The powers exactly as the numpy route takes them: numpy's power of a scalar can
-    # differ in the last bit from its power of an array (a 0-d one included), so each is
-    # taken on the same kind of operand as there.
+    # The power exactly as the numpy route takes it: numpy's power of a scalar can differ
+    # in the last bit from its power of an array (a 0-d one included).
     vol = (math.pi / 6.0) * d_wet**3
-    d3 = np.asarray(d_wet, dtype=float) ** 3
-    r = 0.5 * d
-    r_f = np.where(np.isinf(r), 1.0, r)
-    solid = np.asarray(rho_s, dtype=float) * r_f**3
-    geo = 3.0 * r_f * r_f + 3.0 * r_f * h0 + h0 * h0
     c1, c2, _ = UMF_C1_C2[method]
-    out = _coated_kernel(solid, geo, h0, rho_l, vol, d3, d_wet, mu_g, rho_g, c1, c2)
+    out = _coated_kernel(d, rho_s, h0, rho_l, vol, d_wet, mu_g, rho_g, c1, c2)
     if np.isnan(out).any():
         return None
     return out

@@ -91,7 +91,7 @@ def melt_liquid(
         )
     wt = normalise_wt(composition)
     if not is_array_composition(wt):
-        chosen = _rule(wt) if viscosity_model == "auto" else viscosity_model
+        chosen = str(_rule(wt)) if viscosity_model == "auto" else viscosity_model
         func, cite = VISCOSITY_MODELS[chosen]
         mu = func(composition, T)
         how = "chosen by rule" if viscosity_model == "auto" else "requested"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Mapping
 from functools import cache
+from typing import Any
 
 import numpy as np
 from chemicals.elements import molecular_weight, simple_formula_parser
@@ -66,17 +67,17 @@ def normalise_wt(composition: Mapping[str, float], *, tol: float = 2.0) -> dict:
     except ValueError:
         raise ValueError("composition: the oxides' arrays do not broadcast together "
                          f"(shapes {[v.shape for v in wt.values()]})") from None
-    total = sum(wt.values())
-    far = np.abs(total - 100.0) > tol
+    total_a: np.ndarray = sum(wt.values(), np.zeros(()))
+    far = np.abs(total_a - 100.0) > tol
     if far.any():
-        bad = np.broadcast_to(total, shape)[np.broadcast_to(far, shape)]
+        bad = np.broadcast_to(total_a, shape)[np.broadcast_to(far, shape)]
         raise ValueError(f"composition sums to {bad.flat[0]:g} wt % in {bad.size} of "
                          f"{int(np.prod(shape))} elements; expected 100 +- {tol:g}")
-    if (np.abs(total - 100.0) > 1e-6).any():
+    if (np.abs(total_a - 100.0) > 1e-6).any():
         warnings.warn("composition sums to "
-                      f"{float(np.min(total)):g}-{float(np.max(total)):g} wt %; rescaled "
+                      f"{float(np.min(total_a)):g}-{float(np.max(total_a)):g} wt %; rescaled "
                       "to 100", stacklevel=3)
-    return {k: np.broadcast_to(100.0 * v / total, shape) for k, v in wt.items()}
+    return {k: np.broadcast_to(100.0 * v / total_a, shape) for k, v in wt.items()}
 
 
 def is_array_composition(wt: Mapping) -> bool:
@@ -89,6 +90,7 @@ def mole_fractions(wt: Mapping[str, float]) -> dict:
 
     Floats give floats (oxides at 0 left out); arrays give arrays, element by element.
     """
+    moles: dict[str, Any]
     if is_array_composition(wt):
         moles = {k: np.asarray(v, dtype=float) / molar_mass(k) for k, v in wt.items()}
     else:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -87,7 +88,7 @@ def surface_tension_mills(composition: Mapping[str, float], T, *, temperature="p
     unknown = sorted(k for k in x if k not in _MILLS_GAMMA)
     if unknown:
         _left_out("Mills surface tension", unknown, x)
-    gamma_1773 = 0.0
+    gamma_1773: Any = 0.0  # a float, or an array over compositions
     slope = 0.0
     for oxide, xi in x.items():
         if oxide not in _MILLS_GAMMA:
@@ -155,7 +156,7 @@ def surface_tension_kucuk(composition: Mapping[str, float]):
 
 #: Mills-Keene partial molar volumes at 1773 K [cm3/mol]: constant, or (a, b, c) for
 #: V = a + b X + c X^2 of the oxide's own mole fraction X.
-_MILLS_KEENE_V = {
+_MILLS_KEENE_V: dict[str, float | tuple[float, float, float]] = {
     "SiO2": (19.55, 7.966, 0.0), "Al2O3": (28.31, 32.0, -31.45), "CaO": 20.7, "MgO": 16.1,
     "FeO": 15.8, "Fe2O3": 38.4, "MnO": 15.6, "Na2O": 33.0, "K2O": 51.8, "TiO2": 24.0,
     "P2O5": 65.7,

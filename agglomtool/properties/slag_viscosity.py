@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -190,11 +191,11 @@ def viscosity_urbain_mills(composition: Mapping[str, float], T):
     alpha = np.asarray(xm / (xm + xa))[..., None]
     # X_G^k, k = 0..3, along a last axis (one row per composition)
     powers = np.asarray(xg)[..., None] ** np.arange(4)
-    weights = {"Ca": 0.0, "Mg": 0.0, "Mn": 0.0}
+    weights: dict[str, Any] = {"Ca": 0.0, "Mg": 0.0, "Mn": 0.0}
     for k, (_, group) in _URBAIN_MODIFIERS.items():
         if group is not None:
             weights[group] += x.get(k, 0.0)
-    wsum = sum(weights.values())
+    wsum: Any = sum(weights.values())
     none = np.asarray(wsum) <= 0.0  # no grouped modifier (TiO2 or ZrO2 only): Ca's
     if none.any():
         weights = {"Ca": np.where(none, 1.0, weights["Ca"]), "Mg": weights["Mg"],

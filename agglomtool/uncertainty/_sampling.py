@@ -12,6 +12,7 @@ from __future__ import annotations
 import zlib
 from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
+from typing import cast
 
 import numba
 import numpy as np
@@ -36,7 +37,7 @@ def resolve_seed(seed) -> tuple[int, bool]:
     result so that the run can be repeated.
     """
     if seed is None:
-        return int(np.random.SeedSequence().entropy) % 2**63, False
+        return int(cast(int, np.random.SeedSequence().entropy)) % 2**63, False
     if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or not (
         0 <= seed < 2**63
     ):
@@ -131,7 +132,7 @@ class _ChunkedDraws:
                    for name in names}
         for name in names:
             self.resampled[name] = 0
-        buffers = None if out is not None else {name: np.empty(self.chunk) for name in names}
+        buffers = {} if out is not None else {name: np.empty(self.chunk) for name in names}
 
         def draw(name, x):
             d = self.dists[name]
@@ -147,8 +148,10 @@ class _ChunkedDraws:
             for start in range(0, self.n, self.chunk):
                 sl = slice(start, min(start + self.chunk, self.n))
                 m = sl.stop - sl.start
-                vals = ({name: out[name][sl] for name in names} if out is not None
-                        else {name: buffers[name][:m] for name in names})
+                if out is not None:
+                    vals = {name: out[name][sl] for name in names}
+                else:
+                    vals = {name: buffers[name][:m] for name in names}
                 if pool is None or m < _THREADED_MIN:
                     bad = [draw(name, vals[name]) for name in names]
                 else:

@@ -41,6 +41,7 @@ laws become uncertain inputs of a Scene:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.special import ndtri
@@ -259,7 +260,7 @@ def scene_fields(values: dict, draws: dict[str, np.ndarray]) -> dict[str, np.nda
     melt's drawn compositions (oxide -> wt % arrays; not a Scene field).
     """
     si, sj, liquid = _uses(values)
-    out: dict[str, np.ndarray] = {}
+    out: dict[str, Any] = {}  # arrays, and a composition (oxide -> arrays)
     for side, sol in (("i", si), ("j", sj)):
         key = f"solid {sol.name} asperity_height"
         if key in draws:

@@ -145,7 +145,7 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
                     continue
                 s_k = _first_order(here[0], d, int(bins))
                 if s_k > best_s:
-                    best, best_s = name, s_k
+                    best, best_s = str(name), s_k
             deciding[a, b] = deciding[b, a] = best
             index[a, b] = index[b, a] = best_s
     labels = [str(v) for v in opts]

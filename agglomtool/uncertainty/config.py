@@ -22,6 +22,7 @@ Every error names the file, the table and the key.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from .._config import ConfigError, check_tables, parse_scene, read_toml, warn_scene_findings
 from .._fields import FIELD_META
@@ -98,7 +99,7 @@ def parse_uncertain(table, source: str = "config"):
     if not isinstance(table, dict) or not table:
         raise ConfigError(f"{source}: [uncertain] must be a table: assumed = true and/or "
                           "field = { law = ..., ... }")
-    laws = {"normal": Normal, "lognormal": LogNormal, "uniform": Uniform}
+    laws: dict[str, Any] = {"normal": Normal, "lognormal": LogNormal, "uniform": Uniform}
     out: dict = {}
     for key, spec in table.items():
         where = f"{source}: [uncertain] {key}"

@@ -220,7 +220,7 @@ def monte_carlo(
     for sl, chunk_values in draws.chunks(out=values if keep_samples else None):
         res = evaluate_e_w(base, chunk_values, mode)
         e_w[sl] = res.e_w
-        if keep_samples:
+        if stage is not None:  # keep_samples
             stage[sl] = res.stage
         if "e" in chunk_values:
             e_max = max(e_max, float(np.max(chunk_values["e"])))

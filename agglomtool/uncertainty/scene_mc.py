@@ -14,6 +14,7 @@ seed gives the same draws on both paths.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -183,7 +184,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
                      if f not in before and f not in findings]
         out = _map_outputs(base, drawn, nodes)
         e_w[sl], propensity[sl], u_star[sl] = out["e_w"], out["propensity"], out["u_star"]
-        if keep_samples:
+        if stage is not None:  # keep_samples
             stage[sl] = out["stage"]
             for k in ("e", "ha_i", "ha_j", "theta_deg", "fluctuation_ratio", "wake_fraction"):
                 if k in drawn and k not in fields:
@@ -240,7 +241,8 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
             ds[f"composition_wt_{oxide}"] = ("sample", x, _attrs(
                 "percent", f"{oxide} share of the drawn melt composition, wt % (from the "
                 "assumed draws)"))
-    set_by_draws = set(fields) | set(scene_fields(base, {k: 1.0 for k in assumed}))
+    ones: dict[str, Any] = {k: 1.0 for k in assumed}  # factors of 1: a valid composition
+    set_by_draws = set(fields) | set(scene_fields(base, ones))
     prov = {f"provenance: {k}": f"{v} {u}; {o}; {c}"
             for k, (v, u, o, c) in provenance(base).items() if k not in set_by_draws}
     ds.attrs.update(
