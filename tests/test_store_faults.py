@@ -529,21 +529,27 @@ def test_a_cluster_with_no_live_worker_fails_after_the_stated_time(tmp_path, mon
 
 
 def test_an_error_on_a_worker_surfaces_as_itself(tmp_path):
+    """Many blocks in flight when one fails: the others are cancelled, and the error is
+    the worker's own (cancelling once changed the set being iterated over, raising
+    ``RuntimeError: dictionary changed size during iteration`` instead)."""
     from distributed import Client, LocalCluster
 
     from agglomtool.maps.cluster import run_blocks
 
     def fails(i):
+        import time
+
         if i == 3:
             raise ValueError(f"field x = {i} is outside the allowed range (file mine.toml)")
+        time.sleep(0.05)
         return i
 
-    done = []
     with LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
                       dashboard_address=None) as lc, Client(lc) as client:
-        with pytest.raises(ValueError, match="field x = 3 .*mine.toml"):
-            run_blocks(client, [((i,), {}) for i in range(12)], lambda idx, sl: idx,
-                       fails, lambda idx, r: done.append(r), in_flight=6)
+        for _ in range(3):
+            with pytest.raises(ValueError, match="field x = 3 .*mine.toml"):
+                run_blocks(client, [((i,), {}) for i in range(400)], lambda idx, sl: idx,
+                           fails, lambda idx, r: None, in_flight=300)
 
 
 def test_cli_with_a_scheduler_without_workers_says_so_in_one_line(tmp_path):
