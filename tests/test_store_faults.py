@@ -1,4 +1,4 @@
-"""Faults of stores, runs and clusters (issue 24): every byte of a store checked and mended,
+"""Faults of stores, runs and clusters: every byte of a store checked and mended,
 lifecycles with one owner, inputs read once per run, cluster failures said.
 
 Random choices (which files, which bytes) come from seeded generators: a failure is
