@@ -366,6 +366,23 @@ def test_cli_killed_at_a_random_moment_is_mended_by_the_same_command(kept, tmp_p
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.nc", "map.toml"]
 
 
+def test_cli_runs_started_together_on_one_store_and_output_never_write_a_wrong_map(
+        kept, tmp_path):
+    """Three runs of the same command at once (same store, same -o): each writes a whole,
+    right map or is refused in one line, and none leaves a store behind."""
+    shutil.copy(kept / "map.toml", tmp_path / "map.toml")
+    args = [sys.executable, "-m", "agglomtool", "map", "map.toml", "-o", "m.nc", "-q"]
+    procs = [subprocess.Popen(args, cwd=tmp_path, env=_env(), stderr=subprocess.PIPE,
+                              text=True) for _ in range(3)]
+    results = [(p.wait(timeout=600), p.stderr.read()) for p in procs]
+    for rc, err in results:
+        assert "Traceback" not in err
+        assert rc == 0 or (rc == 2 and "is being written by" in err), err
+    assert any(rc == 0 for rc, _ in results)
+    xr.testing.assert_identical(_map_values(kept / "ref.nc"), _map_values(tmp_path / "m.nc"))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.nc", "map.toml"]
+
+
 # ---------------------------------------------------------------------------------------
 # Inputs read once per run
 
