@@ -62,12 +62,13 @@ class _LogToStderr:
 
 def _cmd_map(args: argparse.Namespace) -> int:
     """Sweep the scene and grid of a TOML file; write the map as compressed netCDF."""
-    import shutil
     from pathlib import Path
 
+    from .maps.cluster import NoWorkersError
     from .maps.config import load_config
     from .maps.export import write_map
     from .maps.grid import sweep
+    from .maps.store import hold_store, remove_store
 
     cfg = load_config(args.config)
     out = Path(args.output)
@@ -87,6 +88,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     if robust and (args.store or args.scheduler):
         raise CommandError("a robust map ([uncertain] in the file) is computed in memory, "
                            "here: --store and --scheduler are not for it")
+    complevel = 0 if args.no_compress else 4
     try:
         with _LogToStderr():  # the estimate line, always; the compile note without a bar
             if robust:
@@ -94,18 +96,24 @@ def _cmd_map(args: argparse.Namespace) -> int:
                            progress=_show_progress(args), uncertain=cfg.uncertain,
                            samples=cfg.options["samples"], threshold=cfg.options["threshold"],
                            seed=cfg.options["seed"], **cfg.grid)
+                write_map(ds, out, complevel=complevel, history=_command(args))
             else:
-                ds = sweep(cfg.scene, chunks=cfg.options["chunks"], nodes=cfg.options["nodes"],
-                           store=store, progress=_show_progress(args),
-                           overwrite=args.overwrite,
-                           client=client if client is not None else False, **cfg.grid)
+                # one owner from the sweep to the store's removal: the lock is held until
+                # the store is gone, so no other run reuses blocks whose files vanish
+                with hold_store(store):
+                    ds = sweep(cfg.scene, chunks=cfg.options["chunks"],
+                               nodes=cfg.options["nodes"], store=store,
+                               progress=_show_progress(args), overwrite=args.overwrite,
+                               client=client if client is not None else False, **cfg.grid)
+                    write_map(ds, out, complevel=complevel, history=_command(args))
+                    ds.close()
+                    if not args.keep_parts:
+                        remove_store(store)
+    except NoWorkersError as exc:
+        raise CommandError(str(exc)) from None
     finally:
         if client is not None:
             client.close()
-    write_map(ds, out, complevel=0 if args.no_compress else 4, history=_command(args))
-    ds.close()
-    if not args.keep_parts and not robust:
-        shutil.rmtree(store, ignore_errors=True)
     sizes = " x ".join(f"{k} {v}" for k, v in ds["propensity"].sizes.items())
     print(f"wrote {out} ({sizes}; {out.stat().st_size / 1e6:.3g} MB)")
     if robust:

@@ -27,10 +27,12 @@ naming it.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import math
 import os
 import re
+import threading
 import tomllib
 from dataclasses import dataclass, replace
 from functools import cache
@@ -55,6 +57,10 @@ __all__ = [
     "load",
     "builtin_dir",
     "fingerprint",
+    "snapshot",
+    "pinned",
+    "Snapshot",
+    "MaterialsChangedWarning",
     "ENV_VAR",
 ]
 
@@ -430,10 +436,18 @@ def builtin_dir() -> Path:
 def load_file(path: Path) -> dict[str, dict[str, object]]:
     """Parse and validate one TOML file: ``{kind: {name: entry}}``."""
     path = Path(path)
+    return _parse(path, _read(path))
+
+
+def _read(path: Path) -> bytes:
     try:
-        raw = path.read_bytes()
+        return path.read_bytes()
     except OSError as exc:
         raise MaterialsError(f"{path}: cannot be read: {exc.strerror or exc}") from None
+
+
+def _parse(path: Path, raw: bytes) -> dict[str, dict[str, object]]:
+    """Parse and validate the bytes ``raw`` of the TOML file ``path`` (not read again)."""
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -499,50 +513,194 @@ def _dirs(extra_dirs) -> list[Path]:
 
 
 def _state(dirs: tuple[Path, ...]) -> tuple:
-    """The TOML files of ``dirs`` with their modification times and sizes: a file edited,
-    added or removed gives another state, so :func:`_load` reads the files again."""
-    out: list[tuple[str, int | None, int | None]] = []
+    """The TOML files of ``dirs`` with their inode, modification and change times and sizes:
+    a cheap sign that a file was edited, added or removed, so that :func:`load` reads the
+    files again (an edit keeping size and mtime, as ``cp -p`` or ``rsync -a`` make, still
+    changes the change time or the inode). What is computed is keyed on the files' content
+    (:func:`_content_db`), never on these."""
+    out: list[tuple[str, int | None, int | None, int | None, int | None]] = []
     for d in dirs:
         for path in sorted(d.glob("*.toml")):
             try:
                 st = path.stat()
-                out.append((str(path), st.st_mtime_ns, st.st_size))
+                out.append((str(path), st.st_ino, st.st_mtime_ns, st.st_ctime_ns, st.st_size))
             except OSError:
-                out.append((str(path), None, None))
+                out.append((str(path), None, None, None, None))
     return tuple(out)
 
 
-@cache
-def _load(dirs: tuple[Path, ...], state: tuple = ()) -> MappingProxyType:
+def _read_all(dirs: tuple[Path, ...]) -> tuple[tuple[str, bytes], ...]:
+    """``(path, bytes)`` of every TOML file of ``dirs``, each read once."""
+    return tuple((str(path), _read(path)) for d in dirs for path in sorted(d.glob("*.toml")))
+
+
+#: Parsed databases by content: (dirs, ((path, sha256), ...)) -> entries; a few kept.
+_BY_CONTENT: dict[tuple, MappingProxyType] = {}
+_BY_CONTENT_MAX = 16
+
+
+def _content_db(dirs: tuple[Path, ...], files) -> tuple[tuple, MappingProxyType]:
+    """``(content key, entries)`` of the files ``files`` (``(path, bytes)``): parsed once per
+    content, from these bytes."""
+    key = (dirs, tuple((p, hashlib.sha256(raw).hexdigest()) for p, raw in files))
+    db = _BY_CONTENT.get(key)
+    if db is None:
+        db = _merge(dirs, files)
+        if len(_BY_CONTENT) >= _BY_CONTENT_MAX:
+            _BY_CONTENT.pop(next(iter(_BY_CONTENT)))
+        _BY_CONTENT[key] = db
+    return key, db
+
+
+def _merge(dirs: tuple[Path, ...], files) -> MappingProxyType:
     merged: dict[str, dict[str, Any]] = {k: {} for k in KINDS}
+    for name, raw in files:
+        path = Path(name)
+        for kind, entries in _parse(path, raw).items():
+            for key, entry in entries.items():
+                if key in merged[kind]:
+                    first = merged[kind][key].file
+                    builtin = Path(first).parent == dirs[0]
+                    written = _SPELLING.get((str(path), kind, key), key)
+                    raise MaterialsError(
+                        f"{path}: [{kind}.{written}] is already defined in {first}"
+                        + (f" as [{kind}.{key}]" if written != key else "")
+                        + (" (a built-in entry, which a user file cannot replace)"
+                           if builtin else "")
+                        + "; choose another name (case, spaces, hyphens and underscores "
+                        "are interchangeable in names)"
+                    )
+                merged[kind][key] = entry
+    return MappingProxyType({k: MappingProxyType(v) for k, v in merged.items()})
+
+
+class Snapshot:
+    """The materials files of a run, read and hashed once at its start.
+
+    Every look-up of the run (:func:`load`, :func:`solid`, ...) inside :func:`pinned` is
+    answered from the entries parsed from these bytes, without touching the file system;
+    the store's fingerprint is made from their SHA-256. A snapshot pickles with the
+    files' bytes, so the workers of a cluster compute from the same content (their own
+    files are not read).
+    """
+
+    def __init__(self, dirs: tuple[Path, ...], files, lookup_key):
+        self.dirs, self.files, self.lookup_key = dirs, tuple(files), lookup_key
+        self.key, self.db = _content_db(dirs, self.files)
+        self.sha256 = dict(self.key[1])
+        builtin = dirs[0]
+        self.labels = {p: f"agglomtool:{Path(p).name}" if Path(p).parent == builtin else p
+                       for p, _ in self.files}
+
+    def __getstate__(self):
+        return {"dirs": self.dirs, "files": self.files, "lookup_key": self.lookup_key}
+
+    def __setstate__(self, state):
+        self.__init__(state["dirs"], state["files"], state["lookup_key"])
+
+    def changed(self) -> list[str]:
+        """The files whose content now differs from the snapshot's (added, removed or
+        edited), read again now."""
+        now = dict((p, hashlib.sha256(raw).hexdigest()) for p, raw in _read_all_quiet(self.dirs))
+        return sorted(p for p in set(now) | set(self.sha256) if now.get(p) != self.sha256.get(p))
+
+
+def _read_all_quiet(dirs):
+    out = []
     for d in dirs:
         for path in sorted(d.glob("*.toml")):
-            for kind, entries in load_file(path).items():
-                for key, entry in entries.items():
-                    if key in merged[kind]:
-                        first = merged[kind][key].file
-                        builtin = Path(first).parent == dirs[0]
-                        written = _SPELLING.get((str(path), kind, key), key)
-                        raise MaterialsError(
-                            f"{path}: [{kind}.{written}] is already defined in {first}"
-                            + (f" as [{kind}.{key}]" if written != key else "")
-                            + (" (a built-in entry, which a user file cannot replace)"
-                               if builtin else "")
-                            + "; choose another name (case, spaces, hyphens and underscores "
-                            "are interchangeable in names)"
-                        )
-                    merged[kind][key] = entry
-    return MappingProxyType({k: MappingProxyType(v) for k, v in merged.items()})
+            try:
+                out.append((str(path), path.read_bytes()))
+            except OSError:
+                out.append((str(path), b""))
+    return out
+
+
+def _lookup_key(extra_dirs) -> tuple:
+    """What decides the directories of a look-up, without touching the file system."""
+    if extra_dirs is None:
+        return os.environ.get(ENV_VAR, ""), None
+    if isinstance(extra_dirs, str | os.PathLike):
+        extra_dirs = [extra_dirs]
+    return os.environ.get(ENV_VAR, ""), tuple(str(p) for p in extra_dirs)
+
+
+def snapshot(extra_dirs=None) -> Snapshot:
+    """Read, hash and parse the materials files now (:class:`Snapshot`)."""
+    dirs = tuple(p.resolve() for p in _dirs(extra_dirs))
+    return Snapshot(dirs, _read_all(dirs), _lookup_key(extra_dirs))
+
+
+_PINNED = threading.local()
+
+
+@contextlib.contextmanager
+def pinned(snap: Snapshot | None = None):
+    """Answer every look-up in this thread from the snapshot ``snap`` (default: one taken
+    now, or the one already pinned) while open; yields the snapshot.
+
+    Look-ups with ``extra_dirs=None`` use it always; others where their directories are
+    those of the snapshot.
+    """
+    stack = getattr(_PINNED, "stack", None)
+    if stack is None:
+        stack = _PINNED.stack = []
+    if snap is None:
+        snap = stack[-1] if stack else snapshot()
+    stack.append(snap)
+    try:
+        yield snap
+    finally:
+        stack.pop()
+
+
+def current() -> Snapshot | None:
+    """The snapshot pinned in this thread (:func:`pinned`), if any."""
+    stack = getattr(_PINNED, "stack", None)
+    return stack[-1] if stack else None
+
+
+class MaterialsChangedWarning(UserWarning):
+    """A materials file changed while a run was computing from its snapshot."""
+
+
+def warn_if_changed(snap: Snapshot | None, what: str = "the run") -> None:
+    """Say (:class:`MaterialsChangedWarning`) which files changed since ``snap`` was
+    taken: the run computed from their content at its start (no snapshot: nothing to say)."""
+    changed = snap.changed() if snap is not None else []
+    if changed:
+        import warnings
+
+        warnings.warn(
+            f"materials file {changed[0]}"
+            + (f" (and {len(changed) - 1} more)" if len(changed) > 1 else "")
+            + f" changed while {what} was computing; every value of it comes from the files "
+            "as read at its start (recorded in its fingerprint); run again to use the new "
+            "content", MaterialsChangedWarning, stacklevel=3)
+
+
+#: Per set of directories: (their state, the entries read then) for look-ups outside a run.
+_LAST: dict[tuple, tuple] = {}
 
 
 def load(extra_dirs=None) -> MappingProxyType:
     """All entries, validated: ``{kind: {name: entry}}``.
 
-    Cached per set of directories and read again when one of their TOML files is edited,
-    added or removed (so a long session sees the files as they are now).
+    Inside a run (:func:`pinned`) the run's snapshot, without touching the file system.
+    Elsewhere the files are read again when one of them is edited, added or removed (so a
+    long session sees the files as they are now); parsed entries are kept by content.
     """
+    snap = current()
+    if snap is not None and (extra_dirs is None or _lookup_key(extra_dirs) == snap.lookup_key):
+        return snap.db
     dirs = tuple(p.resolve() for p in _dirs(extra_dirs))
-    return _load(dirs, _state(dirs))
+    state = _state(dirs)
+    last = _LAST.get(dirs)
+    if last is not None and last[0] == state:
+        return last[1]
+    _, db = _content_db(dirs, _read_all(dirs))
+    _LAST[dirs] = (state, db)
+    return db
 
 
 def _key(name: str) -> str:
@@ -573,20 +731,21 @@ def fingerprint(used: dict, extra_dirs=None) -> dict[str, str]:
     -------
     dict of str to str
         ``"kind name" -> "file sha256"``: the file defining each entry (built-in files as
-        ``agglomtool:<file name>``) and the SHA-256 of its bytes as they are now.
+        ``agglomtool:<file name>``) and the SHA-256 of its bytes: those of the snapshot
+        pinned for the run (:func:`pinned`), else as they are now.
     """
-    builtin = builtin_dir().resolve()
+    snap = current()
+    if snap is None or not (extra_dirs is None or _lookup_key(extra_dirs) == snap.lookup_key):
+        snap = snapshot(extra_dirs)  # read now: entries and hashes of the same bytes
     out = {}
     for kind in sorted(used):
         for name in sorted(used[kind]):
-            file = Path(_get(kind, name, extra_dirs).file)
-            label = (f"agglomtool:{file.name}" if file.resolve().parent == builtin
-                     else str(file.resolve()))
-            try:
-                digest = hashlib.sha256(file.read_bytes()).hexdigest()
-            except OSError as exc:
-                digest = f"unreadable ({exc.strerror or exc})"
-            out[f"{kind} {_key(name)}"] = f"{label} {digest}"
+            entries = snap.db[kind]
+            key = _key(name)
+            if key not in entries:
+                _get(kind, name, extra_dirs)  # the error naming the known entries
+            file = str(entries[key].file)
+            out[f"{kind} {key}"] = f"{snap.labels[file]} {snap.sha256[file]}"
     return out
 
 

@@ -188,10 +188,20 @@ def test_blocks_copied_from_another_sweep_are_recomputed(ref, tmp_path, with_rec
     _same(ref, got)
 
 
-def test_damaged_zarr_metadata_recomputes_everything(ref, tmp_path):
+def test_damaged_zarr_metadata_is_rewritten_from_the_plan(ref, tmp_path):
     store = tmp_path / "s"
     _run(store)
     (store / "map.zarr" / "zarr.json").write_text("garbage")
+    with pytest.warns(StoreWarning, match="map.zarr/zarr.json did not match .* rewritten"):
+        got = _run(store)
+    _same(ref, got)
+
+
+def test_record_and_zarr_metadata_both_lost_recomputes_everything(ref, tmp_path):
+    store = tmp_path / "s"
+    _run(store)
+    (store / "map.zarr" / "zarr.json").write_text("garbage")
+    (store / "sweep.json").unlink()
     with pytest.warns(StoreWarning, match="every block is recomputed"):
         got = _run(store)
     _same(ref, got)

@@ -15,12 +15,13 @@ record (its checksums).
 from __future__ import annotations
 
 import itertools
+import os
 import uuid
 
 import numpy as np
 import xarray as xr
 
-__all__ = ["run_blocks", "compute_on_cluster"]
+__all__ = ["run_blocks", "compute_on_cluster", "NoWorkersError", "WORKER_TIMEOUT"]
 
 
 def _blocks(chunks: dict):
@@ -46,7 +47,38 @@ def _threads(client) -> int:
         return 1
 
 
-def run_blocks(client, todo, task, func, done, *, in_flight: int | None = None) -> None:
+#: Seconds a cluster run waits with no live worker before it fails (:class:`NoWorkersError`);
+#: the environment variable ``AGGLOMTOOL_WORKER_TIMEOUT`` sets another.
+WORKER_TIMEOUT = 60.0
+TIMEOUT_VAR = "AGGLOMTOOL_WORKER_TIMEOUT"
+
+
+def _worker_timeout() -> float:
+    text = os.environ.get(TIMEOUT_VAR)
+    if text is None:
+        return WORKER_TIMEOUT
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value < 1e6:
+        raise ValueError(f"{TIMEOUT_VAR} = {text!r} must be a number of seconds in (0, 1e6)")
+    return value
+
+
+class NoWorkersError(RuntimeError):
+    """A cluster run had no live worker for :data:`WORKER_TIMEOUT` seconds."""
+
+
+def _workers(client) -> int:
+    try:
+        return len(client.scheduler_info()["workers"])
+    except Exception:  # noqa: BLE001 - a scheduler that cannot answer has no usable worker
+        return 0
+
+
+def run_blocks(client, todo, task, func, done, *, in_flight: int | None = None,
+               worker_timeout: float | None = None) -> None:
     """Run ``func(*task(idx, sl))`` for every block of ``todo`` on the workers of ``client``.
 
     Parameters
@@ -62,9 +94,23 @@ def run_blocks(client, todo, task, func, done, *, in_flight: int | None = None) 
         ``done(idx, result)``, called on the client as each block finishes.
     in_flight : int, optional
         Blocks submitted at once (default: twice the workers' threads, at least 2).
-    """
-    from distributed import as_completed
+    worker_timeout : float, optional
+        Seconds without a live worker after which the run fails with
+        :class:`NoWorkersError` (default: ``AGGLOMTOOL_WORKER_TIMEOUT``, else
+        :data:`WORKER_TIMEOUT`).
 
+    Raises
+    ------
+    NoWorkersError
+        When the cluster has had no live worker for ``worker_timeout`` seconds.
+    Exception
+        An error raised on a worker, as the worker raised it (its type and message).
+    """
+    import time
+
+    from distributed import wait
+
+    timeout = _worker_timeout() if worker_timeout is None else float(worker_timeout)
     limit = in_flight or max(2, 2 * _threads(client))
     pending = iter(todo)
     index = {}
@@ -74,24 +120,51 @@ def run_blocks(client, todo, task, func, done, *, in_flight: int | None = None) 
         for idx, sl in pending:
             fut = client.submit(func, *task(idx, sl), pure=False,
                                 key=f"agglomtool-block-{run}-{'-'.join(map(str, idx))}")
-            index[fut.key] = idx
+            index[fut.key] = fut, idx
             return fut
         return None
 
-    first = [f for f in (submit() for _ in range(limit)) if f is not None]
-    queue = as_completed(first)
+    live = {f for f in (submit() for _ in range(limit)) if f is not None}
+    alone_since = None  # when the cluster was last seen without a worker
     try:
-        for fut in queue:
-            result = fut.result()  # a worker's error is raised here, as the worker raised it
-            done(index.pop(fut.key), result)
-            fut.release()
-            nxt = submit()
-            if nxt is not None:
-                queue.add(nxt)
+        while live:
+            try:
+                finished, live = wait(live, timeout=min(1.0, timeout),
+                                      return_when="FIRST_COMPLETED")
+            except TimeoutError:  # none finished within the second
+                finished = set()
+            if not finished:
+                if _workers(client):
+                    alone_since = None
+                    continue
+                now = time.monotonic()
+                alone_since = alone_since or now
+                if now - alone_since >= timeout:
+                    raise NoWorkersError(
+                        f"the dask cluster {_address(client)} has had no live worker for "
+                        f"{timeout:g} s, with {len(live)} block(s) waiting; start workers "
+                        "(dask worker SCHEDULER_ADDRESS --nthreads 1) and run again (finished "
+                        "blocks of a store are reused), or run without a cluster")
+                continue
+            alone_since = None
+            for fut in finished:
+                result = fut.result()  # a worker's error is raised here, as the worker raised it
+                done(index.pop(fut.key)[1], result)
+                fut.release()
+                nxt = submit()
+                if nxt is not None:
+                    live.add(nxt)
     except BaseException:
-        for fut in queue.futures:
+        for fut, _ in list(index.values()):  # a copy: cancelling changes what is pending
             fut.cancel()
         raise
+
+
+def _address(client) -> str:
+    try:
+        return str(client.scheduler.address)
+    except Exception:  # noqa: BLE001 - only for the message
+        return "(its scheduler)"
 
 
 def _compute_block(plan, sl: dict, owned: list) -> dict:

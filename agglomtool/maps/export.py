@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import glob
 import os
+import socket
+import uuid
 from pathlib import Path
 
 import numpy as np
@@ -56,7 +59,7 @@ def write_map(ds: xr.Dataset, path, *, complevel: int = COMPLEVEL,
             if var.dtype.kind in "fiub" and var.ndim > 0:
                 encoding[name].update(zlib=True, complevel=complevel, shuffle=True,
                                       chunksizes=_chunk_shape(var.shape))
-    tmp = path.with_name(path.name + ".tmp")
+    tmp = _temporary(path)
     try:
         out.to_netcdf(tmp, encoding=encoding)
         os.replace(tmp, path)
@@ -64,6 +67,22 @@ def write_map(ds: xr.Dataset, path, *, complevel: int = COMPLEVEL,
         if tmp.exists():
             tmp.unlink()
     return path
+
+
+def _temporary(path: Path) -> Path:
+    """A temporary name next to ``path`` of this write alone (host, process, random part),
+    so that writers of the same file never share one; those left by killed processes of
+    this host are removed."""
+    host = socket.gethostname().replace(".", "_")
+    for stale in path.parent.glob(f".{glob.escape(path.name)}.{glob.escape(host)}.*.tmp"):
+        try:
+            pid = int(stale.name[len(f".{path.name}.{host}."):].split(".")[0])
+            os.kill(pid, 0)
+        except ProcessLookupError:  # its writer is gone
+            stale.unlink(missing_ok=True)
+        except (ValueError, OSError):  # not ours, or a live process of another user
+            pass
+    return path.with_name(f".{path.name}.{host}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
 
 
 def cf_ready(ds: xr.Dataset, command: str) -> tuple[xr.Dataset, dict]:

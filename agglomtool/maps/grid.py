@@ -150,9 +150,12 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         client = Client("tcp://scheduler-host:8786")
         ds = at.sweep(scene, store="/shared/map-store", client=client, T=..., h0=...)
 
-    Every worker needs the same agglomtool version and the same user materials files
-    (``AGGLOMTOOL_MATERIALS``, at the same paths); a worker whose materials files differ
-    refuses its blocks. With several workers on one machine, set ``NUMBA_NUM_THREADS`` in
+    Every worker needs the same agglomtool version. The materials files are read once, at
+    the start of the sweep, and their content travels with the tasks: a worker computes
+    from them, not from its own files. A cluster with no live worker for 60 s
+    (``AGGLOMTOOL_WORKER_TIMEOUT``) fails the sweep with ``NoWorkersError`` (of
+    ``agglomtool.maps.cluster``); an error raised on a worker is raised
+    here as itself. With several workers on one machine, set ``NUMBA_NUM_THREADS`` in
     their environment to that machine's cores divided by its workers.
 
     Examples
@@ -160,11 +163,28 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     >>> import numpy as np, agglomtool as at                         # doctest: +SKIP
     >>> ds = at.sweep(at.Scene(), T=np.linspace(1000, 1300, 31), h0=[0.2e-6, 1e-6])
     """
-    from . import estimate as _est
+    from .. import materials
     from .checks import check_chunks
-    from .progress import compile_notice, say_on_stderr
 
     check_chunks(chunks)
+    # inputs read once per run: the materials files are read and hashed here, and every
+    # block (here or on a cluster's workers) computes from those bytes
+    owner = materials.current() is None
+    with materials.pinned() as snap:
+        ds = _sweep(scene, chunks=chunks, nodes=nodes, store=store, progress=progress,
+                    compute=compute, overwrite=overwrite, client=client, uncertain=uncertain,
+                    samples=samples, threshold=threshold, seed=seed, **grid)
+    if owner:
+        materials.warn_if_changed(snap, "the sweep")
+    return ds
+
+
+def _sweep(scene: Scene, *, chunks, nodes, store, progress, compute, overwrite, client,
+           uncertain, samples, threshold, seed, **grid) -> xr.Dataset:
+    """:func:`sweep` inside its materials snapshot."""
+    from . import estimate as _est
+    from .progress import compile_notice, say_on_stderr
+
     if uncertain is not None:
         if store is not None or not compute or client not in (None, False):
             raise ValueError("a robust map (uncertain=...) is computed in memory, here: "

@@ -23,7 +23,7 @@ import math
 import threading
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import xarray as xr
@@ -32,6 +32,9 @@ from .._version import __version__
 from ..scene import Scene
 from .layout import GROUPS, _block_function, _chunks, _dataset_attrs, _grid_values, _split
 from .meta import field_attrs, variable_attrs
+
+if TYPE_CHECKING:  # for the annotation only: materials is imported where it is used
+    from ..materials import Snapshot
 
 __all__ = ["SweepPlan", "build"]
 
@@ -64,12 +67,17 @@ class SweepPlan:
         ``{dim: tuple of block sizes}``.
     nodes : int
         Quadrature nodes of the propensity.
+    materials : agglomtool.materials.Snapshot, optional
+        The materials files as read at the start of the run: every block is evaluated
+        from them (:func:`agglomtool.materials.pinned`), wherever it runs; ``None``: the
+        files as they are when a block runs.
     """
 
     base: dict
     grid: dict
     chunks: dict
     nodes: int
+    materials: Snapshot | None = None
 
     # -- layout ---------------------------------------------------------------------------
 
@@ -223,7 +231,16 @@ class SweepPlan:
 
     def evaluate(self, sl: dict, wanted) -> dict:
         """``{name: array}`` of the variables ``wanted`` over the block ``sl``
-        (``{dim: slice}``), each over its own dimensions' slices."""
+        (``{dim: slice}``), each over its own dimensions' slices; from the plan's
+        materials snapshot, where it has one."""
+        if self.materials is None:
+            return self._evaluate(sl, wanted)
+        from .. import materials
+
+        with materials.pinned(self.materials):
+            return self._evaluate(sl, wanted)
+
+    def _evaluate(self, sl: dict, wanted) -> dict:
         wanted = list(wanted)
         groups = {self.variables[v][2] for v in wanted}
         out = {}
@@ -252,7 +269,7 @@ class SweepPlan:
         return dict(zip(GROUPS[group][1], vals, strict=True))
 
     def __getstate__(self):  # the fields only: caches are rebuilt where it is unpickled
-        return {k: getattr(self, k) for k in ("base", "grid", "chunks", "nodes")}
+        return {k: getattr(self, k) for k in ("base", "grid", "chunks", "nodes", "materials")}
 
     def __setstate__(self, state):
         for k, v in state.items():
@@ -274,7 +291,15 @@ class SweepPlan:
         grid = {d: np.asarray(ds[d].values) for d in order}
         chunks = {d: tuple(int(c) for c in ds.chunks[d]) if ds.chunks and d in ds.chunks
                   else (len(grid[d]),) for d in order}
-        return cls(base, grid, chunks, nodes)
+        return cls(base, grid, chunks, nodes, _snapshot())
+
+
+def _snapshot():
+    """The materials snapshot of the run in progress (:func:`agglomtool.materials.pinned`),
+    else the files read now: a plan computes from the files as they were when it was made."""
+    from .. import materials
+
+    return materials.current() or materials.snapshot()
 
 
 def _plan(scene: Scene, chunks, nodes, grid: dict):
@@ -286,7 +311,8 @@ def _plan(scene: Scene, chunks, nodes, grid: dict):
     values = _grid_values(scene, grid)
     sizes = _chunks(values, chunks)
     return SweepPlan(scene.values(), values,
-                     {k: _split(len(v), sizes[k]) for k, v in values.items()}, int(nodes))
+                     {k: _split(len(v), sizes[k]) for k, v in values.items()}, int(nodes),
+                     _snapshot())
 
 
 def _dataset(plan, data: dict) -> xr.Dataset:
@@ -319,7 +345,8 @@ def _lazy_arrays(plan) -> dict:
     from dask.highlevelgraph import HighLevelGraph
 
     token = tokenize(json.dumps(plan.base, sort_keys=True), list(plan.grid),
-                     [plan.grid[k] for k in plan.grid], plan.chunks, plan.nodes, __version__)
+                     [plan.grid[k] for k in plan.grid], plan.chunks, plan.nodes, __version__,
+                     plan.materials.key if plan.materials is not None else None)
     bname, pkey = f"agglomtool-sweep-{token}", f"agglomtool-sweep-plan-{token}"
     blocks: dict[Any, Any] = {pkey: plan}
     for idx, _ in plan.blocks():

@@ -2,7 +2,8 @@
 
 Layout of a store directory::
 
-    sweep.json        what the sweep is: its fingerprint (see :func:`fingerprint`)
+    sweep.json        what the sweep is: its fingerprint (see :func:`fingerprint`), the
+                      SHA-256 of every layout file, and a SHA-256 over both
     map.zarr/         the grid, laid out once (zarr v3); every block writes its own region
     done/<i_j_..>.json  one completion record per finished block: its checksums
     writer.lock       held (an OS file lock) by the process writing the store
@@ -15,16 +16,28 @@ How nothing is lost or mixed:
   variables, the contents (SHA-256) of every materials file the sweep uses (user files
   included) and the agglomtool version. A run whose fingerprint differs from the store's
   is refused with a :class:`ValueError` listing what differs, unless ``overwrite=True``.
-* **Integrity.** Every zarr chunk goes through a CRC32C checksum codec, and each completion
-  record holds a CRC-32 of every array region the block wrote. On every run the finished
-  blocks are read back and checked; a block that cannot be read, fails its checksum or
-  belongs to another sweep is recomputed, with a :class:`StoreWarning` saying so.
+* **Integrity: every byte checked.** Every zarr chunk goes through a CRC32C checksum codec,
+  and each completion record holds a CRC-32 of every array region the block wrote. The
+  layout files (every ``zarr.json``: metadata and attributes; the coordinates' chunks) are
+  listed with their SHA-256 in ``sweep.json``. On every run the layout is compared with one
+  made afresh from the sweep's plan, and what differs is rewritten (a :class:`StoreWarning`
+  names the files); the finished blocks are read back and checked, and a block that cannot
+  be read, fails its checksum or belongs to another sweep is recomputed, with a
+  :class:`StoreWarning` saying so. :func:`open_store` checks the record and the layout, and
+  every chunk as it is read: a store damaged, changed or deleted after it was opened is a
+  ValueError naming it, never values read as missing.
 * **One writer.** A second process writing the same store is refused
   (:class:`StoreLockedError`) while the first runs. The lock is an operating-system file
   lock (:mod:`filelock`): the kernel releases it when its holder dies, so a killed run
   never leaves the store locked.
 * **Crash safety.** A block's record is written (atomically) only after its data, so an
   interrupted run leaves at most blocks without records, which the next run recomputes.
+  :func:`hold_store` keeps the lock over a whole lifecycle (the CLI's sweep, export and
+  removal); :func:`remove_store` deletes the records first, so a removal cut short leaves
+  a store the same sweep mends.
+* **Inputs read once.** The materials files are read and hashed once, at the start of a
+  run (:func:`agglomtool.materials.pinned`); every block, here or on a worker, computes from
+  those bytes, and the fingerprint holds their SHA-256.
 
 Each variable is written by exactly one block per zarr chunk: a variable over fewer
 dimensions than the grid (``mu_g`` over ``T``, say) is written by the blocks whose index is
@@ -44,22 +57,26 @@ import os
 import shutil
 import socket
 import sys
+import threading
+import uuid
 import warnings
 import zlib
 from pathlib import Path
 from typing import cast
 
 import dask
+import dask.array
 import numpy as np
 import xarray as xr
 
 from .cluster import _blocks, _owned, run_blocks
 
 __all__ = ["run_with_store", "open_store", "export_netcdf", "fingerprint", "StoreWarning",
+           "hold_store", "remove_store",
            "StoreLockedError", "StoreMismatchError", "FORMAT_VERSION"]
 
 #: Version of the store layout; a store of another layout version is refused.
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
 _FORMAT = "agglomtool sweep store"
 _RECORD, _DATA, _DONE = "sweep.json", "map.zarr", "done"
 _LOCK, _OWNER = "writer.lock", "writer.json"
@@ -247,12 +264,13 @@ def _write_block(plan, data_path: str, region: dict, owned: list, used: dict,
 
     from .. import materials
 
-    found = materials.fingerprint(used)
-    if found != expected_materials:
-        diff = "; ".join(_differences(expected_materials, found))
-        raise ValueError(f"on host {socket.gethostname()} the materials files differ from "
-                         f"those of the process that started the sweep: {diff}")
-    values = plan.evaluate(region, owned)
+    with materials.pinned(plan.materials):  # the files as read at the start of the run
+        found = materials.fingerprint(used)
+        if found != expected_materials:
+            diff = "; ".join(_differences(expected_materials, found))
+            raise ValueError(f"on host {socket.gethostname()} the materials files differ "
+                             f"from those of the sweep's fingerprint: {diff}")
+        values = plan.evaluate(region, owned)
     group = zarr.open_group(data_path, mode="r+")
     crcs = {}
     for name in owned:
@@ -276,10 +294,31 @@ def _check_path(store) -> Path:
     return path
 
 
+#: Writer locks held by this process: lock file -> [FileLock, holding thread, depth]. A
+#: thread holding a store's lock may take it again (the CLI holds it around the sweep, the
+#: export and the removal of the store); any other taker is refused.
+_HELD: dict[str, list] = {}
+_HELD_GUARD = threading.Lock()
+
+
 @contextlib.contextmanager
 def _writer_lock(path: Path):
     from filelock import FileLock, Timeout
 
+    key = os.path.realpath(path / _LOCK)
+    with _HELD_GUARD:
+        held = _HELD.get(key)
+        if held is not None and held[1] == threading.get_ident():
+            held[2] += 1
+        else:
+            held = None
+    if held is not None:  # taken again by its holder
+        try:
+            yield
+        finally:
+            with _HELD_GUARD:
+                held[2] -= 1
+        return
     lock = FileLock(str(path / _LOCK), timeout=0)
     try:
         lock.acquire()
@@ -292,13 +331,81 @@ def _writer_lock(path: Path):
         raise StoreLockedError(
             f"store '{path}' is being written by {by}; wait for it to finish (then run "
             "again: finished blocks are reused) or use another store") from None
+    with _HELD_GUARD:
+        _HELD[key] = [lock, threading.get_ident(), 1]
     try:
         _atomic_write(path / _OWNER, json.dumps({
             "pid": os.getpid(), "host": socket.gethostname(),
             "started": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")}))
         yield
     finally:
+        with _HELD_GUARD:
+            _HELD.pop(key, None)
         lock.release()
+
+
+@contextlib.contextmanager
+def hold_store(store):
+    """Hold the writer lock of the store directory ``store`` (created if missing) for a
+    whole lifecycle: sweep, export and removal (:func:`remove_store`) under one lock, so
+    that no other process reuses a store while it is exported or deleted.
+
+    A directory this call created and that holds no sweep when it ends is removed again.
+
+    Raises
+    ------
+    StoreLockedError
+        If another process is writing the store.
+    ValueError
+        If ``store`` is a file or a directory that is not a sweep store.
+    """
+    path = _check_path(store)
+    _refuse_foreign(path)
+    created = not path.exists()
+    path.mkdir(parents=True, exist_ok=True)
+    try:
+        with _writer_lock(path):
+            yield path
+            if (created and path.is_dir()
+                    and not ({p.name for p in path.iterdir()} - {_LOCK, _OWNER})):
+                remove_store(path)
+    finally:
+        if created:
+            with contextlib.suppress(OSError):
+                path.rmdir()
+
+
+def remove_store(store) -> None:
+    """Delete the sweep store ``store`` under its writer lock (taken here if this thread
+    does not hold it already).
+
+    Files go in an order that keeps every intermediate state one that a rerun of the same
+    sweep mends: the completion records first (the blocks are then unfinished), then the
+    record, the zarr arrays, and last the lock file, unlinked while held. Files that are
+    not a store's (none are made by agglomtool) are left, with the directory.
+    """
+    path = Path(store)
+    if not path.is_dir():
+        return
+    with _writer_lock(path):
+        done = path / _DONE
+        if done.is_dir():
+            for rec in sorted(done.iterdir()):
+                rec.unlink(missing_ok=True)
+            done.rmdir()
+        (path / _RECORD).unlink(missing_ok=True)
+        if (path / _DATA).exists():
+            shutil.rmtree(path / _DATA)
+        for stale in path.glob(".*.tmp"):  # interrupted writes of this or a killed process
+            if stale.is_dir():
+                shutil.rmtree(stale, ignore_errors=True)
+            else:
+                stale.unlink(missing_ok=True)
+        (path / _OWNER).unlink(missing_ok=True)
+        (path / _LOCK).unlink(missing_ok=True)  # while held: a waiter that took the old
+        # inode is refused by filelock (it checks that the file it locked still exists)
+    with contextlib.suppress(OSError):
+        path.rmdir()
 
 
 def _encoding(ds: xr.Dataset, chunks: dict) -> dict:
@@ -313,19 +420,89 @@ def _encoding(ds: xr.Dataset, chunks: dict) -> dict:
     return enc
 
 
+def _write_layout(ds: xr.Dataset, data: Path, fp: dict) -> dict:
+    """Write the zarr layout of the sweep ``ds`` (its template) at ``data``: metadata,
+    coordinates, empty arrays; returns its manifest (:func:`_manifest`)."""
+    template = ds.copy()
+    template.attrs["store_fingerprint_sha256"] = _sha(fp)
+    chunks = {d: fp["chunks"][d] for d in fp["dims"]}
+    with _quiet_zarr():
+        template.to_zarr(data, mode="w", compute=False,
+                         encoding=_encoding(ds, chunks), zarr_format=3, consolidated=False)
+    return _manifest(data, set(ds.data_vars))
+
+
+def _is_layout_file(rel: str, data_vars) -> bool:
+    """Whether the file ``rel`` (relative to ``map.zarr``) belongs to the layout: every
+    ``zarr.json`` and the chunks of the coordinates; the chunks of the data variables are
+    the blocks' (checked against their completion records)."""
+    parts = rel.split("/")
+    return parts[-1] == "zarr.json" or parts[0] not in data_vars
+
+
+def _manifest(data: Path, data_vars) -> dict:
+    """``{file: sha256}`` of the layout files under ``data`` (relative POSIX paths)."""
+    out = {}
+    for p in sorted(data.rglob("*")):
+        rel = p.relative_to(data).as_posix()
+        if p.is_file() and _is_layout_file(rel, data_vars):
+            out[rel] = hashlib.sha256(p.read_bytes()).hexdigest()
+    return out
+
+
+def _record_text(fp: dict, manifest: dict) -> str:
+    """The record ``sweep.json``: the fingerprint, the manifest of the layout files, and a
+    SHA-256 over both (``check``) that tells a damaged record from another sweep's."""
+    body = {"fingerprint": fp, "layout": manifest}
+    return json.dumps({**body, "sha256": _sha(fp), "check": _sha(body)}, indent=1)
+
+
 def _layout(ds: xr.Dataset, path: Path, fp: dict) -> None:
     """Clear the store and lay out the grid: coordinates, metadata, empty arrays (``ds``:
     the sweep's template, :func:`agglomtool.maps.grid._template`)."""
     _clear(path)
     (path / _DONE).mkdir()
-    template = ds.copy()
-    template.attrs["store_fingerprint_sha256"] = _sha(fp)
-    chunks = {d: fp["chunks"][d] for d in fp["dims"]}
-    with _quiet_zarr():
-        template.to_zarr(path / _DATA, mode="w", compute=False,
-                         encoding=_encoding(ds, chunks), zarr_format=3, consolidated=False)
-    _atomic_write(path / _RECORD, json.dumps({"fingerprint": fp, "sha256": _sha(fp)},
-                                             indent=1))
+    manifest = _write_layout(ds, path / _DATA, fp)
+    _atomic_write(path / _RECORD, _record_text(fp, manifest))
+
+
+def _mend_layout(ds: xr.Dataset, path: Path, fp: dict, stacklevel: int = 4) -> dict:
+    """Compare every layout file of the store (metadata, attributes, coordinates) with a
+    layout made afresh from the plan; replace what differs or is missing, delete what the
+    layout does not hold, with a :class:`StoreWarning` naming the files. Returns the
+    manifest of the layout."""
+    data = path / _DATA
+    fresh_dir = path / f".layout.{os.getpid()}.{socket.gethostname()}.tmp"
+    if fresh_dir.exists():
+        shutil.rmtree(fresh_dir)
+    try:
+        fresh = _write_layout(ds, fresh_dir, fp)
+        have = _manifest(data, set(ds.data_vars)) if data.is_dir() else {}
+        bad = sorted((k for k in set(fresh) | set(have) if fresh.get(k) != have.get(k)),
+                     key=lambda k: (not k.endswith("zarr.json"), k))  # metadata named first
+        for rel in bad:
+            target = data / rel
+            if rel in fresh:
+                target.parent.mkdir(parents=True, exist_ok=True)
+                tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
+                shutil.copyfile(fresh_dir / rel, tmp)
+                os.replace(tmp, target)
+            else:
+                target.unlink(missing_ok=True)
+                for parent in target.parents:  # and the folders it leaves empty
+                    if parent == data:
+                        break
+                    with contextlib.suppress(OSError):
+                        parent.rmdir()
+    finally:
+        shutil.rmtree(fresh_dir, ignore_errors=True)
+    if bad:
+        what = ", ".join(f"{_DATA}/{r}" for r in bad[:4]) + (
+            f" (and {len(bad) - 4} more)" if len(bad) > 4 else "")
+        warnings.warn(f"store '{path}': {what} did not match the sweep's layout (damaged, "
+                      "missing or from another sweep); rewritten from the sweep's plan",
+                      StoreWarning, stacklevel=stacklevel)
+    return fresh
 
 
 def _clear(path: Path) -> None:
@@ -335,16 +512,31 @@ def _clear(path: Path) -> None:
     (path / _RECORD).unlink(missing_ok=True)
 
 
-def _read_json(path: Path):
-    """The JSON in ``path``; ``None`` if missing; a :class:`StoreWarning` and ``None`` if
-    unreadable."""
+def _load_record(path: Path) -> tuple[dict | None, str | None]:
+    """``(record, None)`` of the store ``path``'s ``sweep.json`` if it is whole (its
+    ``check`` holds); ``(None, why)`` if missing (``why`` None) or damaged."""
     try:
-        return json.loads(path.read_text())
+        record = json.loads((path / _RECORD).read_bytes().decode("utf-8"))
     except FileNotFoundError:
-        return None
+        return None, None
     except (OSError, UnicodeDecodeError, ValueError) as exc:
-        warnings.warn(f"{path} is unreadable ({exc}); it is rebuilt", StoreWarning, stacklevel=4)
-        return None
+        return None, f"unreadable ({type(exc).__name__}: {exc})"
+    if not (isinstance(record, dict) and isinstance(record.get("fingerprint"), dict)
+            and isinstance(record.get("layout"), dict)):
+        return None, "not a record of this store layout"
+    if record.get("check") != _sha({"fingerprint": record["fingerprint"],
+                                    "layout": record["layout"]}):
+        return None, "fails its checksum"
+    return record, None
+
+
+def _read_record(path: Path):
+    """The whole record of the store, or ``None``; a damaged one is said
+    (:class:`StoreWarning`) and rebuilt by the caller."""
+    record, why = _load_record(path)
+    if why is not None:
+        warnings.warn(f"{path / _RECORD} is {why}; it is rebuilt", StoreWarning, stacklevel=4)
+    return record
 
 
 def _zarr_sha(path: Path):
@@ -368,6 +560,19 @@ def _refuse_foreign(path: Path) -> None:
             + (", or delete it" if old else ""))
 
 
+def _refuse_other_layout(path: Path) -> None:
+    """Refuse a store whose readable record says it has another layout version."""
+    try:
+        layout = json.loads((path / _RECORD).read_text())["fingerprint"]["format"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return
+    if layout != [_FORMAT, FORMAT_VERSION] and isinstance(layout, list) and layout[:1] == [
+            _FORMAT]:
+        raise StoreMismatchError(
+            f"store '{path}' has the layout of another agglomtool ({layout[1]!r}; this one "
+            f"writes {FORMAT_VERSION})")
+
+
 def _prepare(ds: xr.Dataset, path: Path, fp: dict, overwrite: bool) -> None:
     """Make ``path`` a store of the sweep ``ds``: new, resumed, or refused."""
     sha = _sha(fp)
@@ -380,10 +585,9 @@ def _prepare(ds: xr.Dataset, path: Path, fp: dict, overwrite: bool) -> None:
     if overwrite:
         _layout(ds, path, fp)
         return
-    record = _read_json(path / _RECORD)
-    stored = None
-    if isinstance(record, dict) and isinstance(record.get("fingerprint"), dict):
-        stored = record["fingerprint"]
+    _refuse_other_layout(path)
+    record = _read_record(path)
+    stored = record["fingerprint"] if record is not None else None
     if stored is not None and _sha(stored) != sha:
         lines = _differences(stored, fp)
         raise StoreMismatchError(
@@ -394,19 +598,22 @@ def _prepare(ds: xr.Dataset, path: Path, fp: dict, overwrite: bool) -> None:
             f"store '{path}' holds a different sweep (its fingerprint {zsha[:12]} is not "
             f"this sweep's {sha[:12]}; its record {_RECORD} is missing or unreadable, so the "
             "differences cannot be listed)")
-    if zsha != sha:
-        if (path / _DONE).exists() and any((path / _DONE).iterdir()):
-            warnings.warn(f"store '{path}': the zarr layout is missing or unreadable; every "
-                          "block is recomputed", StoreWarning, stacklevel=3)
+    finished = (path / _DONE).is_dir() and any((path / _DONE).iterdir())
+    if stored is None and (zsha != sha or not finished):
+        # nothing says which sweep the blocks are of, or no block was finished (a layout
+        # interrupted before its record): lay it out again
+        if finished:
+            warnings.warn(f"store '{path}': neither {_RECORD} nor the zarr metadata says "
+                          "which sweep it holds; every block is recomputed", StoreWarning,
+                          stacklevel=3)
         _layout(ds, path, fp)
         return
-    if stored is None:
-        if not ((path / _DONE).is_dir() and any((path / _DONE).iterdir())):
-            _layout(ds, path, fp)  # a layout interrupted before its record: lay it out again
-            return
-        # the record was deleted after the layout was finished (blocks were recorded): the
-        # zarr metadata says it is this sweep, so write the record again
-        _atomic_write(path / _RECORD, json.dumps({"fingerprint": fp, "sha256": sha}, indent=1))
+    # this sweep's store (by its record, or by the zarr metadata where the record was lost
+    # after blocks were finished): every layout file checked and mended from the plan
+    (path / _DONE).mkdir(exist_ok=True)
+    manifest = _mend_layout(ds, path, fp)
+    if record is None or record["layout"] != manifest:
+        _atomic_write(path / _RECORD, _record_text(fp, manifest))
 
 
 def _check_blocks(dims: list, path: Path, sha: str, blocks, var_dims: dict
@@ -506,10 +713,15 @@ def run_with_store(ds: xr.Dataset, store, *, progress: bool = False, overwrite: 
         When finished blocks are unreadable, fail their checksum or belong to another
         sweep: they are recomputed.
     """
+    from .. import materials
     from .plan import SweepPlan
 
-    return _run_store(SweepPlan.from_dataset(ds), store, progress=progress,
-                      overwrite=overwrite, client=client, verify=verify)
+    plan = SweepPlan.from_dataset(ds)
+    with materials.pinned(plan.materials):
+        out = _run_store(plan, store, progress=progress, overwrite=overwrite, client=client,
+                         verify=verify)
+    materials.warn_if_changed(plan.materials, "the sweep")
+    return out
 
 
 def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, client=None,
@@ -585,32 +797,123 @@ def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, 
 def open_store(store) -> xr.Dataset:
     """The Dataset of a finished store, opened lazily (dask) from its zarr arrays.
 
+    Every byte is checked: the record (``sweep.json``) against its own checksum, the
+    layout files (metadata, attributes, coordinates) against the record's manifest, and
+    every chunk, as it is read, against its block's completion record. A chunk that no
+    longer matches (the store changed or was deleted after it was opened) is a ValueError
+    naming the store, never a value silently read as missing.
+
     Raises
     ------
     ValueError
-        If ``store`` is not a sweep store or some blocks are not finished.
+        If ``store`` is not a sweep store, some blocks are not finished, or a file of it is
+        damaged (the message names the file; running the sweep again mends it).
     """
     path = Path(store)
-    record = None
-    with contextlib.suppress(OSError, ValueError):
-        record = json.loads((path / _RECORD).read_text())
-    if not isinstance(record, dict) or not isinstance(record.get("fingerprint"), dict):
-        raise ValueError(f"{path} is not a sweep store (no readable {_RECORD}); run the sweep "
-                         "with store= to make one")
+    record, why = _load_record(path)
+    if record is None:
+        try:
+            legacy = json.loads((path / _RECORD).read_text())["fingerprint"]["format"]
+        except (OSError, ValueError, KeyError, TypeError):
+            legacy = None
+        if legacy is not None and legacy != [_FORMAT, FORMAT_VERSION]:
+            raise ValueError(f"store {path} has layout {legacy}, this agglomtool reads "
+                             f"{[_FORMAT, FORMAT_VERSION]}; run the sweep again into a new "
+                             "store (or with overwrite=True / --overwrite)")
+        if why is None:
+            raise ValueError(f"{path} is not a sweep store (no readable {_RECORD}); run the "
+                             "sweep with store= to make one")
+        raise ValueError(f"store {path}: {path / _RECORD} is {why}; run the same sweep "
+                         "again with this store to mend it")
     fp = record["fingerprint"]
     if fp.get("format") != [_FORMAT, FORMAT_VERSION]:
         raise ValueError(f"store {path} has layout {fp.get('format')}, this agglomtool reads "
                          f"{[_FORMAT, FORMAT_VERSION]}; run the sweep again into a new store")
     dims = fp["dims"]
+    data_vars = set(fp["variables"])
+    have = _manifest(path / _DATA, data_vars) if (path / _DATA).is_dir() else {}
+    bad = sorted(k for k in set(have) | set(record["layout"])
+                 if have.get(k) != record["layout"].get(k))
+    if bad:
+        raise ValueError(f"store {path}: {path / _DATA / bad[0]}"
+                         + (f" (and {len(bad) - 1} more files)" if len(bad) > 1 else "")
+                         + " does not match the store's record (damaged, missing or from "
+                         "another sweep); run the same sweep again with this store to mend it")
+    sha = record["sha256"]
     blocks = list(_blocks({d: fp["chunks"][d] for d in dims}))
-    missing = [idx for idx, _ in blocks if not (path / _DONE / _block_name(idx)).exists()]
+    crcs, missing = {}, []
+    for idx, _ in blocks:
+        try:
+            rec = json.loads((path / _DONE / _block_name(idx)).read_text())
+            if rec.get("fingerprint") != sha:
+                raise ValueError("another sweep's record")
+            crcs[idx] = rec["crc32"]
+        except (OSError, ValueError, KeyError, TypeError):
+            missing.append(idx)
     if missing:
         raise ValueError(f"store {path} is incomplete: {len(missing)} of {len(blocks)} blocks "
-                         f"missing (first: {missing[0]}); run the sweep again to finish it")
+                         f"missing or unreadable (first: {missing[0]}); run the sweep again to "
+                         "finish it")
     with _quiet_zarr():
         ds = xr.open_zarr(path / _DATA, consolidated=False, zarr_format=3)
     ds.attrs.pop("store_fingerprint_sha256", None)
+    token = uuid.uuid4().hex[:12]
+    for name in fp["variables"]:
+        var = ds[name]
+        chunks = tuple(tuple(fp["chunks"][d]) for d in var.dims)
+        reader = _CheckedArray(path, name, var.dims, dims, chunks, crcs,
+                               var.dtype, var.shape)
+        data = dask.array.from_array(reader, chunks=chunks, asarray=False, lock=False,
+                                     name=f"agglomtool-store-{name}-{token}",
+                                     meta=np.empty((0,) * var.ndim, dtype=var.dtype))
+        ds[name] = var.copy(data=data)
     return ds
+
+
+class _CheckedArray:
+    """The zarr array ``name`` of a store, read one block's chunk at a time and checked
+    against the block's completion record (its CRC-32) as it is read."""
+
+    def __init__(self, path: Path, name: str, var_dims, dims, chunks, crcs, dtype, shape):
+        self.path, self.name, self.var_dims, self.dims = path, name, tuple(var_dims), dims
+        self.starts = [np.concatenate([[0], np.cumsum(c)]).astype(int) for c in chunks]
+        self.crcs, self.dtype, self.shape = crcs, np.dtype(dtype), tuple(shape)
+        self.ndim = len(self.shape)
+        self._array = None
+
+    def __getstate__(self):  # (to a worker) without the open zarr array
+        return {**self.__dict__, "_array": None}
+
+    def __getitem__(self, key):
+        key = key if isinstance(key, tuple) else (key,)
+        sl = [k.indices(n) for k, n in zip(key, self.shape, strict=True)]
+        if any(stop <= start for start, stop, _ in sl):
+            return np.empty(tuple(max(0, stop - start) for start, stop, _ in sl), self.dtype)
+        at = {}
+        for d, (start, stop, _), st in zip(self.var_dims, sl, self.starts, strict=True):
+            j = int(np.searchsorted(st, start))
+            if st[j] != start or st[j + 1] != stop:
+                raise ValueError(f"store {self.path}: {self.name} read across blocks")
+            at[d] = j
+        idx = tuple(at.get(d, 0) for d in self.dims)
+        where = f"store {self.path}: {self.name} of block {idx}"
+        try:
+            import zarr
+
+            if self._array is None:
+                with _quiet_zarr():
+                    self._array = zarr.open_array(str(self.path / _DATA / self.name),
+                                                  mode="r")
+            a = np.asarray(self._array[tuple(slice(a, b) for a, b, _ in sl)])
+        except Exception as exc:  # noqa: BLE001 - a damaged or vanished file: say which
+            raise ValueError(f"{where} cannot be read ({type(exc).__name__}: {exc}); the "
+                             "store was changed or deleted after it was opened; run the "
+                             "sweep again") from None
+        if _crc(a) != self.crcs[idx].get(self.name):
+            raise ValueError(f"{where} no longer matches its completion record (the store was "
+                             "changed or deleted after it was opened); run the sweep again "
+                             "with this store to mend it")
+        return a
 
 
 def export_netcdf(store, output) -> Path:
