@@ -245,6 +245,21 @@ class _PairBatch(Resolved):
         return get
 
 
+def _one_snapshot(func):
+    """``func`` with every materials look-up answered from one snapshot of the files, read
+    once per call (:func:`agglomtool.materials.pinned`): no file is looked at per look-up,
+    and a bed never mixes two versions of a file."""
+
+    @functools.wraps(func)
+    def pinned(*args, **kwargs):
+        from .. import materials
+
+        with materials.pinned():
+            return func(*args, **kwargs)
+
+    return pinned
+
+
 def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions: int,
               progress: bool = False, pairs: bool = True):
     """The bed at ``G`` operating points: the coalescence efficiency ``E`` (G, K, K), the
@@ -414,6 +429,7 @@ def _class_coords(ev, dim):
                 "m", "upper edge of the class"))}
 
 
+@_one_snapshot
 def bed_propensity(scene: Scene, components, *, nodes: int = 16,
                    directions: int = DEFAULT_DIRECTIONS) -> xr.Dataset:
     """Agglomeration propensity of a bed of one or more components at one operating point.
@@ -590,6 +606,7 @@ def _bed_provenance(first: dict, comps, grid: dict, names) -> dict:
     return out
 
 
+@_one_snapshot
 def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
               directions: int = DEFAULT_DIRECTIONS, matrix: bool = False,
               progress: bool = False, **grid) -> xr.Dataset:
