@@ -19,7 +19,9 @@ import math
 import warnings
 
 import numpy as np
+from numba import vectorize
 
+from .._jit import CACHE
 from .._validate import PlausibilityWarning, check_range
 from ..constants import GRAVITY
 
@@ -245,9 +247,18 @@ def bubble_diameter_mori_wen(U, Umf, h, D_t, A0=0.0, *, d_p=None):
             out = float(np.min(val)) if np.any(val < lo) else float(np.max(val))
             _warn(f"bubble_diameter_mori_wen: {name} = {out:g} {unit} is outside the data "
                   f"of Mori and Wen (1975), {lo:g}-{hi:g} {unit}", stacklevel=3)
+    return _mori_wen(excess, A_t, A0, h, D_t)
+
+
+@vectorize(cache=CACHE)
+def _mori_wen(excess, A_t, A0, h, D_t):  # pragma: no cover - compiled
+    """Mori and Wen's ``d_b`` of one element (compiled: one pass, no temporaries)."""
     d_bm = _MW_MAX * (A_t * excess) ** 0.4
-    d_b0 = np.where(A0 > 0.0, _MW_PERFORATED * (A0 * excess) ** 0.4, _MW_POROUS * excess**2)
-    return d_bm - (d_bm - d_b0) * np.exp(-0.3 * h / D_t)
+    if A0 > 0.0:
+        d_b0 = _MW_PERFORATED * (A0 * excess) ** 0.4
+    else:
+        d_b0 = _MW_POROUS * (excess * excess)
+    return d_bm - (d_bm - d_b0) * math.exp(-0.3 * h / D_t)
 
 
 def bubble_rise_velocity_davidson_harrison(d_b, D_t=None):
@@ -283,20 +294,29 @@ def bubble_rise_velocity_davidson_harrison(d_b, D_t=None):
     after G. B. Wallis (1969), One-dimensional Two-phase Flow, McGraw-Hill).
     """
     d_b = check_range("d_b", d_b, 0.0, None, lo_open=True, unit="m")
-    free = 0.711 * np.sqrt(GRAVITY * d_b)
     if D_t is None:
-        return free
+        return 0.711 * np.sqrt(GRAVITY * d_b)
     D_t = check_range("D_t", D_t, 0.0, None, lo_open=True, unit="m")
-    ratio = d_b / D_t
-    slug = ratio >= SLUGGING_RATIO
-    if np.any(slug):
-        worst = float(np.max(ratio))
+    worst = float(np.max(d_b / D_t))
+    if worst >= SLUGGING_RATIO:
         _warn(f"bubbles of d_b = {worst:.3g} D_t: the bed slugs (d_b >= {SLUGGING_RATIO:g} "
               "D_t), outside the bubbling-bed correlations; the rise velocity of slugs, "
               "0.35 sqrt(g D_t), is used there. A wider column, a lower U or a shallower "
               "height of interest gives bubbling", stacklevel=3)
-    wall = np.where(ratio < 0.125, 1.0, 1.2 * np.exp(-1.49 * ratio))
-    return np.where(slug, 0.35 * np.sqrt(GRAVITY * D_t), free * wall)
+    return _rise_with_wall(d_b, D_t)
+
+
+@vectorize(cache=CACHE)
+def _rise_with_wall(d_b, D_t):  # pragma: no cover - compiled
+    """Davidson and Harrison's rise velocity with Wallis's wall factor, or a slug's, of one
+    element (compiled)."""
+    ratio = d_b / D_t
+    if ratio >= SLUGGING_RATIO:
+        return 0.35 * math.sqrt(GRAVITY * D_t)
+    free = 0.711 * math.sqrt(GRAVITY * d_b)
+    if ratio < 0.125:
+        return free
+    return free * (1.2 * math.exp(-1.49 * ratio))
 
 
 def bubble_velocity_davidson_harrison(U, Umf, d_b, D_t=None):
@@ -369,18 +389,28 @@ def bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps_mf):
     Umf = np.asarray(Umf, dtype=float)
     u_b = check_range("u_b", u_b, 0.0, None, lo_open=True, unit="m/s")
     eps_mf = check_range("eps_mf", eps_mf, 0.0, 1.0, lo_open=True, hi_open=True)
-    u_f = Umf / eps_mf
-    ratio = u_b / u_f
-    delta = np.where(ratio < 1.0, excess / (u_b + 2.0 * Umf),
-                     np.where(ratio < 3.0, excess / (u_b + Umf),
-                              np.where(ratio <= 5.0, excess / u_b,
-                                       np.where(ratio <= 10.0, excess / (u_b - Umf),
-                                                (excess + Umf) / u_b))))
+    delta = _fraction(excess, Umf, u_b, eps_mf)
     if np.any(delta >= 1.0):
         raise ValueError(f"bubble fraction delta = {float(np.max(delta)):.3g} >= 1: bubbles "
                          "rising this slowly cannot carry U - Umf; outside the bubbling-bed "
                          "model")
     return delta
+
+
+@vectorize(cache=CACHE)
+def _fraction(excess, Umf, u_b, eps_mf):  # pragma: no cover - compiled
+    """Kunii and Levenspiel's bubble fraction of one element, its regime by ``u_b / u_f``
+    (compiled: the one form that applies is evaluated, not all five)."""
+    ratio = u_b / (Umf / eps_mf)
+    if ratio < 1.0:
+        return excess / (u_b + 2.0 * Umf)
+    if ratio < 3.0:
+        return excess / (u_b + Umf)
+    if ratio <= 5.0:
+        return excess / u_b
+    if ratio <= 10.0:
+        return excess / (u_b - Umf)
+    return (excess + Umf) / u_b
 
 
 def solids_downflow_kunii_levenspiel(delta, u_b, wake_fraction):
