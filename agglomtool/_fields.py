@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import TypedDict
 
 __all__ = ["FIELD_META", "DEFAULTS", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CHOICES",
-           "U_CEILING", "DEFAULT_MODE", "short_unit"]
+           "U_CEILING", "DEFAULT_MODE", "FIELD_RANGES", "CORE_RANGES", "short_unit"]
 
 #: The model tier used unless one is asked for: the frame-consistent closed forms. Of the
 #: tiers that cost about as much as the paper's own ("paper", "relative"), it is the most
@@ -63,6 +63,74 @@ FIELD_META = {
     "wake_fraction": ("dimensionless", "bubble wake volume over bubble volume"),
     "u_ceiling": ("m/s", "u0* ceiling: above it the pair sticks at every bed speed"),
 }
+
+#: Upper ends of the physical ranges, far beyond any fluidized bed and far below where the
+#: model's arithmetic overflows (a value of 1e300 gave e_w = 0, or NaN, silently). Above
+#: them a value is refused (a ValueError): it is a slip, never a bed. Within them the
+#: plausibility checks (:mod:`agglomtool.plausibility`) still warn about what no bed has.
+#: A particle, its coating or its asperities of more than 1 m [m].
+MAX_PARTICLE_LENGTH = 1.0
+#: A bed, column or height of interest of more than 1 km [m].
+MAX_BED_LENGTH = 1e3
+#: A density above 1e5 kg/m3 (the densest element, osmium, has 2.26e4) [kg/m3].
+MAX_DENSITY = 1e5
+#: A speed above 1 km/s (faster than sound in any bed's gas) [m/s].
+MAX_SPEED = 1e3
+#: A temperature above 1e4 K (the property models end near 2000 K) [K].
+MAX_T = 1e4
+#: A pressure above 1e9 Pa (10 kbar) [Pa].
+MAX_P = 1e9
+
+#: Valid (physical) range of every numeric Scene field: ``(lo, hi, lo_open, hi_open)``; the
+#: messages of a ``ValueError`` state it.
+FIELD_RANGES = {
+    "T": (0.0, MAX_T, True, False), "P": (0.0, MAX_P, True, False),
+    "U": (0.0, MAX_SPEED, False, False), "U_Umf": (0.0, 1e4, True, False),
+    "eps": (0.0, 1.0, True, True), "U_e_Umf": (0.0, 1e4, False, False),
+    "d_i": (0.0, MAX_PARTICLE_LENGTH, True, False),
+    "d_j": (0.0, MAX_PARTICLE_LENGTH, True, False),
+    "h0": (0.0, MAX_PARTICLE_LENGTH, False, False),
+    "h0_j": (0.0, MAX_PARTICLE_LENGTH, False, False),
+    "ha_i": (0.0, MAX_PARTICLE_LENGTH, False, False),
+    "ha_j": (0.0, MAX_PARTICLE_LENGTH, False, False),
+    "e": (0.0, 1.0, False, False), "theta_deg": (0.0, 90.0, False, True),
+    "beta_deg": (-90.0, 90.0, False, False), "u0": (0.0, MAX_SPEED, True, False),
+    "sigma_ln": (0.0, 10.0, True, False),
+    "granular_temperature": (0.0, MAX_SPEED**2, True, False),
+    "fluctuation_ratio": (0.0, 1e3, True, False), "u_ceiling": (0.0, MAX_SPEED, True, False),
+    "bed_height": (0.0, MAX_BED_LENGTH, True, False),
+    "column_diameter": (0.0, MAX_BED_LENGTH, True, False),
+    "orifice_area": (0.0, MAX_BED_LENGTH**2, False, False),
+    "height": (0.0, MAX_BED_LENGTH, True, False),
+    "wake_fraction": (0.0, 10.0, True, False),
+}
+
+#: Valid range of the collision core's inputs (:mod:`agglomtool.inputs`, the arguments of
+#: :func:`agglomtool.collide`): ``(lo, hi, lo_open, hi_open, unit)``. A plate's ``inf``
+#: (``Particle.d``, ``Particle.rho``) is allowed besides.
+CORE_RANGES = {
+    "Particle.d": (0.0, MAX_PARTICLE_LENGTH, True, False, "m"),
+    "Particle.rho": (0.0, MAX_DENSITY, True, False, "kg/m3"),
+    "Particle.h0": (0.0, MAX_PARTICLE_LENGTH, False, False, "m"),
+    "Particle.ha": (0.0, MAX_PARTICLE_LENGTH, False, False, "m"),
+    # a viscosity far above a glass's at its transition (1e12 Pa s): a solid, not a bridge
+    "Liquid.mu": (0.0, 1e30, True, False, "Pa s"),
+    # molten metals reach 2 N/m
+    "Liquid.gamma": (0.0, 10.0, True, False, "N/m"),
+    "Liquid.rho": (0.0, MAX_DENSITY, True, False, "kg/m3"),
+    "Liquid.theta_deg": (0.0, 90.0, False, True, "deg"),
+    # gases have 1e-5 to 1e-4 Pa s; 1 Pa s is a syrup
+    "Gas.mu": (0.0, 1.0, True, False, "Pa s"),
+    "Gas.rho": (0.0, MAX_DENSITY, True, False, "kg/m3"),
+    "Bed.eps": (0.0, 1.0, True, True, "-"),
+    "Bed.U": (0.0, MAX_SPEED, False, False, "m/s"),
+    "u0": (-MAX_SPEED, MAX_SPEED, False, False, "m/s"),
+    "u0_j": (-MAX_SPEED, MAX_SPEED, False, False, "m/s"),
+    # the collision axis's angle: one turn either way (a Scene's is in [-90, 90])
+    "beta_deg": (-360.0, 360.0, False, False, "deg"),
+    "e": (0.0, 1.0, False, False, "-"),
+}
+
 
 def short_unit(name: str) -> str:
     """The unit of numeric field ``name`` as messages and help texts print it: ``"deg"``,

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validate import check_range
+from ._validate import check_field
 
 __all__ = ["Particle", "Liquid", "Gas", "Bed"]
 
@@ -61,12 +61,10 @@ class Particle:
         self.__post_init__()
 
     def __post_init__(self) -> None:
-        d = check_range("Particle.d", self.d, 0.0, None, lo_open=True, allow_inf=True, unit="m")
-        rho = check_range(
-            "Particle.rho", self.rho, 0.0, None, lo_open=True, allow_inf=True, unit="kg/m3"
-        )
-        h0 = check_range("Particle.h0", self.h0, 0.0, None, unit="m")
-        ha = check_range("Particle.ha", self.ha, 0.0, None, unit="m")
+        d = check_field("Particle.d", self.d, allow_inf=True)
+        rho = check_field("Particle.rho", self.rho, allow_inf=True)
+        h0 = check_field("Particle.h0", self.h0)
+        ha = check_field("Particle.ha", self.ha)
         if rho.ndim == 0 and d.ndim == 0:  # the common scalar, without numpy
             bad = math.isinf(rho) and not math.isinf(d)
         else:
@@ -74,7 +72,7 @@ class Particle:
         if bad:
             raise ValueError(
                 "Particle.rho = inf is allowed only for a plate (d = inf); "
-                "a finite particle needs a finite density in (0, inf) kg/m3"
+                "a finite particle needs a finite density in (0, 100000] kg/m3"
             )
         object.__setattr__(self, "d", d)
         object.__setattr__(self, "rho", rho)
@@ -124,20 +122,20 @@ class Liquid:
 
     def __post_init__(self) -> None:
         object.__setattr__(
-            self, "mu", check_range("Liquid.mu", self.mu, 0.0, None, lo_open=True, unit="Pa s")
+            self, "mu", check_field("Liquid.mu", self.mu)
         )
         object.__setattr__(
             self,
             "gamma",
-            check_range("Liquid.gamma", self.gamma, 0.0, None, lo_open=True, unit="N/m"),
+            check_field("Liquid.gamma", self.gamma),
         )
         object.__setattr__(
-            self, "rho", check_range("Liquid.rho", self.rho, 0.0, None, lo_open=True, unit="kg/m3")
+            self, "rho", check_field("Liquid.rho", self.rho)
         )
         object.__setattr__(
             self,
             "theta_deg",
-            check_range("Liquid.theta_deg", self.theta_deg, 0.0, 90.0, hi_open=True, unit="deg"),
+            check_field("Liquid.theta_deg", self.theta_deg),
         )
 
 
@@ -165,10 +163,10 @@ class Gas:
 
     def __post_init__(self) -> None:
         object.__setattr__(
-            self, "mu", check_range("Gas.mu", self.mu, 0.0, None, lo_open=True, unit="Pa s")
+            self, "mu", check_field("Gas.mu", self.mu)
         )
         object.__setattr__(
-            self, "rho", check_range("Gas.rho", self.rho, 0.0, None, lo_open=True, unit="kg/m3")
+            self, "rho", check_field("Gas.rho", self.rho)
         )
 
 
@@ -196,7 +194,7 @@ class Bed:
         object.__setattr__(
             self,
             "eps",
-            check_range("Bed.eps", self.eps, 0.0, 1.0, lo_open=True, hi_open=True, unit="-"),
+            check_field("Bed.eps", self.eps),
         )
         if self.U is not None:
-            object.__setattr__(self, "U", check_range("Bed.U", self.U, 0.0, None, unit="m/s"))
+            object.__setattr__(self, "U", check_field("Bed.U", self.U))

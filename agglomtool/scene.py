@@ -28,6 +28,7 @@ from ._fields import (
     CATEGORICAL_FIELDS,
     DEFAULTS,
     FIELD_META,
+    FIELD_RANGES,
     NUMERIC_FIELDS,
     U_CEILING,
     short_unit,
@@ -237,24 +238,6 @@ class Scene:
         """:func:`agglomtool.collide` at this scene; ``u0=None`` = the typical speed."""
         r = Resolved(self.values())
         return r.collide(r.u_typical if u0 is None else u0, details=details)
-
-
-#: Valid range of every numeric field: (lo, hi, lo_open, hi_open); None = unbounded.
-FIELD_RANGES = {
-    "T": (0.0, None, True, False), "P": (0.0, None, True, False),
-    "U": (0.0, None, False, False), "U_Umf": (0.0, None, True, False),
-    "eps": (0.0, 1.0, True, True), "U_e_Umf": (0.0, None, False, False),
-    "d_i": (0.0, None, True, False), "d_j": (0.0, None, True, False),
-    "h0": (0.0, None, False, False), "h0_j": (0.0, None, False, False),
-    "ha_i": (0.0, None, False, False), "ha_j": (0.0, None, False, False),
-    "e": (0.0, 1.0, False, False), "theta_deg": (0.0, 90.0, False, True),
-    "beta_deg": (-90.0, 90.0, False, False), "u0": (0.0, None, True, False),
-    "sigma_ln": (0.0, None, True, False), "granular_temperature": (0.0, None, True, False),
-    "fluctuation_ratio": (0.0, None, True, False), "u_ceiling": (0.0, None, True, False),
-    "bed_height": (0.0, None, True, False), "column_diameter": (0.0, None, True, False),
-    "orifice_area": (0.0, None, False, False), "height": (0.0, None, True, False),
-    "wake_fraction": (0.0, None, True, False),
-}
 
 
 def field_names() -> list[str]:
