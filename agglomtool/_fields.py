@@ -68,10 +68,9 @@ FIELD_META = {
 #: model's arithmetic overflows (a value of 1e300 gave e_w = 0, or NaN, silently). Above
 #: them a value is refused (a ValueError): it is a slip, never a bed. Within them the
 #: plausibility checks (:mod:`agglomtool.plausibility`) still warn about what no bed has.
-#: A particle, its coating or its asperities of more than 1 m [m].
-MAX_PARTICLE_LENGTH = 1.0
-#: A bed, column or height of interest of more than 1 km [m].
-MAX_BED_LENGTH = 1e3
+#: A particle, its coating or asperities, a bed, a column of more than 1 km [m] (a 5 m
+#: coating, a 500 m particle are slips the plausibility checks name, with a warning).
+MAX_LENGTH = 1e3
 #: A density above 1e5 kg/m3 (the densest element, osmium, has 2.26e4) [kg/m3].
 MAX_DENSITY = 1e5
 #: A speed above 1 km/s (faster than sound in any bed's gas) [m/s].
@@ -87,21 +86,21 @@ FIELD_RANGES = {
     "T": (0.0, MAX_T, True, False), "P": (0.0, MAX_P, True, False),
     "U": (0.0, MAX_SPEED, False, False), "U_Umf": (0.0, 1e4, True, False),
     "eps": (0.0, 1.0, True, True), "U_e_Umf": (0.0, 1e4, False, False),
-    "d_i": (0.0, MAX_PARTICLE_LENGTH, True, False),
-    "d_j": (0.0, MAX_PARTICLE_LENGTH, True, False),
-    "h0": (0.0, MAX_PARTICLE_LENGTH, False, False),
-    "h0_j": (0.0, MAX_PARTICLE_LENGTH, False, False),
-    "ha_i": (0.0, MAX_PARTICLE_LENGTH, False, False),
-    "ha_j": (0.0, MAX_PARTICLE_LENGTH, False, False),
+    "d_i": (0.0, MAX_LENGTH, True, False),
+    "d_j": (0.0, MAX_LENGTH, True, False),
+    "h0": (0.0, MAX_LENGTH, False, False),
+    "h0_j": (0.0, MAX_LENGTH, False, False),
+    "ha_i": (0.0, MAX_LENGTH, False, False),
+    "ha_j": (0.0, MAX_LENGTH, False, False),
     "e": (0.0, 1.0, False, False), "theta_deg": (0.0, 90.0, False, True),
     "beta_deg": (-90.0, 90.0, False, False), "u0": (0.0, MAX_SPEED, True, False),
     "sigma_ln": (0.0, 10.0, True, False),
     "granular_temperature": (0.0, MAX_SPEED**2, True, False),
     "fluctuation_ratio": (0.0, 1e3, True, False), "u_ceiling": (0.0, MAX_SPEED, True, False),
-    "bed_height": (0.0, MAX_BED_LENGTH, True, False),
-    "column_diameter": (0.0, MAX_BED_LENGTH, True, False),
-    "orifice_area": (0.0, MAX_BED_LENGTH**2, False, False),
-    "height": (0.0, MAX_BED_LENGTH, True, False),
+    "bed_height": (0.0, MAX_LENGTH, True, False),
+    "column_diameter": (0.0, MAX_LENGTH, True, False),
+    "orifice_area": (0.0, MAX_LENGTH**2, False, False),
+    "height": (0.0, MAX_LENGTH, True, False),
     "wake_fraction": (0.0, 10.0, True, False),
 }
 
@@ -109,10 +108,10 @@ FIELD_RANGES = {
 #: :func:`agglomtool.collide`): ``(lo, hi, lo_open, hi_open, unit)``. A plate's ``inf``
 #: (``Particle.d``, ``Particle.rho``) is allowed besides.
 CORE_RANGES = {
-    "Particle.d": (0.0, MAX_PARTICLE_LENGTH, True, False, "m"),
+    "Particle.d": (0.0, MAX_LENGTH, True, False, "m"),
     "Particle.rho": (0.0, MAX_DENSITY, True, False, "kg/m3"),
-    "Particle.h0": (0.0, MAX_PARTICLE_LENGTH, False, False, "m"),
-    "Particle.ha": (0.0, MAX_PARTICLE_LENGTH, False, False, "m"),
+    "Particle.h0": (0.0, MAX_LENGTH, False, False, "m"),
+    "Particle.ha": (0.0, MAX_LENGTH, False, False, "m"),
     # a viscosity far above a glass's at its transition (1e12 Pa s): a solid, not a bridge
     "Liquid.mu": (0.0, 1e30, True, False, "Pa s"),
     # molten metals reach 2 N/m

@@ -208,10 +208,10 @@ def test_bad_values_are_named_alike_through_every_path(field, value, message, ki
 
 
 @pytest.mark.parametrize("value,message", [
-    (-1.0, "Particle.d = -1.0 is outside the allowed range (0, 1] m or inf"),
-    (0.0, "Particle.d = 0.0 is outside the allowed range (0, 1] m or inf"),
-    (math.nan, "Particle.d = nan is not a number; allowed: (0, 1] m or inf"),
-    (-math.inf, "Particle.d = -inf is outside the allowed range (0, 1] m or inf"),
+    (-1.0, "Particle.d = -1.0 is outside the allowed range (0, 1000] m or inf"),
+    (0.0, "Particle.d = 0.0 is outside the allowed range (0, 1000] m or inf"),
+    (math.nan, "Particle.d = nan is not a number; allowed: (0, 1000] m or inf"),
+    (-math.inf, "Particle.d = -inf is outside the allowed range (0, 1000] m or inf"),
 ])
 @pytest.mark.parametrize("kind", [float, np.float64, np.array])
 def test_bad_fields_are_named_alike_for_python_and_numpy_numbers(value, message, kind):

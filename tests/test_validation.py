@@ -29,10 +29,10 @@ GOOD = {
     "Bed": dict(eps=0.55, U=0.5),
 }
 RANGES = {  # the physical ranges (issue 24: absurd magnitudes are refused too)
-    ("Particle", "d"): "(0, 1] m or inf",
+    ("Particle", "d"): "(0, 1000] m or inf",
     ("Particle", "rho"): "(0, 100000] kg/m3 or inf",
-    ("Particle", "h0"): "[0, 1] m",
-    ("Particle", "ha"): "[0, 1] m",
+    ("Particle", "h0"): "[0, 1000] m",
+    ("Particle", "ha"): "[0, 1000] m",
     ("Liquid", "mu"): "(0, 1e+30] Pa s",
     ("Liquid", "gamma"): "(0, 10] N/m",
     ("Liquid", "rho"): "(0, 100000] kg/m3",
