@@ -164,7 +164,12 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     from .checks import check_chunks
     from .progress import compile_notice, say_on_stderr
 
+    from .layout import check_sweep_options
+
     check_chunks(chunks)
+    check_sweep_options(nodes=nodes, compute=compute, client=client, progress=progress,
+                        overwrite=overwrite, uncertain=uncertain, samples=samples,
+                        threshold=threshold, seed=seed)
     if uncertain is not None:
         if store is not None or not compute or client not in (None, False):
             raise ValueError("a robust map (uncertain=...) is computed in memory, here: "
