@@ -80,6 +80,10 @@ MAX_T = 1e4
 #: A pressure above 1e9 Pa (10 kbar) [Pa].
 MAX_P = 1e9
 
+#: Most quadrature nodes of the impact-speed distribution (16 is the default; more than a
+#: thousand only multiplies the work).
+MAX_NODES = 1024
+
 #: Valid (physical) range of every numeric Scene field: ``(lo, hi, lo_open, hi_open)``; the
 #: messages of a ``ValueError`` state it.
 FIELD_RANGES = {
@@ -123,11 +127,11 @@ CORE_RANGES = {
     "Gas.rho": (0.0, MAX_DENSITY, True, False, "kg/m3"),
     "Bed.eps": (0.0, 1.0, True, True, "-"),
     "Bed.U": (0.0, MAX_SPEED, False, False, "m/s"),
-    "u0": (-MAX_SPEED, MAX_SPEED, False, False, "m/s"),
-    "u0_j": (-MAX_SPEED, MAX_SPEED, False, False, "m/s"),
+    "collide.u0": (-MAX_SPEED, MAX_SPEED, False, False, "m/s"),
+    "collide.u0_j": (-MAX_SPEED, MAX_SPEED, False, False, "m/s"),
     # the collision axis's angle: one turn either way (a Scene's is in [-90, 90])
-    "beta_deg": (-360.0, 360.0, False, False, "deg"),
-    "e": (0.0, 1.0, False, False, "-"),
+    "collide.beta_deg": (-360.0, 360.0, False, False, "deg"),
+    "collide.e": (0.0, 1.0, False, False, "-"),
 }
 
 

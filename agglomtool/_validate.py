@@ -61,7 +61,7 @@ def as_float_array(name: str, value, allowed: str = "finite numbers") -> np.ndar
 
 def _float_array(name: str, value, allowed: str) -> np.ndarray:
     """:func:`as_float_array` without the NaN check."""
-    if type(value) is np.ndarray and value.dtype == np.float64:
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.size:
         return value  # what np.asarray below would return
     if hasattr(value, "magnitude") and hasattr(value, "units") and hasattr(value, "to"):
         value = _from_quantity(name, value)
@@ -173,13 +173,12 @@ def check_field(name: str, value, *, key: str | None = None, allow_inf: bool = F
     else:
         lo, hi, lo_open, hi_open = FIELD_RANGES[key]
         unit = short_unit(key)
-    arr = check_range(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open,
-                      allow_inf=allow_inf, unit=unit)
-    if scalar and arr.ndim:
+    if scalar and np.ndim(value) and np.size(value) != 0:
         raise ValueError(f"{name} = {value!r} must be a single number in "
                          f"{_range_text(lo, hi, lo_open, hi_open, unit, allow_inf)}, not "
-                         f"{arr.size} values")
-    return arr
+                         f"{np.size(value)} values")
+    return check_range(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open,
+                       allow_inf=allow_inf, unit=unit)
 
 
 def check_int(name: str, value, lo: int, hi: int | None = None) -> int:
@@ -198,3 +197,24 @@ def check_bool(name: str, value) -> bool:
     if not isinstance(value, bool | np.bool_):
         raise ValueError(f"{name} = {value!r} is not allowed: True or False")
     return bool(value)
+
+
+def _typed(value) -> bool:
+    """True where ``value`` holds text or a Quantity: what a person typed, converted since."""
+    if isinstance(value, str) or hasattr(value, "units"):
+        return True
+    return isinstance(value, list | tuple) and any(
+        isinstance(v, str) or hasattr(v, "units") for v in value)
+
+
+def check_typed(name: str, typed, value, *, key: str | None = None, scalar: bool = False,
+                allow_inf: bool = False) -> np.ndarray:
+    """:func:`check_field` of ``value``, converted to SI from ``typed`` (a unit string, a
+    Quantity, a list holding them): the message shows what was typed as well ("h0 = 1.5e+17
+    is outside the allowed range [0, 1000] m (given as '5 parsec')")."""
+    try:
+        return check_field(name, value, key=key, scalar=scalar, allow_inf=allow_inf)
+    except ValueError as exc:
+        if _typed(typed):
+            raise ValueError(f"{exc} (given as {typed!r})") from None
+        raise

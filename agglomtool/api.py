@@ -266,15 +266,16 @@ def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True
     ignored (zero speed, no speed checks). ``check=False``: the lab-speed rules are left to
     the caller (``fused_batch(check=True)`` applies them in its own pass)."""
     if speeds:
-        u0 = check_field("u0", u0)
-        u0_j = np.nan if u0_j is None else check_field("u0_j", u0_j)
+        u0 = check_field("u0", u0, key="collide.u0")
+        u0_j = np.nan if u0_j is None else check_field("u0_j", u0_j, key="collide.u0_j")
     else:
         u0, u0_j = 0.0, np.nan
     values = (
         p_i.d, p_i.rho, p_i.h0, p_i.ha, p_j.d, p_j.rho, p_j.h0, p_j.ha, liquid.mu,
         liquid.gamma, liquid.rho, liquid.theta_deg, gas.mu, gas.rho, bed.eps,
-        np.nan if bed.U is None else bed.U, check_field("beta_deg", beta_deg),
-        check_field("e", e), u0, u0_j,
+        np.nan if bed.U is None else bed.U,
+        check_field("beta_deg", beta_deg, key="collide.beta_deg"),
+        check_field("e", e, key="collide.e"), u0, u0_j,
     )
     shape = broadcast_shape(INPUT_NAMES, values)
     ins, steps = flat_inputs(values, shape)

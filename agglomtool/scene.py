@@ -33,7 +33,7 @@ from ._fields import (
     U_CEILING,
     short_unit,
 )
-from ._validate import check_field, check_range
+from ._validate import check_range, check_typed
 from .api import MODES, collide, critical_impact_speed
 from .bed.speed_models import IMPACT_SPEED_MODELS, speed_law
 from .bed.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
@@ -42,7 +42,7 @@ from .pair import DRAG_SLIP_MODES, wet_mass
 from .plausibility import PlausibilityWarning, scene_findings, warn_findings
 from .properties import gas_properties, umf, umf_methods
 from .properties.fluidization import umf_coated
-from .units import is_quantity, to_si
+from .units import to_si
 
 __all__ = ["Scene", "evaluate", "provenance", "assumed_inputs", "impact_speed_methods",
            "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CA_VISCOUS", "U_CEILING", "U_STAR_FLAGS"]
@@ -185,19 +185,18 @@ class Scene:
     def __post_init__(self) -> None:
         for name in NUMERIC_FIELDS:  # Quantities and unit strings -> SI, once, here
             value = getattr(self, name)
-            if value is None:
-                continue
-            if not isinstance(value, int | float):
+            if value is None and DEFAULTS[name] is None:
+                continue  # derived (see DERIVED)
+            if not isinstance(value, int | float) and value is not None:
                 unit, long_name = FIELD_META[name]
                 object.__setattr__(self, name, to_si(name, value, unit, long_name))
             try:  # one number in the field's physical range (a grid sweeps several)
-                check_field(name, getattr(self, name), scalar=True)
+                check_typed(name, value, getattr(self, name), scalar=True)
             except ValueError as exc:
-                if isinstance(value, str) or is_quantity(value):  # what was typed, too
-                    raise ValueError(f"{exc} (given as {value!r})") from None
-                raise ValueError(f"{exc}; to evaluate several values, sweep them: "
-                                 f"at.sweep(scene, {name}=[...])"
-                                 if np.size(value) > 1 else str(exc)) from None
+                if isinstance(value, list | tuple | np.ndarray) and np.size(value) > 1:
+                    raise ValueError(f"{exc}; to evaluate several values, sweep them: "
+                                     f"at.sweep(scene, {name}=[...])") from None
+                raise
         if self.speed is None:
             if self.u0 is not None:
                 chosen = "fixed"

@@ -23,9 +23,10 @@ import re
 import sys
 import tempfile
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import pytest
@@ -35,7 +36,9 @@ NAN, INF = math.nan, math.inf
 
 #: Words a message uses to say what is allowed.
 ALLOWED_WORDS = ("allowed", "range", "one of", "must", "known", "needs", "expected",
-                 "give ", "is in ", "is not a", "not in", "instead", "write ", "only")
+                 "give ", "is in ", "is not a", "not in", "instead", "write ", "only",
+                 "choose from", "invalid float value", "invalid int value", "no such file",
+                 "does not exist")
 
 
 @dataclass(frozen=True)
@@ -208,7 +211,7 @@ def _collide_cases(rng) -> list[Case]:
         cases.append(Case(entry, field, label, bad, call))
 
     numeric = {"u0": (0.0, None, True, False), "u0_j": (0.0, None, False, False),
-               "beta_deg": (-90.0, 90.0, False, False), "e": (0.0, 1.0, False, False)}
+               "beta_deg": (-360.0, 360.0, False, False), "e": (0.0, 1.0, False, False)}
     for field, (lo, hi, lo_open, hi_open) in numeric.items():
         for label, bad in _numeric_bad(lo, hi, lo_open, hi_open, required=field != "u0_j",
                                        rng=rng):
@@ -231,7 +234,7 @@ def _collide_cases(rng) -> list[Case]:
     crit = {"rtol": ["x", NAN, -1.0, 0.0, 1e300, [], {}, None, [1e-6, 1e-5]],
             "u_max": ["x", NAN, -1.0, 0.0, 1e300, [], {}, [1.0, 2.0]],
             "tol": ["x", NAN, -1.0, []],
-            "beta_deg": [NAN, 1e300, "x", [], 91.0],
+            "beta_deg": [NAN, 1e300, "x", [], 361.0],
             "e": [NAN, 1e300, -0.5, "x", []],
             "mode": ["nope", None]}
     for field, bads in crit.items():
@@ -474,7 +477,7 @@ def _materials_cases(rng) -> list[Case]:
     for func, kind in ((materials.solid, "solid"), (materials.gas, "gas"),
                        (materials.liquid_entry, "liquid")):
         for bad in ("nope", 3, None, ["x"]):
-            cases.append(Case(f"materials.{func.__name__}", "name", f"{kind}-{bad!r}", bad,
+            cases.append(Case(f"materials.{func.__name__}", kind, f"{kind}-{bad!r}", bad,
                               functools.partial(func, bad)))
     for bad in ("nope", 3, None):
         cases.append(Case("materials.names", "kind", f"{bad!r}", bad,

@@ -162,9 +162,8 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     """
     from . import estimate as _est
     from .checks import check_chunks
-    from .progress import compile_notice, say_on_stderr
-
     from .layout import check_sweep_options
+    from .progress import compile_notice, say_on_stderr
 
     check_chunks(chunks)
     check_sweep_options(nodes=nodes, compute=compute, client=client, progress=progress,

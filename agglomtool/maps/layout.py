@@ -74,16 +74,12 @@ class GridError(ValueError):
         self.field = field
 
 
-#: Most quadrature nodes of the impact-speed distribution (16 is the default; more than a
-#: thousand only multiplies the work).
-MAX_NODES = 1024
-
-
 def check_sweep_options(*, nodes, compute, client, progress, overwrite, uncertain=None,
                         samples=None, threshold=None, seed=None) -> None:
     """The options of :func:`agglomtool.sweep`, before any work: a ``ValueError`` naming the
     option, its value and what is allowed (``nodes=1.5``, ``compute="x"``, ``client="abc"``
     were taken as they came, or failed deep inside)."""
+    from .._fields import MAX_NODES
     from .._validate import check_bool, check_int
     from ..uncertainty._sampling import resolve_seed
 
