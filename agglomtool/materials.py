@@ -610,6 +610,10 @@ def liquid(name: str, T=None, *, P=101325.0, theta_deg=None, extra_dirs=None,
                       name=entry.name, source=f"fixed values: {entry.source}")
     if T is None:
         raise ValueError(f"liquid {label} depends on temperature: pass T [K]")
+    from ._validate import check_field
+
+    T = check_field("T", T)  # the Scene's physical ranges, for a call without a Scene
+    P = check_field("P", P)
     if entry.model == "water":
         from .properties.water import water_liquid
 
