@@ -54,7 +54,10 @@ class Case:
 def _value_tokens(value) -> list[str]:
     """Spellings of ``value`` a message may use."""
     if isinstance(value, str):
-        return [value]
+        try:  # a number typed on the command line, as Python writes it back
+            return [value, repr(float(value)), f"{float(value):g}"]
+        except ValueError:
+            return [value]
     if value is None:
         return ["None"]
     if isinstance(value, bool):
@@ -64,15 +67,17 @@ def _value_tokens(value) -> list[str]:
             return ["nan"]
         return [repr(value), f"{value:g}", str(value)]
     if isinstance(value, dict):
-        return ["{", "dict"]
+        return ["{", "dict", *[repr(k) for k in value]]
     arr = np.asarray(value, dtype=object)
     if arr.size == 0:
         return ["empty", "[]"]
     flat = [v for v in arr.ravel() if isinstance(v, float) and math.isnan(v)]
     if flat:
         return ["nan"]
+    elements = [t for v in arr.ravel() if isinstance(v, float | int)
+                for t in (repr(float(v)), f"{float(v):g}")]  # a list's bad element, named
     return [repr(value), str(list(value)) if isinstance(value, tuple) else str(value),
-            "list", "array", "one value", "single", "twice", "duplicate"]
+            "list", "array", "one value", "single", "twice", "duplicate", *elements]
 
 
 def _names_field(msg: str, field: str) -> bool:
@@ -318,8 +323,10 @@ def _sweep_cases(rng) -> list[Case]:
                         "seed": ["x", -1, 1.5]}.items():
         for bad in bads:
             add(field, f"{type(bad).__name__}-{bad!r}", bad, **{**grid, **robust, field: bad})
-    for bad in ("x", {"nope": at.Normal(1.0, 0.1)}, {"h0": 5.0}, 3):
-        add("uncertain", f"{type(bad).__name__}", bad, **{**grid, "uncertain": bad})
+    for field, shown, bad in (("uncertain", "x", "x"),
+                              ("nope", "nope", {"nope": at.Normal(1.0, 0.1)}),
+                              ("h0", 5.0, {"h0": 5.0}), ("uncertain", 3, 3)):
+        add(field, f"uncertain-{type(bad).__name__}", shown, **{**grid, "uncertain": bad})
     cases.append(Case("sweep", "grid", "no-grid", "grid", lambda: at.sweep(scene())))
     axes = {"T": 1e300, "d_i": -1.0, "h0": 5.0 * 3.0857e16, "U": 1e300, "eps": 1.5,
             "P": 0.0, "u0": NAN}
@@ -337,7 +344,8 @@ def _sweep_cases(rng) -> list[Case]:
             add(field, label, shown, **{field: values})
     for field, values in (("gas", ["air", "nope"]), ("mode", ["paper", "nope"]),
                           ("solid_j", []), ("nope", [1.0, 2.0]), ("liquid", ["water", "water"])):
-        add(field, "names", values if field != "gas" else "nope", **{field: values})
+        shown = {"gas": "nope", "mode": "nope", "nope": "nope"}.get(field, values)
+        add(field, "names", shown, **{field: values})
     return cases
 
 
@@ -385,7 +393,7 @@ def _bed_cases(rng) -> list[Case]:
         add(entry, func, "components", "empty", [], components=lambda: [], **grid)
         add(entry, func, "components", "not-components", "x", components=lambda: ["x"], **grid)
         add(entry, func, "fraction", "fractions-sum", 0.5, components=lambda: [half()], **grid)
-        add(entry, func, "components", "duplicate", "twice",
+        add(entry, func, "components", "duplicate", "component 1",
             components=lambda: [half(), half()], **grid)
         for field, bads in {"nodes": [0, 1.5, "x", -3], "directions": [0, 1.5, "x", -1]}.items():
             for bad in bads:
@@ -396,7 +404,8 @@ def _bed_cases(rng) -> list[Case]:
             fraction=[0.2, 0.4], mix=bad)
     for field, values in (("T", []), ("T", [NAN]), ("h0", ["5 parsec"]), ("d_i", [1e-4, 2e-4]),
                           ("fraction", [0.2, 1.5]), ("U_Umf", [1e300]), ("T", [1000.0, 1000.0])):
-        shown = values[0] if values and values[0] != 1000.0 and field != "d_i" else values
+        shown = {"d_i": "d_i", "fraction": 1.5}.get(field, values[0] if values and values[0]
+                                                    != 1000.0 else values)
         add("bed_sweep", at.bed_sweep, field, f"grid-{values!r}", shown,
             **({field: values} if field != "fraction" else {field: values, "mix": 0}))
     return cases
@@ -437,13 +446,13 @@ def _uncertainty_cases(rng) -> list[Case]:
             ("LogNormal", lambda: at.LogNormal([], 0.5), "mean", []),
             ("Uniform", lambda: at.Uniform(2.0, 1.0), "high", 1.0),
             ("Uniform", lambda: at.Uniform(NAN, 1.0), "low", NAN),
-            ("Uniform", lambda: at.Uniform(1.0, 1e300), "high", 1e300),
+            ("Uniform", lambda: at.Uniform(1.0, INF), "high", INF),
             ("Normal", lambda: at.Normal(1.0, 0.1, units="parsecs of nothing"), "units",
              "parsecs of nothing")):
         cases.append(Case(name, field, f"{field}-{bad!r}", bad, call))
 
     def cmp(**kw):
-        return at.compare(scene(), **{"n": 8, "seed": 0, **kw})
+        return at.compare(scene(), **{"n": 16, "seed": 0, **kw})
 
     for label, field, bad, kw in (
             ("no-option", "option", "option", {}),
@@ -549,7 +558,8 @@ def _map_cases(rng) -> list[Case]:
         def call(b=bad):
             not_nc.write_text("not a netCDF file")
             return plots.open_map(b)
-        cases.append(Case("open_map", "ds", label, bad, call))
+        # a file is named by its path
+        cases.append(Case("open_map", bad if isinstance(bad, str) else "ds", label, bad, call))
     for field, bad in (("var", "nope"), ("x", "nope"), ("y", "nope"), ("col", "nope"),
                        ("sel", {"nope": 1.0}), ("sel", {"T": 1e300}), ("sel", {"T": "x"}),
                        ("var", 3), ("x", ["T"])):
@@ -606,7 +616,7 @@ def _cli_cases(rng) -> list[Case]:
         path = tmp / f"map-{label}.toml"
         path.write_text(text)
         add("map", field, label, value, ["map", str(path), "-o", str(tmp / f"{label}.nc")])
-    add("map", "config", "missing-config", str(tmp / "none.toml"),
+    add("map", str(tmp / "none.toml"), "missing-config", str(tmp / "none.toml"),
         ["map", str(tmp / "none.toml"), "-o", str(tmp / "none.nc")])
     beds = {
         "bare-component": ('[component]\nsolid = "silica-sand"\nfraction = 1.0\nd50 = 5e-4\n',
@@ -618,7 +628,7 @@ def _cli_cases(rng) -> list[Case]:
         "parsec": ('[[component]]\nsolid = "silica-sand"\nfraction = 1.0\nd50 = "5 parsec"\n',
                    "d50", "5 parsec"),
         "empty-d": ('[[component]]\nsolid = "silica-sand"\nfraction = 1.0\nd = []\n', "d",
-                    "[]"),
+                    []),
     }
     for label, (text, field, value) in beds.items():
         path = tmp / f"bed-{label}.toml"
@@ -636,7 +646,7 @@ def _cli_cases(rng) -> list[Case]:
         cases.append(Case("cli plot", field, label, value,
                           lambda a=argv: [str(_small_map()[1]) if x == "@MAP@" else x
                                           for x in a], cli=True))
-    add("plot", "map", "missing-map", str(tmp / "none.nc"),
+    add("plot", str(tmp / "none.nc"), "missing-map", str(tmp / "none.nc"),
         ["plot", str(tmp / "none.nc"), "-o", str(tmp / "p.png")])
     cmp_path = tmp / "cmp.toml"
     cmp_path.write_text('[compare]\nh0 = [1e-7, 2e-7]\n')

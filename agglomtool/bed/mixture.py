@@ -110,7 +110,8 @@ class Component:
                                  "not d50")
         else:
             if np.ndim(self.d) != 1 or not 1 <= np.size(self.d) <= MAX_CLASSES:
-                raise ValueError(f"d = {typed['d']!r} must be a list of 1-{MAX_CLASSES} "
+                empty = " is empty;" if np.size(self.d) == 0 else ""
+                raise ValueError(f"d = {typed['d']!r}{empty} must be a list of 1-{MAX_CLASSES} "
                                  "diameters [m]")
             d = check_typed("d", typed["d"], self.d, key="d_i")
             uniq, counts = np.unique(d, return_counts=True)

@@ -15,6 +15,7 @@ import re
 
 import numpy as np
 
+from .._validate import check_typed
 from .._version import __version__
 from ..plausibility import scene_findings, warn_findings
 from ..scene import (
@@ -121,6 +122,7 @@ def _axes(base: dict, grid: dict) -> dict:
             arr = np.array(vals)
         else:
             unit, long_name = FIELD_META[name]
+            typed = values
             try:
                 values = to_si_array(name, values, unit, long_name)
             except ValueError as exc:
@@ -131,8 +133,12 @@ def _axes(base: dict, grid: dict) -> dict:
                 raise GridError(f"grid {name} must be numbers (SI) or quantities with units, "
                                 f"got {values!r}", name) from None
             if arr.ndim != 1 or arr.size == 0:
-                raise GridError(f"grid {name} must be a non-empty 1-D list of numbers, "
-                                f"got shape {arr.shape}", name)
+                raise GridError(f"grid {name} = {typed!r} is not allowed: a non-empty 1-D list "
+                                f"of numbers (got shape {arr.shape})", name)
+            try:  # the field's physical range, with what was typed
+                check_typed(name, typed, arr)
+            except ValueError as exc:
+                raise GridError(str(exc), name) from None
         uniq, counts = np.unique(arr, return_counts=True)
         if uniq.size != arr.size:
             twice = uniq[counts > 1][0]

@@ -104,10 +104,9 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         first-order index of the difference, and that index. ``attrs["verdicts"]``: one
         sentence per pair (``agglomtool.uncertainty.compare.verdicts``).
     """
-    from .monte_carlo import monte_carlo
-
     from ..scene import Scene
     from ._sampling import resolve_seed
+    from .monte_carlo import monte_carlo
     from .scene_mc import split_uncertain
 
     if not isinstance(scene, Scene):
