@@ -37,13 +37,18 @@ class Particle:
     Parameters
     ----------
     d : float or array
-        Solid diameter [m], > 0. ``math.inf`` is a plate: infinite radius and mass, fixed.
+        Solid diameter [m], in (0, 1000]. ``math.inf`` is a plate: infinite radius and
+        mass, fixed.
     rho : float or array
-        Solid density [kg/m3], > 0. Ignored for a plate.
+        Solid density [kg/m3], in (0, 1e5]. Ignored for a plate.
     h0 : float or array
-        Coating (liquid layer) thickness [m], >= 0. 0 is a dry particle.
+        Coating (liquid layer) thickness [m], in [0, 1000]. 0 is a dry particle.
     ha : float or array
-        Asperity (surface roughness) height [m], >= 0.
+        Asperity (surface roughness) height [m], in [0, 1000].
+
+    Every field's physical range is that of :data:`agglomtool._fields.CORE_RANGES` (the
+    documentation's inputs page gives the reasons); outside it, NaN, an empty array, a
+    string or ``None`` raise a ``ValueError`` naming the field, the value and the range.
 
     Notes
     -----
@@ -97,11 +102,11 @@ class Liquid:
     Parameters
     ----------
     mu : float or array
-        Dynamic viscosity [Pa s], > 0.
+        Dynamic viscosity [Pa s], in (0, 1e30].
     gamma : float or array
-        Surface tension [N/m], > 0.
+        Surface tension [N/m], in (0, 10].
     rho : float or array
-        Density [kg/m3], > 0.
+        Density [kg/m3], in (0, 1e5].
     theta_deg : float or array
         Contact angle [deg], in [0, 90): the model is for wetting liquids.
     """
@@ -146,9 +151,9 @@ class Gas:
     Parameters
     ----------
     mu : float or array
-        Dynamic viscosity [Pa s], > 0.
+        Dynamic viscosity [Pa s], in (0, 1].
     rho : float or array
-        Density [kg/m3], > 0.
+        Density [kg/m3], in (0, 1e5].
     """
 
     mu: np.ndarray
@@ -179,7 +184,7 @@ class Bed:
     eps : float or array
         Local voidage [-], in (0, 1). The paper uses 0.55 (emulsion phase).
     U : float, array or None
-        Emulsion-phase superficial gas velocity [m/s], upward (+Z), >= 0. ``None`` takes the
+        Emulsion-phase superficial gas velocity [m/s], upward (+Z), in [0, 1000]. ``None`` takes the
         paper's choice: 1.1 x the larger Wen-Yu minimum fluidization velocity of the pair.
     """
 
