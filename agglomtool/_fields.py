@@ -129,8 +129,9 @@ CORE_RANGES = {
     "Bed.U": (0.0, MAX_SPEED, False, False, "m/s"),
     "collide.u0": (-MAX_SPEED, MAX_SPEED, False, False, "m/s"),
     "collide.u0_j": (-MAX_SPEED, MAX_SPEED, False, False, "m/s"),
-    # the collision axis's angle: one turn either way (a Scene's is in [-90, 90])
-    "collide.beta_deg": (-360.0, 360.0, False, False, "deg"),
+    # the collision axis's angle, periodic: ten turns either way (a Scene's is in
+    # [-90, 90]); beyond, a slip
+    "collide.beta_deg": (-3600.0, 3600.0, False, False, "deg"),
     "collide.e": (0.0, 1.0, False, False, "-"),
 }
 

@@ -214,7 +214,7 @@ def _collide_cases(rng) -> list[Case]:
         cases.append(Case(entry, field, label, bad, call))
 
     numeric = {"u0": (0.0, 1e3, True, False), "u0_j": (-1e3, 1e3, False, False),
-               "beta_deg": (-360.0, 360.0, False, False), "e": (0.0, 1.0, False, False)}
+               "beta_deg": (-3600.0, 3600.0, False, False), "e": (0.0, 1.0, False, False)}
     for field, (lo, hi, lo_open, hi_open) in numeric.items():
         for label, bad in _numeric_bad(lo, hi, lo_open, hi_open, required=field != "u0_j",
                                        rng=rng):
@@ -235,7 +235,7 @@ def _collide_cases(rng) -> list[Case]:
     crit = {"rtol": ["x", NAN, -1.0, 0.0, 1e300, [], {}, None, [1e-6, 1e-5]],
             "u_max": ["x", NAN, -1.0, 0.0, 1e300, [], {}, [1.0, 2.0]],
             "tol": ["x", NAN, -1.0, []],
-            "beta_deg": [NAN, 1e300, "x", [], 361.0],
+            "beta_deg": [NAN, 1e300, "x", [], 3601.0],
             "e": [NAN, 1e300, -0.5, "x", []],
             "mode": ["nope", None]}
     for field, bads in crit.items():

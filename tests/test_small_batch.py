@@ -191,7 +191,7 @@ def test_mixed_scalars_and_arrays_broadcast_as_numpy_does():
     ("e", math.nan, "e = nan is not a number; allowed: [0, 1]"),
     ("e", -math.inf, "e = -inf is outside the allowed range [0, 1]"),
     ("u0", math.nan, "u0 = nan is not a number; allowed: [-1000, 1000] m/s"),
-    ("beta_deg", math.nan, "beta_deg = nan is not a number; allowed: [-360, 360] deg"),
+    ("beta_deg", math.nan, "beta_deg = nan is not a number; allowed: [-3600, 3600] deg"),
     ("u0", -1.0, "u0 + u0_j = -2.0 m/s is outside the allowed range (0, inf)"),
     ("u0", math.inf, "u0 = inf is outside the allowed range [-1000, 1000] m/s"),
 ])

@@ -4,7 +4,7 @@ item 3): non-positive sizes or densities, negative thickness or asperity height,
 
 The range is checked in the notation the package prints (``(0, inf)``, ``[0, 90)``...);
 the speeds ``u0``, ``u0_j`` and the angle ``beta_deg`` have physical ranges too
-(``[-1000, 1000] m/s``, ``[-360, 360] deg``).
+(``[-1000, 1000] m/s``, ``[-3600, 3600] deg``).
 """
 
 from __future__ import annotations
@@ -139,14 +139,14 @@ def test_restitution_out_of_range_in_array():
 def test_nan_in_call_arguments(kwargs, field):
     with pytest.raises(ValueError) as exc:
         at.collide(P, P, liquid=WATER, gas=AIR, **kwargs)
-    rng = "[-360, 360] deg" if field == "beta_deg" else "[-1000, 1000] m/s"
+    rng = "[-3600, 3600] deg" if field == "beta_deg" else "[-1000, 1000] m/s"
     _assert_message(exc, field, NAN, rng)
 
 
 def test_nan_beta_in_critical_speed():
     with pytest.raises(ValueError) as exc:
         at.critical_impact_speed(P, P, liquid=WATER, gas=AIR, beta_deg=NAN)
-    _assert_message(exc, "beta_deg", NAN, "[-360, 360] deg")
+    _assert_message(exc, "beta_deg", NAN, "[-3600, 3600] deg")
 
 
 @pytest.mark.parametrize(
