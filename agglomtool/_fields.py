@@ -108,14 +108,22 @@ FIELD_RANGES = {
     "wake_fraction": (0.0, 10.0, True, False),
 }
 
+#: The collision core's lengths end at 1e10 m (a star): a partner that large is the plate
+#: limit (use ``Particle.plate()``); the model's limits are tested up to 1.7e9 m [m].
+MAX_CORE_LENGTH = 1e10
+#: The core's speeds end at the speed of light [m/s] (its limits are tested at 6e6 m/s).
+MAX_CORE_SPEED = 299_792_458.0
+
 #: Valid range of the collision core's inputs (:mod:`agglomtool.inputs`, the arguments of
 #: :func:`agglomtool.collide`): ``(lo, hi, lo_open, hi_open, unit)``. A plate's ``inf``
-#: (``Particle.d``, ``Particle.rho``) is allowed besides.
+#: (``Particle.d``, ``Particle.rho``) is allowed besides. Wider than a Scene's: the core is
+#: the model, whose limits (a partner a million times larger, speeds 1e9 times the
+#: critical one) the tests hold it to; a bed's own bounds are the Scene's.
 CORE_RANGES = {
-    "Particle.d": (0.0, MAX_LENGTH, True, False, "m"),
+    "Particle.d": (0.0, MAX_CORE_LENGTH, True, False, "m"),
     "Particle.rho": (0.0, MAX_DENSITY, True, False, "kg/m3"),
-    "Particle.h0": (0.0, MAX_LENGTH, False, False, "m"),
-    "Particle.ha": (0.0, MAX_LENGTH, False, False, "m"),
+    "Particle.h0": (0.0, MAX_CORE_LENGTH, False, False, "m"),
+    "Particle.ha": (0.0, MAX_CORE_LENGTH, False, False, "m"),
     # a viscosity far above a glass's at its transition (1e12 Pa s): a solid, not a bridge
     "Liquid.mu": (0.0, 1e30, True, False, "Pa s"),
     # molten metals reach 2 N/m
@@ -126,9 +134,9 @@ CORE_RANGES = {
     "Gas.mu": (0.0, 1.0, True, False, "Pa s"),
     "Gas.rho": (0.0, MAX_DENSITY, True, False, "kg/m3"),
     "Bed.eps": (0.0, 1.0, True, True, "-"),
-    "Bed.U": (0.0, MAX_SPEED, False, False, "m/s"),
-    "collide.u0": (-MAX_SPEED, MAX_SPEED, False, False, "m/s"),
-    "collide.u0_j": (-MAX_SPEED, MAX_SPEED, False, False, "m/s"),
+    "Bed.U": (0.0, MAX_CORE_SPEED, False, False, "m/s"),
+    "collide.u0": (-MAX_CORE_SPEED, MAX_CORE_SPEED, False, False, "m/s"),
+    "collide.u0_j": (-MAX_CORE_SPEED, MAX_CORE_SPEED, False, False, "m/s"),
     # the collision axis's angle, periodic: ten turns either way (a Scene's is in
     # [-90, 90]); beyond, a slip
     "collide.beta_deg": (-3600.0, 3600.0, False, False, "deg"),

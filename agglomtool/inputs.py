@@ -37,14 +37,14 @@ class Particle:
     Parameters
     ----------
     d : float or array
-        Solid diameter [m], in (0, 1000]. ``math.inf`` is a plate: infinite radius and
+        Solid diameter [m], in (0, 1e10]. ``math.inf`` is a plate: infinite radius and
         mass, fixed.
     rho : float or array
         Solid density [kg/m3], in (0, 1e5]. Ignored for a plate.
     h0 : float or array
-        Coating (liquid layer) thickness [m], in [0, 1000]. 0 is a dry particle.
+        Coating (liquid layer) thickness [m], in [0, 1e10]. 0 is a dry particle.
     ha : float or array
-        Asperity (surface roughness) height [m], in [0, 1000].
+        Asperity (surface roughness) height [m], in [0, 1e10].
 
     Every field's physical range is that of :data:`agglomtool._fields.CORE_RANGES` (the
     documentation's inputs page gives the reasons); outside it, NaN, an empty array, a
@@ -184,8 +184,9 @@ class Bed:
     eps : float or array
         Local voidage [-], in (0, 1). The paper uses 0.55 (emulsion phase).
     U : float, array or None
-        Emulsion-phase superficial gas velocity [m/s], upward (+Z), in [0, 1000]. ``None`` takes the
-        paper's choice: 1.1 x the larger Wen-Yu minimum fluidization velocity of the pair.
+        Emulsion-phase superficial gas velocity [m/s], upward (+Z), in [0, c] (c the speed
+        of light). ``None`` takes the paper's choice: 1.1 x the larger Wen-Yu minimum
+        fluidization velocity of the pair.
     """
 
     eps: np.ndarray
