@@ -184,9 +184,9 @@ class Bed:
     eps : float or array
         Local voidage [-], in (0, 1). The paper uses 0.55 (emulsion phase).
     U : float, array or None
-        Emulsion-phase superficial gas velocity [m/s], upward (+Z), in [0, c] (c the speed
-        of light). ``None`` takes the paper's choice: 1.1 x the larger Wen-Yu minimum
-        fluidization velocity of the pair.
+        Emulsion-phase superficial gas velocity [m/s], upward (+Z), in [0, 1e12]. ``None``
+        takes the paper's choice: 1.1 x the larger Wen-Yu minimum fluidization velocity of
+        the pair.
     """
 
     eps: np.ndarray

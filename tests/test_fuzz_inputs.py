@@ -1,4 +1,4 @@
-"""Bad input refused, at every public entry point (issue 24, "Inputs").
+"""Bad input refused, at every public entry point.
 
 A fuzz of generated bad inputs (fixed seed: the same cases on every run): empty arrays, NaN
 and infinities, absurd magnitudes, values just outside a field's range, wrong types, lists
@@ -33,7 +33,7 @@ import pytest
 
 SEED = 20240424
 NAN, INF = math.nan, math.inf
-C_LIGHT = 299_792_458.0  # the collision core's speeds end there (docs/inputs.md)
+MAX_CORE_SPEED = 1e12  # where the collision core's speeds end (docs/inputs.md)
 
 #: Words a message uses to say what is allowed.
 ALLOWED_WORDS = ("allowed", "range", "one of", "must", "known", "needs", "expected",
@@ -181,7 +181,7 @@ def _core_cases(rng) -> list[Case]:
         "Gas.mu": (0.0, 1.0, True, False, False, False),
         "Gas.rho": (0.0, 1e5, True, False, False, False),
         "Bed.eps": (0.0, 1.0, True, True, False, False),
-        "Bed.U": (0.0, C_LIGHT, False, False, False, False),
+        "Bed.U": (0.0, MAX_CORE_SPEED, False, False, False, False),
     }
     cases = []
     for full, (lo, hi, lo_open, hi_open, inf_ok, length) in ranges.items():
@@ -214,7 +214,8 @@ def _collide_cases(rng) -> list[Case]:
             return func(kw.pop("p_i"), kw.pop("p_j"), **kw)
         cases.append(Case(entry, field, label, bad, call))
 
-    numeric = {"u0": (0.0, C_LIGHT, True, False), "u0_j": (-C_LIGHT, C_LIGHT, False, False),
+    numeric = {"u0": (0.0, MAX_CORE_SPEED, True, False),
+               "u0_j": (-MAX_CORE_SPEED, MAX_CORE_SPEED, False, False),
                "beta_deg": (-3600.0, 3600.0, False, False), "e": (0.0, 1.0, False, False)}
     for field, (lo, hi, lo_open, hi_open) in numeric.items():
         for label, bad in _numeric_bad(lo, hi, lo_open, hi_open, required=field != "u0_j",

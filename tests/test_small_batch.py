@@ -190,10 +190,10 @@ def test_mixed_scalars_and_arrays_broadcast_as_numpy_does():
     ("e", 1.5, "e = 1.5 is outside the allowed range [0, 1]"),
     ("e", math.nan, "e = nan is not a number; allowed: [0, 1]"),
     ("e", -math.inf, "e = -inf is outside the allowed range [0, 1]"),
-    ("u0", math.nan, "u0 = nan is not a number; allowed: [-2.99792e+08, 2.99792e+08] m/s"),
+    ("u0", math.nan, "u0 = nan is not a number; allowed: [-1e+12, 1e+12] m/s"),
     ("beta_deg", math.nan, "beta_deg = nan is not a number; allowed: [-3600, 3600] deg"),
     ("u0", -1.0, "u0 + u0_j = -2.0 m/s is outside the allowed range (0, inf)"),
-    ("u0", math.inf, "u0 = inf is outside the allowed range [-2.99792e+08, 2.99792e+08] m/s"),
+    ("u0", math.inf, "u0 = inf is outside the allowed range [-1e+12, 1e+12] m/s"),
 ])
 @pytest.mark.parametrize("kind", [float, np.float64, lambda x: [x]])
 @pytest.mark.parametrize("mode", ["relative", "paper", "auto", "stokes"])
