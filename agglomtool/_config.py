@@ -43,7 +43,8 @@ def _axis(where: str, value, key: str = ""):
     numeric = key in FIELD_META
     if isinstance(value, list):
         if not value:
-            raise ConfigError(f"{where}: the list of values is empty")
+            raise ConfigError(f"{where}: {key or 'the axis'} = [] is empty; allowed: a list "
+                              "of one or more values")
         if numeric:
             return np.asarray([_number(where, key, v) for v in value], dtype=float)
         if all(isinstance(v, str) for v in value):
@@ -109,8 +110,8 @@ def parse_scene(scene_data, source: str = "config") -> Scene:
             raise ConfigError(f"{source}: [scene] {key}: not a Scene field; fields: "
                               f"{', '.join(fields)}")
         if isinstance(value, list | dict):
-            raise ConfigError(f"{source}: [scene] {key}: must be a single value; put ranges "
-                              "in [grid]")
+            raise ConfigError(f"{source}: [scene] {key} = {value!r} must be a single value; "
+                              "put ranges in [grid]")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlausibilityWarning)

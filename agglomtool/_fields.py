@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import TypedDict
 
 __all__ = ["FIELD_META", "DEFAULTS", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CHOICES",
-           "U_CEILING", "DEFAULT_MODE", "short_unit"]
+           "U_CEILING", "DEFAULT_MODE", "FIELD_RANGES", "CORE_RANGES", "short_unit"]
 
 #: The model tier used unless one is asked for: the frame-consistent closed forms. Of the
 #: tiers that cost about as much as the paper's own ("paper", "relative"), it is the most
@@ -63,6 +63,88 @@ FIELD_META = {
     "wake_fraction": ("dimensionless", "bubble wake volume over bubble volume"),
     "u_ceiling": ("m/s", "u0* ceiling: above it the pair sticks at every bed speed"),
 }
+
+#: Upper ends of the physical ranges, far beyond any fluidized bed and far below where the
+#: model's arithmetic overflows (a value of 1e300 gave e_w = 0, or NaN, silently). Above
+#: them a value is refused (a ValueError): it is a slip, never a bed. Within them the
+#: plausibility checks (:mod:`agglomtool.plausibility`) still warn about what no bed has.
+#: A particle, its coating or asperities, a bed, a column of more than 1 km [m] (a 5 m
+#: coating, a 500 m particle are slips the plausibility checks name, with a warning).
+MAX_LENGTH = 1e3
+#: A density above 1e5 kg/m3 (the densest element, osmium, has 2.26e4) [kg/m3].
+MAX_DENSITY = 1e5
+#: A speed above 1 km/s (faster than sound in any bed's gas) [m/s].
+MAX_SPEED = 1e3
+#: A temperature above 1e4 K (the property models end near 2000 K) [K].
+MAX_T = 1e4
+#: A pressure above 1e9 Pa (10 kbar) [Pa].
+MAX_P = 1e9
+
+#: Most quadrature nodes of the impact-speed distribution (16 is the default; more than a
+#: thousand only multiplies the work).
+MAX_NODES = 1024
+
+#: Valid (physical) range of every numeric Scene field: ``(lo, hi, lo_open, hi_open)``; the
+#: messages of a ``ValueError`` state it.
+FIELD_RANGES = {
+    "T": (0.0, MAX_T, True, False), "P": (0.0, MAX_P, True, False),
+    "U": (0.0, MAX_SPEED, False, False), "U_Umf": (0.0, 1e4, True, False),
+    "eps": (0.0, 1.0, True, True), "U_e_Umf": (0.0, 1e4, False, False),
+    "d_i": (0.0, MAX_LENGTH, True, False),
+    "d_j": (0.0, MAX_LENGTH, True, False),
+    "h0": (0.0, MAX_LENGTH, False, False),
+    "h0_j": (0.0, MAX_LENGTH, False, False),
+    "ha_i": (0.0, MAX_LENGTH, False, False),
+    "ha_j": (0.0, MAX_LENGTH, False, False),
+    "e": (0.0, 1.0, False, False), "theta_deg": (0.0, 90.0, False, True),
+    "beta_deg": (-90.0, 90.0, False, False), "u0": (0.0, MAX_SPEED, True, False),
+    "sigma_ln": (0.0, 10.0, True, False),
+    "granular_temperature": (0.0, MAX_SPEED**2, True, False),
+    "fluctuation_ratio": (0.0, 1e3, True, False), "u_ceiling": (0.0, MAX_SPEED, True, False),
+    "bed_height": (0.0, MAX_LENGTH, True, False),
+    "column_diameter": (0.0, MAX_LENGTH, True, False),
+    "orifice_area": (0.0, MAX_LENGTH**2, False, False),
+    "height": (0.0, MAX_LENGTH, True, False),
+    "wake_fraction": (0.0, 10.0, True, False),
+}
+
+#: The collision core's lengths end at 1e10 m (a star): a partner that large is the plate
+#: limit (use ``Particle.plate()``); the model's limits are tested up to 1.7e9 m [m].
+MAX_CORE_LENGTH = 1e10
+#: The core's speeds end at 1e12 m/s [m/s]: the model is classical, but its own
+#: consistency is tested where its answers lie, and the critical speed of a 1e6 Pa s bridge
+#: on a fine particle exceeds the speed of light (8e8 m/s); 1e300 overflows its energies.
+MAX_CORE_SPEED = 1e12
+
+#: Valid range of the collision core's inputs (:mod:`agglomtool.inputs`, the arguments of
+#: :func:`agglomtool.collide`): ``(lo, hi, lo_open, hi_open, unit)``. A plate's ``inf``
+#: (``Particle.d``, ``Particle.rho``) is allowed besides. Wider than a Scene's: the core is
+#: the model, whose limits (a partner a million times larger, speeds 1e9 times the
+#: critical one) the tests hold it to; a bed's own bounds are the Scene's.
+CORE_RANGES = {
+    "Particle.d": (0.0, MAX_CORE_LENGTH, True, False, "m"),
+    "Particle.rho": (0.0, MAX_DENSITY, True, False, "kg/m3"),
+    "Particle.h0": (0.0, MAX_CORE_LENGTH, False, False, "m"),
+    "Particle.ha": (0.0, MAX_CORE_LENGTH, False, False, "m"),
+    # a viscosity far above a glass's at its transition (1e12 Pa s): a solid, not a bridge
+    "Liquid.mu": (0.0, 1e30, True, False, "Pa s"),
+    # molten metals reach 2 N/m
+    "Liquid.gamma": (0.0, 10.0, True, False, "N/m"),
+    "Liquid.rho": (0.0, MAX_DENSITY, True, False, "kg/m3"),
+    "Liquid.theta_deg": (0.0, 90.0, False, True, "deg"),
+    # gases have 1e-5 to 1e-4 Pa s; 1 Pa s is a syrup
+    "Gas.mu": (0.0, 1.0, True, False, "Pa s"),
+    "Gas.rho": (0.0, MAX_DENSITY, True, False, "kg/m3"),
+    "Bed.eps": (0.0, 1.0, True, True, "-"),
+    "Bed.U": (0.0, MAX_CORE_SPEED, False, False, "m/s"),
+    "collide.u0": (-MAX_CORE_SPEED, MAX_CORE_SPEED, False, False, "m/s"),
+    "collide.u0_j": (-MAX_CORE_SPEED, MAX_CORE_SPEED, False, False, "m/s"),
+    # the collision axis's angle, periodic: ten turns either way (a Scene's is in
+    # [-90, 90]); beyond, a slip
+    "collide.beta_deg": (-3600.0, 3600.0, False, False, "deg"),
+    "collide.e": (0.0, 1.0, False, False, "-"),
+}
+
 
 def short_unit(name: str) -> str:
     """The unit of numeric field ``name`` as messages and help texts print it: ``"deg"``,

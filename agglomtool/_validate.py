@@ -61,18 +61,24 @@ def as_float_array(name: str, value, allowed: str = "finite numbers") -> np.ndar
 
 def _float_array(name: str, value, allowed: str) -> np.ndarray:
     """:func:`as_float_array` without the NaN check."""
-    if type(value) is np.ndarray and value.dtype == np.float64:
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.size:
         return value  # what np.asarray below would return
     if hasattr(value, "magnitude") and hasattr(value, "units") and hasattr(value, "to"):
         value = _from_quantity(name, value)
+    if value is None:
+        raise ValueError(f"{name} = None: a value is required; allowed: {allowed}")
     if isinstance(value, (bool, np.bool_)) or getattr(value, "dtype", None) == np.bool_:
         raise ValueError(f"{name} = {value!r} is a boolean, not a number; allowed: {allowed}")
     try:
-        return np.asarray(value, dtype=np.float64)
+        arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ValueError(
             f"{name} = {value!r} is not a number or an array of numbers; allowed: {allowed}"
         ) from exc
+    if arr.size == 0:  # an empty input would give an empty answer, silently
+        raise ValueError(f"{name} = {value!r} is empty; allowed: one or more numbers in "
+                         f"{allowed}")
+    return arr
 
 
 def _raise_nan(name: str, arr: np.ndarray, allowed: str):
@@ -84,13 +90,16 @@ def _raise_nan(name: str, arr: np.ndarray, allowed: str):
 
 
 @functools.lru_cache(maxsize=256)
-def _range_text(lo, hi, lo_open, hi_open, unit) -> str:
-    """The allowed range as messages state it: ``"(0, inf) m"``, ``"[0, 1]"``."""
+def _range_text(lo, hi, lo_open, hi_open, unit, allow_inf=False) -> str:
+    """The allowed range as messages state it: ``"(0, inf) m"``, ``"[0, 1]"``,
+    ``"(0, 1] m or inf"``."""
     lo_s = "-inf" if lo is None else f"{lo:g}"
     hi_s = "inf" if hi is None else f"{hi:g}"
     rng = f"{'(' if lo_open else '['}{lo_s}, {hi_s}{')' if hi_open or hi is None else ']'}"
     if unit and unit not in ("-", "dimensionless"):
         rng += f" {unit}"
+    if allow_inf and hi is not None:
+        rng += " or inf"
     return rng
 
 
@@ -108,7 +117,9 @@ def check_range(
     """Return ``value`` as a float array after checking ``lo <= value <= hi``.
 
     ``lo_open`` / ``hi_open`` make the bound strict. ``+inf`` is refused unless
-    ``allow_inf`` (a plate's diameter, say); ``-inf`` is always refused.
+    ``allow_inf`` (a plate's diameter, say: allowed then besides ``[lo, hi]``); ``-inf`` is
+    always refused. ``None``, an empty array, a string that is no number and a boolean are
+    refused too, each with a ``ValueError`` naming ``name``, the value and the range.
     """
     if type(value) is float or type(value) is int:  # the common scalar, without numpy
         # Python's comparisons decide it; a value they refuse (NaN included) takes the
@@ -117,7 +128,7 @@ def check_range(
                 and (hi is None or (value < hi if hi_open else value <= hi))
                 and value != -math.inf and (allow_inf or value != math.inf)):
             return np.array(value, dtype=np.float64)
-    rng = _range_text(lo, hi, lo_open, hi_open, unit)
+    rng = _range_text(lo, hi, lo_open, hi_open, unit, allow_inf)
     arr = _float_array(name, value, rng)
     if arr.size:
         # Two reductions decide the common case (every value allowed) without a mask; the
@@ -134,11 +145,76 @@ def check_range(
     if lo is not None:
         bad |= (arr <= lo) if lo_open else (arr < lo)
     if hi is not None:
-        bad |= (arr >= hi) if hi_open else (arr > hi)
+        above = (arr >= hi) if hi_open else (arr > hi)
+        bad |= (above & ~np.isposinf(arr)) if allow_inf else above
     if not allow_inf:
         bad |= np.isinf(arr)
     else:
         bad |= np.isneginf(arr)
     if bad.any():
-        raise ValueError(f"{name} = {_first_bad(arr, bad)!r} is outside the allowed range {rng}")
+        where = ""
+        if bad.size > 1:  # which element of an array (a grid's point, a batch's collision)
+            where = f" at index {tuple(int(i) for i in np.argwhere(bad)[0])}"
+        raise ValueError(f"{name} = {_first_bad(arr, bad)!r}{where} is outside the allowed "
+                         f"range {rng}")
     return arr
+
+
+def check_field(name: str, value, *, key: str | None = None, allow_inf: bool = False,
+                scalar: bool = False) -> np.ndarray:
+    """``value`` checked against the physical range of field ``key`` (default ``name``) of
+    :data:`agglomtool._fields.CORE_RANGES` or :data:`~agglomtool._fields.FIELD_RANGES`, the
+    one table of ranges. ``scalar``: one number is required, not a list or an array."""
+    from ._fields import CORE_RANGES, FIELD_RANGES, short_unit
+
+    key = name if key is None else key
+    if key in CORE_RANGES:
+        lo, hi, lo_open, hi_open, unit = CORE_RANGES[key]
+    else:
+        lo, hi, lo_open, hi_open = FIELD_RANGES[key]
+        unit = short_unit(key)
+    if scalar and np.ndim(value) and np.size(value) != 0:
+        raise ValueError(f"{name} = {value!r} must be a single number in "
+                         f"{_range_text(lo, hi, lo_open, hi_open, unit, allow_inf)}, not "
+                         f"{np.size(value)} values")
+    return check_range(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open,
+                       allow_inf=allow_inf, unit=unit)
+
+
+def check_int(name: str, value, lo: int, hi: int | None = None) -> int:
+    """``value`` as an int in ``[lo, hi]``: an integer (not a bool, not 1.5, not "4"), else
+    a ``ValueError`` naming ``name``, the value and the range."""
+    rng = f"an integer in [{lo}, {'inf' if hi is None else hi}]"
+    if isinstance(value, bool | np.bool_) or not isinstance(value, int | np.integer):
+        raise ValueError(f"{name} = {value!r} is not allowed: {rng}")
+    if value < lo or (hi is not None and value > hi):
+        raise ValueError(f"{name} = {value!r} is outside the allowed range: {rng}")
+    return int(value)
+
+
+def check_bool(name: str, value) -> bool:
+    """``value`` as a bool: True or False only, else a ``ValueError`` naming ``name``."""
+    if not isinstance(value, bool | np.bool_):
+        raise ValueError(f"{name} = {value!r} is not allowed: True or False")
+    return bool(value)
+
+
+def _typed(value) -> bool:
+    """True where ``value`` holds text or a Quantity: what a person typed, converted since."""
+    if isinstance(value, str) or hasattr(value, "units"):
+        return True
+    return isinstance(value, list | tuple) and any(
+        isinstance(v, str) or hasattr(v, "units") for v in value)
+
+
+def check_typed(name: str, typed, value, *, key: str | None = None, scalar: bool = False,
+                allow_inf: bool = False) -> np.ndarray:
+    """:func:`check_field` of ``value``, converted to SI from ``typed`` (a unit string, a
+    Quantity, a list holding them): the message shows what was typed as well ("h0 = 1.5e+17
+    is outside the allowed range [0, 1000] m (given as '5 parsec')")."""
+    try:
+        return check_field(name, value, key=key, scalar=scalar, allow_inf=allow_inf)
+    except ValueError as exc:
+        if _typed(typed):
+            raise ValueError(f"{exc} (given as {typed!r})") from None
+        raise

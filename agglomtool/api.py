@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._fields import DEFAULT_MODE
-from ._validate import as_float_array, check_range
+from ._validate import as_float_array, check_field, check_range
 from .collision.auto import DEFAULT_TOL, auto_fused
 from .collision.critical import critical_speeds, first_rebound_speed
 from .collision.fused import (
@@ -178,9 +178,12 @@ def _lab_speeds(p_i: Particle, p_j: Particle, u0, u0_j):
     w = u_i + u_j
     if np.any(~(w > 0.0)):
         bad = float(np.broadcast_to(w, np.shape(w))[~(w > 0.0)].flat[0])
+        k = np.flatnonzero(~(np.broadcast_to(w, np.shape(w)) > 0.0).reshape(-1))[0]
+        pick = [float(np.broadcast_to(x, np.shape(w)).reshape(-1)[k]) for x in (u0, u_j)]
         raise ValueError(
             f"the particles are not approaching: u0 + u0_j = {bad!r} m/s is outside the "
-            "allowed range (0, inf); e_w is defined for approaching pairs only"
+            f"allowed range (0, inf) (u0 = {pick[0]!r}, u0_j = {pick[1]!r}); e_w is defined "
+            "for approaching pairs only"
         )
     if np.any(np.isinf(w)):
         raise ValueError(
@@ -209,6 +212,8 @@ def _shaped(e_w, stage, path, det, shape, details):
 
 
 def _check_tol_mode(tol, mode) -> None:
+    if tol is not None:
+        check_range("tol", tol, 1e-6, 0.5, unit="-")  # (auto's own range)
     if tol is not None and mode not in TAKES_TOL:
         raise ValueError(
             f"tol = {tol!r} was given but mode = {mode!r} takes no tolerance; "
@@ -247,7 +252,8 @@ def _speed_error(code, index, ins, steps, shape=()):
     if code == 3:
         return ValueError(
             f"the particles are not approaching: u0 + u0_j = {u_i + u_j!r} m/s{at} is outside "
-            "the allowed range (0, inf); e_w is defined for approaching pairs only"
+            f"the allowed range (0, inf) (u0 = {val('u0')!r}, u0_j = {u_j!r}); e_w is defined "
+            "for approaching pairs only"
         )
     return ValueError(
         f"u0 = inf (or u0_j = inf){at} is outside the allowed range: finite speeds [m/s]")
@@ -260,15 +266,16 @@ def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True
     ignored (zero speed, no speed checks). ``check=False``: the lab-speed rules are left to
     the caller (``fused_batch(check=True)`` applies them in its own pass)."""
     if speeds:
-        u0 = as_float_array("u0", u0)
-        u0_j = np.nan if u0_j is None else as_float_array("u0_j", u0_j)
+        u0 = check_field("u0", u0, key="collide.u0")
+        u0_j = np.nan if u0_j is None else check_field("u0_j", u0_j, key="collide.u0_j")
     else:
         u0, u0_j = 0.0, np.nan
     values = (
         p_i.d, p_i.rho, p_i.h0, p_i.ha, p_j.d, p_j.rho, p_j.h0, p_j.ha, liquid.mu,
         liquid.gamma, liquid.rho, liquid.theta_deg, gas.mu, gas.rho, bed.eps,
-        np.nan if bed.U is None else bed.U, as_float_array("beta_deg", beta_deg),
-        check_range("e", e, 0.0, 1.0, unit="-"), u0, u0_j,
+        np.nan if bed.U is None else bed.U,
+        check_field("beta_deg", beta_deg, key="collide.beta_deg"),
+        check_field("e", e, key="collide.e"), u0, u0_j,
     )
     shape = broadcast_shape(INPUT_NAMES, values)
     ins, steps = flat_inputs(values, shape)
@@ -468,12 +475,13 @@ def critical_impact_speed(
     pair may stick again in a narrow window; :func:`collide` on a grid shows it.
     """
     _check_mode(mode)
-    if not (0.0 < rtol < 0.1):
-        raise ValueError(f"rtol = {rtol!r} is outside the allowed range (0, 0.1)")
+    if np.ndim(check_range("rtol", rtol, 0.0, 0.1, lo_open=True, hi_open=True)):
+        raise ValueError(f"rtol = {rtol!r} must be one number in (0, 0.1)")
+    rtol = float(rtol)
     if u_max is None:
         ceiling = math.inf
     else:
-        ceiling = float(check_range("u_max", u_max, 0.0, None, lo_open=True, unit="m/s"))
+        ceiling = float(check_field("u_max", u_max, key="u_ceiling", scalar=True))
     bed = Bed() if bed is None else bed
     check_inputs(p_i, p_j, liquid, gas, bed)
     _check_flags(body_forces, drag_slip, False)

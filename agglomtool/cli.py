@@ -25,8 +25,10 @@ class CommandError(Exception):
 
 def _cmd_reference(args: argparse.Namespace) -> int:
     """Evaluate the paper's two reference cases (Table 2) and print u0* and e_w."""
+    from ._validate import check_field
     from .examples import reference_cases
 
+    check_field("--beta", args.beta, key="beta_deg")  # the Scene's collision angle
     for case in reference_cases():
         print(case.report(beta_deg=args.beta, mode=args.mode))
         print()
@@ -531,7 +533,7 @@ def main(argv: list[str] | None = None) -> int:
     except ImportError as exc:  # an optional package is missing: say which and how
         print(f"agglomtool: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except (CommandError, ValueError, KeyError, OSError) as exc:  # bad input: no traceback
+    except (CommandError, ValueError, TypeError, KeyError, OSError) as exc:  # bad input
         msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         if hasattr(exc, "for_cli"):  # the way out in the command line's terms (--overwrite)
             msg = exc.for_cli()

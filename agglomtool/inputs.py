@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validate import check_range
+from ._validate import check_field
 
 __all__ = ["Particle", "Liquid", "Gas", "Bed"]
 
@@ -37,13 +37,18 @@ class Particle:
     Parameters
     ----------
     d : float or array
-        Solid diameter [m], > 0. ``math.inf`` is a plate: infinite radius and mass, fixed.
+        Solid diameter [m], in (0, 1e10]. ``math.inf`` is a plate: infinite radius and
+        mass, fixed.
     rho : float or array
-        Solid density [kg/m3], > 0. Ignored for a plate.
+        Solid density [kg/m3], in (0, 1e5]. Ignored for a plate.
     h0 : float or array
-        Coating (liquid layer) thickness [m], >= 0. 0 is a dry particle.
+        Coating (liquid layer) thickness [m], in [0, 1e10]. 0 is a dry particle.
     ha : float or array
-        Asperity (surface roughness) height [m], >= 0.
+        Asperity (surface roughness) height [m], in [0, 1e10].
+
+    Every field's physical range is that of :data:`agglomtool._fields.CORE_RANGES` (the
+    documentation's inputs page gives the reasons); outside it, NaN, an empty array, a
+    string or ``None`` raise a ``ValueError`` naming the field, the value and the range.
 
     Notes
     -----
@@ -61,12 +66,10 @@ class Particle:
         self.__post_init__()
 
     def __post_init__(self) -> None:
-        d = check_range("Particle.d", self.d, 0.0, None, lo_open=True, allow_inf=True, unit="m")
-        rho = check_range(
-            "Particle.rho", self.rho, 0.0, None, lo_open=True, allow_inf=True, unit="kg/m3"
-        )
-        h0 = check_range("Particle.h0", self.h0, 0.0, None, unit="m")
-        ha = check_range("Particle.ha", self.ha, 0.0, None, unit="m")
+        d = check_field("Particle.d", self.d, allow_inf=True)
+        rho = check_field("Particle.rho", self.rho, allow_inf=True)
+        h0 = check_field("Particle.h0", self.h0)
+        ha = check_field("Particle.ha", self.ha)
         if rho.ndim == 0 and d.ndim == 0:  # the common scalar, without numpy
             bad = math.isinf(rho) and not math.isinf(d)
         else:
@@ -74,7 +77,7 @@ class Particle:
         if bad:
             raise ValueError(
                 "Particle.rho = inf is allowed only for a plate (d = inf); "
-                "a finite particle needs a finite density in (0, inf) kg/m3"
+                "a finite particle needs a finite density in (0, 100000] kg/m3"
             )
         object.__setattr__(self, "d", d)
         object.__setattr__(self, "rho", rho)
@@ -99,11 +102,11 @@ class Liquid:
     Parameters
     ----------
     mu : float or array
-        Dynamic viscosity [Pa s], > 0.
+        Dynamic viscosity [Pa s], in (0, 1e30].
     gamma : float or array
-        Surface tension [N/m], > 0.
+        Surface tension [N/m], in (0, 10].
     rho : float or array
-        Density [kg/m3], > 0.
+        Density [kg/m3], in (0, 1e5].
     theta_deg : float or array
         Contact angle [deg], in [0, 90): the model is for wetting liquids.
     """
@@ -124,20 +127,20 @@ class Liquid:
 
     def __post_init__(self) -> None:
         object.__setattr__(
-            self, "mu", check_range("Liquid.mu", self.mu, 0.0, None, lo_open=True, unit="Pa s")
+            self, "mu", check_field("Liquid.mu", self.mu)
         )
         object.__setattr__(
             self,
             "gamma",
-            check_range("Liquid.gamma", self.gamma, 0.0, None, lo_open=True, unit="N/m"),
+            check_field("Liquid.gamma", self.gamma),
         )
         object.__setattr__(
-            self, "rho", check_range("Liquid.rho", self.rho, 0.0, None, lo_open=True, unit="kg/m3")
+            self, "rho", check_field("Liquid.rho", self.rho)
         )
         object.__setattr__(
             self,
             "theta_deg",
-            check_range("Liquid.theta_deg", self.theta_deg, 0.0, 90.0, hi_open=True, unit="deg"),
+            check_field("Liquid.theta_deg", self.theta_deg),
         )
 
 
@@ -148,9 +151,9 @@ class Gas:
     Parameters
     ----------
     mu : float or array
-        Dynamic viscosity [Pa s], > 0.
+        Dynamic viscosity [Pa s], in (0, 1].
     rho : float or array
-        Density [kg/m3], > 0.
+        Density [kg/m3], in (0, 1e5].
     """
 
     mu: np.ndarray
@@ -165,10 +168,10 @@ class Gas:
 
     def __post_init__(self) -> None:
         object.__setattr__(
-            self, "mu", check_range("Gas.mu", self.mu, 0.0, None, lo_open=True, unit="Pa s")
+            self, "mu", check_field("Gas.mu", self.mu)
         )
         object.__setattr__(
-            self, "rho", check_range("Gas.rho", self.rho, 0.0, None, lo_open=True, unit="kg/m3")
+            self, "rho", check_field("Gas.rho", self.rho)
         )
 
 
@@ -181,8 +184,9 @@ class Bed:
     eps : float or array
         Local voidage [-], in (0, 1). The paper uses 0.55 (emulsion phase).
     U : float, array or None
-        Emulsion-phase superficial gas velocity [m/s], upward (+Z), >= 0. ``None`` takes the
-        paper's choice: 1.1 x the larger Wen-Yu minimum fluidization velocity of the pair.
+        Emulsion-phase superficial gas velocity [m/s], upward (+Z), in [0, 1e12]. ``None``
+        takes the paper's choice: 1.1 x the larger Wen-Yu minimum fluidization velocity of
+        the pair.
     """
 
     eps: np.ndarray
@@ -196,7 +200,7 @@ class Bed:
         object.__setattr__(
             self,
             "eps",
-            check_range("Bed.eps", self.eps, 0.0, 1.0, lo_open=True, hi_open=True, unit="-"),
+            check_field("Bed.eps", self.eps),
         )
         if self.U is not None:
-            object.__setattr__(self, "U", check_range("Bed.U", self.U, 0.0, None, unit="m/s"))
+            object.__setattr__(self, "U", check_field("Bed.U", self.U))

@@ -788,7 +788,12 @@ def liquid(name: str, T=None, *, P=101325.0, theta_deg=None, extra_dirs=None,
     viscosity_model : str, optional
         For melts: overrides the entry's viscosity model ("grd", "urbain-mills", "riboud").
     """
+    from ._validate import check_field
+
     entry = liquid_entry(name, extra_dirs)
+    if T is not None:  # the Scene's physical ranges, for a call without a Scene
+        T = check_field("T", T)
+    P = check_field("P", P)
     theta = entry.theta_deg if theta_deg is None else theta_deg
     label = f"{entry.name} ({entry.file})"
     if entry.model == "fixed":

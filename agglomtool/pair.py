@@ -162,8 +162,10 @@ def broadcast_shape(names, values) -> tuple:
 
 def check_pair(p_i, p_j) -> None:
     """Both are Particles, and at most one of them is a plate."""
-    if not isinstance(p_i, Particle) or not isinstance(p_j, Particle):
-        raise ValueError("p_i and p_j must be agglomtool.Particle instances")
+    for name, p in (("p_i", p_i), ("p_j", p_j)):
+        if not isinstance(p, Particle):
+            raise ValueError(f"{name} = {p!r} is not allowed: an agglomtool.Particle is "
+                             "required")
     d_i, d_j = p_i.d, p_j.d
     if d_i.ndim == 0 and d_j.ndim == 0:
         both = math.isinf(d_i) and math.isinf(d_j)

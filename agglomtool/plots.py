@@ -72,8 +72,12 @@ def open_map(ds) -> xr.Dataset:
     """``ds`` itself, or the map in the netCDF file ``ds`` (a clear error if unreadable)."""
     if isinstance(ds, xr.Dataset):
         return ds
+    import os
     from pathlib import Path
 
+    if not isinstance(ds, str | os.PathLike):
+        raise ValueError(f"ds = {ds!r} is not allowed: an xarray.Dataset (a map) or the path "
+                         "of a netCDF map file")
     path = Path(ds)
     if not path.is_file():
         raise ValueError(f"map file {str(path)!r} does not exist")
@@ -134,10 +138,13 @@ def plan_layout(ds: xr.Dataset, var: str = "propensity", *, x=None, y=None, col=
     raises ``ValueError`` naming it and its size (choose it with ``sel``): a picture never
     shows one slice of a dimension without saying so.
     """
-    if var not in ds:
-        raise ValueError(f"{var!r} is not a variable of the map; variables: "
+    if not isinstance(var, str) or var not in ds:
+        raise ValueError(f"var = {var!r} is not a variable of the map; variables: "
                          f"{sorted(map(str, ds.data_vars))}")
+    if sel is not None and not isinstance(sel, dict):
+        raise ValueError(f"sel = {sel!r} is not allowed: a dict {{dimension: value}}")
     sel = dict(sel or {})
+    _sel(ds, var, sel)  # every selection names a dimension and one of its values
     for name, value in (("x", x), ("y", y), ("col", col), ("row", row)):
         if value is not None and value not in ds[var].dims:
             raise ValueError(f"{name} = {value!r} is not a dimension of {var}; dimensions: "

@@ -29,11 +29,12 @@ from ._fields import (
     CATEGORICAL_FIELDS,
     DEFAULTS,
     FIELD_META,
+    FIELD_RANGES,
     NUMERIC_FIELDS,
     U_CEILING,
     short_unit,
 )
-from ._validate import check_range
+from ._validate import check_range, check_typed
 from .api import _FUSED, MODES, _fused_inputs, collide, critical_impact_speed
 from .bed.speed_models import IMPACT_SPEED_MODELS, mixed_law, speed_law
 from .bed.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
@@ -185,9 +186,18 @@ class Scene:
     def __post_init__(self) -> None:
         for name in NUMERIC_FIELDS:  # Quantities and unit strings -> SI, once, here
             value = getattr(self, name)
-            if value is not None and not isinstance(value, int | float):
+            if value is None and DEFAULTS[name] is None:  # type: ignore[literal-required]
+                continue  # derived (see DERIVED)
+            if not isinstance(value, int | float) and value is not None:
                 unit, long_name = FIELD_META[name]
                 object.__setattr__(self, name, to_si(name, value, unit, long_name))
+            try:  # one number in the field's physical range (a grid sweeps several)
+                check_typed(name, value, getattr(self, name), scalar=True)
+            except ValueError as exc:
+                if isinstance(value, list | tuple | np.ndarray) and np.size(value) > 1:
+                    raise ValueError(f"{exc}; to evaluate several values, sweep them: "
+                                     f"at.sweep(scene, {name}=[...])") from None
+                raise
         if self.speed is None:
             if self.u0 is not None:
                 chosen = "fixed"
@@ -240,27 +250,10 @@ class Scene:
         return r.collide(r.u_typical if u0 is None else u0, details=details)
 
 
-#: Valid range of every numeric field: (lo, hi, lo_open, hi_open); None = unbounded.
 #: The key of a Scene's values under which drawn melt compositions (oxide -> wt % arrays)
 #: reach :class:`Resolved`: set by the Monte Carlo over a melt's assumed composition
 #: (:mod:`agglomtool.uncertainty.assumed`), not a Scene field.
 COMPOSITION_KEY = "_composition_wt"
-
-FIELD_RANGES = {
-    "T": (0.0, None, True, False), "P": (0.0, None, True, False),
-    "U": (0.0, None, False, False), "U_Umf": (0.0, None, True, False),
-    "eps": (0.0, 1.0, True, True), "U_e_Umf": (0.0, None, False, False),
-    "d_i": (0.0, None, True, False), "d_j": (0.0, None, True, False),
-    "h0": (0.0, None, False, False), "h0_j": (0.0, None, False, False),
-    "ha_i": (0.0, None, False, False), "ha_j": (0.0, None, False, False),
-    "e": (0.0, 1.0, False, False), "theta_deg": (0.0, 90.0, False, True),
-    "beta_deg": (-90.0, 90.0, False, False), "u0": (0.0, None, True, False),
-    "sigma_ln": (0.0, None, True, False), "granular_temperature": (0.0, None, True, False),
-    "fluctuation_ratio": (0.0, None, True, False), "u_ceiling": (0.0, None, True, False),
-    "bed_height": (0.0, None, True, False), "column_diameter": (0.0, None, True, False),
-    "orifice_area": (0.0, None, False, False), "height": (0.0, None, True, False),
-    "wake_fraction": (0.0, None, True, False),
-}
 
 
 def field_names() -> list[str]:

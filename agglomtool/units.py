@@ -71,9 +71,10 @@ def quantity(field: str, number, unit: str, text=None):
                          f"({type(exc).__name__})") from None
 
 
-def _convert(field: str, q, unit: str, long_name: str, delta: bool = False):
+def _convert(field: str, q, unit: str, long_name: str, delta: bool = False, text=None):
     """Magnitude of Quantity ``q`` in ``unit``, exact for power-of-ten scalings; with
-    ``delta``, ``q`` is a difference (a spread): an offset unit scales only (5 degC -> 5 K)."""
+    ``delta``, ``q`` is a difference (a spread): an offset unit scales only (5 degC -> 5 K).
+    ``text``: what the person typed, for the message."""
     import pint
 
     target = q._REGISTRY.parse_units(ALIASES.get(unit, unit))
@@ -82,7 +83,8 @@ def _convert(field: str, q, unit: str, long_name: str, delta: bool = False):
         factor = q._REGISTRY.Quantity(1.0, q.units).to(target).magnitude - offset
     except pint.DimensionalityError:
         raise ValueError(
-            f"{field} = {q:~P} has units of {q.dimensionality}, but {field}"
+            f"{field} = {q:~P} has units of {q.dimensionality}"
+            + (f" (given as {text!r})" if text is not None else "") + f", but {field}"
             + (f" ({long_name})" if long_name != field else "") + f" is in {unit}"
             + _slip_hint(q, target)) from None
     mag = np.asarray(q.magnitude, dtype=float)
@@ -94,9 +96,18 @@ def _convert(field: str, q, unit: str, long_name: str, delta: bool = False):
     if abs(factor / 10.0**k - 1.0) <= 1e-12 and mag.size <= _EXACT_MAX:
         # A power of ten: shift the decimal exponent of the number as typed, so that
         # "0.1 um" is the double nearest 1e-7, exactly as the plain number 1e-7 is.
-        out = np.array([float(f"{x!r}e{k}") for x in mag.ravel().tolist()])
+        out = np.array([_shift(x, k) for x in mag.ravel().tolist()])
         return out.reshape(mag.shape)
     return mag * factor
+
+
+def _shift(x: float, k: int) -> float:
+    """``x * 10**k`` by moving the decimal exponent of ``x`` as written (``1e+20``, ``k = 5``:
+    ``1e25``)."""
+    mantissa, _, exponent = repr(float(x)).partition("e")
+    if mantissa in ("inf", "-inf", "nan"):
+        return float(x)
+    return float(f"{mantissa}e{int(exponent or 0) + k}")
 
 
 def _slip_hint(q, target) -> str:
@@ -132,7 +143,8 @@ def to_si(field: str, value, unit: str, long_name: str = "", *, delta: bool = Fa
         q = value
     else:
         return value
-    out = _convert(field, q, unit, long_name or field, delta)
+    out = _convert(field, q, unit, long_name or field, delta,
+                   value if isinstance(value, str) else None)
     out = np.asarray(out, dtype=float)
     return float(out) if out.ndim == 0 else out
 

@@ -3,8 +3,8 @@ item 3): non-positive sizes or densities, negative thickness or asperity height,
 [0, 1], theta outside [0, 90), eps outside (0, 1), NaN anywhere, particles not approaching.
 
 The range is checked in the notation the package prints (``(0, inf)``, ``[0, 90)``...);
-for the inputs that have no range but finiteness (``u0``, ``u0_j``, ``beta_deg``) the word
-"finite" is the range.
+the speeds ``u0``, ``u0_j`` and the angle ``beta_deg`` have physical ranges too
+(``[-1e+12, 1e+12] m/s``, ``[-3600, 3600] deg``).
 """
 
 from __future__ import annotations
@@ -28,19 +28,19 @@ GOOD = {
     "Gas": dict(mu=18.48e-6, rho=1.168),
     "Bed": dict(eps=0.55, U=0.5),
 }
-RANGES = {
-    ("Particle", "d"): "(0, inf)",
-    ("Particle", "rho"): "(0, inf)",
-    ("Particle", "h0"): "[0, inf)",
-    ("Particle", "ha"): "[0, inf)",
-    ("Liquid", "mu"): "(0, inf)",
-    ("Liquid", "gamma"): "(0, inf)",
-    ("Liquid", "rho"): "(0, inf)",
+RANGES = {  # the physical ranges (absurd magnitudes are refused too: docs/inputs.md)
+    ("Particle", "d"): "(0, 1e+10] m or inf",
+    ("Particle", "rho"): "(0, 100000] kg/m3 or inf",
+    ("Particle", "h0"): "[0, 1e+10] m",
+    ("Particle", "ha"): "[0, 1e+10] m",
+    ("Liquid", "mu"): "(0, 1e+30] Pa s",
+    ("Liquid", "gamma"): "(0, 10] N/m",
+    ("Liquid", "rho"): "(0, 100000] kg/m3",
     ("Liquid", "theta_deg"): "[0, 90)",
-    ("Gas", "mu"): "(0, inf)",
-    ("Gas", "rho"): "(0, inf)",
+    ("Gas", "mu"): "(0, 1] Pa s",
+    ("Gas", "rho"): "(0, 100000] kg/m3",
     ("Bed", "eps"): "(0, 1)",
-    ("Bed", "U"): "[0, inf)",
+    ("Bed", "U"): "[0, 1e+12] m/s",
 }
 BAD_VALUES = {
     ("Particle", "d"): [0.0, -1e-3, -math.inf],
@@ -139,13 +139,14 @@ def test_restitution_out_of_range_in_array():
 def test_nan_in_call_arguments(kwargs, field):
     with pytest.raises(ValueError) as exc:
         at.collide(P, P, liquid=WATER, gas=AIR, **kwargs)
-    _assert_message(exc, field, NAN, "finite")
+    rng = "[-3600, 3600] deg" if field == "beta_deg" else "[-1e+12, 1e+12] m/s"
+    _assert_message(exc, field, NAN, rng)
 
 
 def test_nan_beta_in_critical_speed():
     with pytest.raises(ValueError) as exc:
         at.critical_impact_speed(P, P, liquid=WATER, gas=AIR, beta_deg=NAN)
-    _assert_message(exc, "beta_deg", NAN, "finite")
+    _assert_message(exc, "beta_deg", NAN, "[-3600, 3600] deg")
 
 
 @pytest.mark.parametrize(
@@ -204,7 +205,7 @@ def test_finite_particle_with_infinite_density_rejected():
     with pytest.raises(ValueError) as exc:
         at.Particle(d=1e-3, rho=math.inf)
     msg = str(exc.value)
-    assert "Particle.rho" in msg and "inf" in msg and "(0, inf)" in msg, msg
+    assert "Particle.rho" in msg and "inf" in msg and "(0, 100000]" in msg, msg
 
 
 def test_valid_edges_accepted():

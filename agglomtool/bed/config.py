@@ -39,7 +39,6 @@ import warnings
 
 from .._config import ConfigError, _axis, check_tables, parse_scene, read_toml, warn_scene_findings
 from ..plausibility import BED_OWN, PlausibilityWarning, scene_findings
-from ..units import to_si
 from .mixture import Component
 
 __all__ = ["BedConfig", "load_bed_config", "parse_bed_config"]
@@ -58,10 +57,7 @@ class BedConfig:
 
 def _length(where, value):
     if isinstance(value, str):
-        try:
-            return to_si(where, value, "m", "length")
-        except ValueError as exc:
-            raise ConfigError(f"{where}: {exc}") from None
+        return value  # the Component converts it, and names what was typed if refused
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise ConfigError(f"{where}: must be a number [m] or a length with units, got {value!r}")
     return float(value)

@@ -8,7 +8,7 @@ import numpy as np
 from scipy.special import ndtri
 
 from .. import materials
-from .._validate import check_range
+from .._validate import check_range, check_typed
 from ..plausibility import component_findings, warn_findings
 from ..units import is_quantity, to_si, to_si_array
 
@@ -70,12 +70,18 @@ class Component:
     ha: float | None = None
 
     def __post_init__(self) -> None:
+        typed = {}
         for name, long_name in (("d50", "mass-median diameter"), ("h0", "coating thickness"),
                                 ("ha", "asperity height")):  # quantities, unit strings -> m
-            value = getattr(self, name)
+            value = typed[name] = getattr(self, name)
             if isinstance(value, str) or is_quantity(value):
                 object.__setattr__(self, name, to_si(name, value, "m", long_name))
-        if self.d is not None and not isinstance(self.d, str):
+        typed["d"] = self.d
+        if self.d is not None and not isinstance(self.d, list | tuple | np.ndarray) and not (
+                is_quantity(self.d) and np.ndim(self.d.magnitude) == 1):
+            raise ValueError(f"d = {self.d!r} is not allowed: a list of 1-{MAX_CLASSES} class "
+                             "diameters [m] (one class: d = [value])")
+        if self.d is not None:
             d = to_si_array("d", self.d if is_quantity(self.d) else list(self.d), "m",
                             "class diameters")
             object.__setattr__(self, "d", d)
@@ -83,12 +89,17 @@ class Component:
         if not isinstance(self.solid, str) or materials._key(self.solid) not in known:
             raise ValueError(f"solid = {self.solid!r} is not in the materials database; known "
                              f"solids: {', '.join(known)}")
+        if np.ndim(self.fraction):
+            raise ValueError(f"fraction = {self.fraction!r} must be a single number in [0, 1] "
+                             "(sweep the fraction with bed_sweep(..., fraction=[...], mix=...))")
         check_range("fraction", self.fraction, 0.0, 1.0)
         if (self.d50 is None) == (self.d is None):
             raise ValueError(f"d50 = {self.d50!r}, d = {self.d!r}: give exactly one of d50 [m] "
                              "(a lognormal) or d [m] (explicit classes)")
         if self.d50 is not None:
-            check_range("d50", self.d50, 0.0, lo_open=True, unit="m")
+            check_typed("d50", typed["d50"], self.d50, key="d_i", scalar=True)
+            if np.ndim(self.gsd):
+                raise ValueError(f"gsd = {self.gsd!r} must be a single number in [1, 10]")
             check_range("gsd", self.gsd, 1.0, 10.0)
             if (not isinstance(self.classes, int | np.integer)
                     or not 1 <= self.classes <= MAX_CLASSES):
@@ -98,9 +109,17 @@ class Component:
                 raise ValueError(f"d_fractions = {self.d_fractions!r} needs explicit classes d, "
                                  "not d50")
         else:
-            d = check_range("d", self.d, 0.0, lo_open=True, unit="m")
-            if d.ndim != 1 or not 1 <= d.size <= MAX_CLASSES:
-                raise ValueError(f"d = {self.d!r} must be a list of 1-{MAX_CLASSES} diameters [m]")
+            assert self.d is not None  # the branch above took d is None
+            if np.ndim(self.d) != 1 or not 1 <= np.size(self.d) <= MAX_CLASSES:
+                empty = " is empty;" if np.size(self.d) == 0 else ""
+                raise ValueError(f"d = {typed['d']!r}{empty} must be a list of 1-{MAX_CLASSES} "
+                                 "diameters [m]")
+            d = check_typed("d", typed["d"], self.d, key="d_i")
+            uniq, counts = np.unique(d, return_counts=True)
+            if uniq.size != d.size:
+                raise ValueError(f"d = {typed['d']!r} repeats the class diameter "
+                                 f"{float(uniq[counts > 1][0])!r} m; allowed: distinct "
+                                 "diameters (one class each: add up their d_fractions)")
             object.__setattr__(self, "d", tuple(float(x) for x in d))
             if self.d_fractions is not None:
                 w = check_range("d_fractions", self.d_fractions, 0.0, 1.0)
@@ -112,9 +131,9 @@ class Component:
                                      "allowed: a sum of 1 within 1e-9")
                 object.__setattr__(self, "d_fractions", tuple(float(x) for x in w))
         if self.h0 is not None:
-            check_range("h0", self.h0, 0.0, unit="m")
+            check_typed("h0", typed["h0"], self.h0, key="h0", scalar=True)
         if self.ha is not None:
-            check_range("ha", self.ha, 0.0, unit="m")
+            check_typed("ha", typed["ha"], self.ha, key="ha_i", scalar=True)
         warn_findings(component_findings(self), stacklevel=4)
 
     @property

@@ -60,8 +60,8 @@ import numpy as np
 import xarray as xr
 
 from .. import materials
-from .._fields import short_unit
-from .._validate import check_range
+from .._fields import MAX_NODES
+from .._validate import check_int, check_range, check_typed
 from .._version import __version__
 from ..inputs import Particle
 from ..maps.meta import call_text, cf_units, global_attrs, provenance_attr
@@ -70,7 +70,6 @@ from ..plausibility import bed_findings, warn_findings
 from ..properties import umf
 from ..scene import (
     FIELD_META,
-    FIELD_RANGES,
     NUMERIC_FIELDS,
     Resolved,
     Scene,
@@ -118,14 +117,28 @@ def _direction_nodes(n: int):
 
 
 def _check_components(components) -> tuple[Component, ...]:
-    comps = tuple(components)
+    if isinstance(components, Component):
+        raise ValueError(f"components = {components!r} is one Component; allowed: a list of "
+                         "them, e.g. [component] for a bed of one")
+    try:
+        comps = tuple(components)
+    except TypeError:
+        comps = ()
     if not comps or not all(isinstance(c, Component) for c in comps):
         raise ValueError(f"components = {components!r} must be a non-empty list of "
                          "agglomtool.bed.Component")
     total = math.fsum(float(c.fraction) for c in comps)
     if abs(total - 1.0) > 1e-9:
-        raise ValueError(f"component fractions = {[c.fraction for c in comps]} sum to "
-                         f"{total:.12g}; allowed: a sum of 1 within 1e-9")
+        raise ValueError(f"fraction: the components' mass fractions "
+                         f"{[c.fraction for c in comps]} sum to {total:.12g}; allowed: a sum "
+                         "of 1 within 1e-9")
+    for k, c in enumerate(comps):
+        for m in range(k):
+            if all(getattr(c, f.name) == getattr(comps[m], f.name)
+                   for f in dataclasses.fields(c) if f.name != "fraction"):
+                raise ValueError(f"components: component {k} repeats component {m} "
+                                 f"({c.name}, the same sizes and coating); allowed: each "
+                                 "once, with the sum of their fractions")
     return comps
 
 
@@ -145,17 +158,17 @@ def _grid_arrays(grid: dict) -> dict:
             raise ValueError(f"{name!r} cannot be swept in a bed; allowed: "
                              f"{', '.join(BED_GRID_FIELDS)}")
         if name == "fraction":
-            arr = np.atleast_1d(np.asarray(values, dtype=float))
-            check_range("fraction", arr, 0.0, 1.0)
+            arr = np.atleast_1d(check_range("fraction", values, 0.0, 1.0))
         else:
             unit, long_name = FIELD_META[name]
-            arr = np.atleast_1d(np.asarray(to_si_array(name, values, unit, long_name),
-                                           dtype=float))
-            lo, hi, lo_open, hi_open = FIELD_RANGES[name]
-            check_range(name, arr, lo, hi, lo_open=lo_open, hi_open=hi_open,
-                        unit=short_unit(name))
+            arr = np.atleast_1d(check_typed(name, values, to_si_array(name, values, unit,
+                                                                      long_name)))
         if arr.ndim != 1 or arr.size == 0:
             raise ValueError(f"grid {name} = {values!r} must be a non-empty 1-D list")
+        uniq, counts = np.unique(arr, return_counts=True)
+        if uniq.size != arr.size:
+            raise ValueError(f"grid {name} = {values!r} repeats the value "
+                             f"{float(uniq[counts > 1][0])!r}; allowed: unique values")
         out[name] = arr
     return out
 
@@ -475,6 +488,8 @@ def bed_propensity(scene: Scene, components, *, nodes: int = 16,
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene = {scene!r} must be an agglomtool.Scene")
+    check_int("nodes", nodes, 1, MAX_NODES)
+    direction_nodes(directions)
     comps = _check_components(components)
     warn_findings(bed_findings(scene.values(), comps), stacklevel=3)
     ev = _evaluate(scene, comps, {}, _fractions(comps, None, None), nodes, directions)
@@ -647,6 +662,8 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene = {scene!r} must be an agglomtool.Scene")
+    check_int("nodes", nodes, 1, MAX_NODES)
+    direction_nodes(directions)
     comps = _check_components(components)
     axes = _grid_arrays(grid)
     warn_findings(bed_findings(scene.values(), comps, axes), stacklevel=3)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import glob
 import os
+import reprlib
 import socket
 import uuid
 from pathlib import Path
@@ -51,6 +52,10 @@ def write_map(ds: xr.Dataset, path, *, complevel: int = COMPLEVEL,
     """
     if not isinstance(complevel, int) or not 0 <= complevel <= 9:
         raise ValueError(f"complevel = {complevel!r} is outside the allowed range 0-9")
+    if not isinstance(ds, xr.Dataset):
+        raise ValueError(f"ds = {reprlib.repr(ds)} is not allowed: an xarray.Dataset (a map)")
+    if not isinstance(path, str | os.PathLike):
+        raise ValueError(f"path = {path!r} is not allowed: a file path (str or pathlib.Path)")
     path = Path(path)
     out, encoding = cf_ready(ds, history if history is not None
                              else f"agglomtool.write_map(ds, {path.name!r})")

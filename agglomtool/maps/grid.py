@@ -165,8 +165,12 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     """
     from .. import materials
     from .checks import check_chunks
+    from .layout import check_sweep_options
 
     check_chunks(chunks)
+    check_sweep_options(nodes=nodes, compute=compute, client=client, progress=progress,
+                        overwrite=overwrite, uncertain=uncertain, samples=samples,
+                        threshold=threshold, seed=seed)
     # inputs read once per run: the materials files are read and hashed here, and every
     # block (here or on a cluster's workers) computes from those bytes
     owner = materials.current() is None

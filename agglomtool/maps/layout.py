@@ -15,6 +15,7 @@ import re
 
 import numpy as np
 
+from .._validate import check_typed
 from .._version import __version__
 from ..plausibility import scene_findings, warn_findings
 from ..scene import (
@@ -74,6 +75,30 @@ class GridError(ValueError):
         self.field = field
 
 
+def check_sweep_options(*, nodes, compute, client, progress, overwrite, uncertain=None,
+                        samples=None, threshold=None, seed=None) -> None:
+    """The options of :func:`agglomtool.sweep`, before any work: a ``ValueError`` naming the
+    option, its value and what is allowed (``nodes=1.5``, ``compute="x"``, ``client="abc"``
+    were taken as they came, or failed deep inside)."""
+    from .._fields import MAX_NODES
+    from .._validate import check_bool, check_int
+    from ..uncertainty._sampling import resolve_seed
+
+    check_int("nodes", nodes, 1, MAX_NODES)
+    for name, value in (("compute", compute), ("progress", progress),
+                        ("overwrite", overwrite)):
+        check_bool(name, value)
+    if client is not None and client is not False and not (
+            hasattr(client, "submit") and hasattr(client, "gather")):
+        raise ValueError(f"client = {client!r} is not allowed: a dask.distributed Client, "
+                         "None (the active client, if any) or False (compute here)")
+    if uncertain is not None:  # a robust map's, before its nominal map is computed
+        from .robust import check_robust_options
+
+        check_robust_options(samples, threshold)
+        resolve_seed(seed)
+
+
 def _blamed(message: str, names) -> str | None:
     """The swept field (of ``names``) whose value ``message`` states first, if any."""
     found = [(m.start(), k) for k in names
@@ -97,6 +122,7 @@ def _axes(base: dict, grid: dict) -> dict:
             arr = np.array(vals)
         else:
             unit, long_name = FIELD_META[name]
+            typed = values
             try:
                 values = to_si_array(name, values, unit, long_name)
             except ValueError as exc:
@@ -107,10 +133,18 @@ def _axes(base: dict, grid: dict) -> dict:
                 raise GridError(f"grid {name} must be numbers (SI) or quantities with units, "
                                 f"got {values!r}", name) from None
             if arr.ndim != 1 or arr.size == 0:
-                raise GridError(f"grid {name} must be a non-empty 1-D list of numbers, "
-                                f"got shape {arr.shape}", name)
-        if len(np.unique(arr)) != arr.size:
-            raise GridError(f"grid {name} repeats a value; coordinates must be unique", name)
+                raise GridError(f"grid {name} = {typed!r} is not allowed: a non-empty 1-D list "
+                                f"of numbers (got shape {arr.shape})", name)
+            try:  # the field's physical range, with what was typed
+                check_typed(name, typed, arr)
+            except ValueError as exc:
+                raise GridError(str(exc), name) from None
+        uniq, counts = np.unique(arr, return_counts=True)
+        if uniq.size != arr.size:
+            twice = uniq[counts > 1][0]
+            shown = repr(str(twice)) if name in CATEGORICAL_FIELDS else f"{float(twice)!r}"
+            raise GridError(f"grid {name} = {values!r} repeats the value {shown}; allowed: "
+                            "unique coordinates", name)
         out[name] = arr
     return out
 
@@ -141,6 +175,10 @@ def _grid_values(scene: Scene, grid: dict, *, plausibility: bool = True) -> dict
     every combination), properties included. Raises :class:`GridError` naming the swept
     field it blames; warns the plausibility findings the scene has not said already."""
     base = scene.values()
+    if not grid:
+        raise GridError("grid: none given; a sweep needs at least one field with its values, "
+                        "e.g. at.sweep(scene, T=[1000.0, 1100.0]) (for one point: "
+                        "scene.evaluate())")
     out = _axes(base, grid)
     try:
         for values in _combinations(base, out):

@@ -40,6 +40,15 @@ def _check(name, value, ok, text):
         raise ValueError(f"{name} = {value!r} must be {text}")
 
 
+def check_robust_options(samples, threshold) -> None:
+    """``samples`` (an integer >= 2) and ``threshold`` (in [0, 1)) of a robust map."""
+    _check("samples", samples, lambda v: isinstance(v, int | np.integer)
+           and not isinstance(v, bool) and v >= 2, "an integer >= 2")
+    _check("threshold", threshold, lambda v: isinstance(v, int | float) and not isinstance(
+        v, bool) and 0.0 <= v < 1.0, "a number in [0, 1): the propensity above which a "
+           "point is unsafe")
+
+
 def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
                  samples: int = 256, seed: int | None = 0, threshold: float = 0.5,
                  nodes: int = 16, quantiles=(0.05, 0.5, 0.95)) -> xr.Dataset:
@@ -49,11 +58,7 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     from ..uncertainty._sampling import resolve_seed
     from ..uncertainty.scene_mc import SceneDraws, split_uncertain
 
-    _check("samples", samples, lambda v: isinstance(v, int | np.integer)
-           and not isinstance(v, bool) and v >= 2, "an integer >= 2")
-    _check("threshold", threshold, lambda v: isinstance(v, int | float) and not isinstance(
-        v, bool) and 0.0 <= v < 1.0, "a number in [0, 1): the propensity above which a "
-           "point is unsafe")
+    check_robust_options(samples, threshold)
     q = np.asarray(quantiles, dtype=float)
     _check("quantiles", quantiles, lambda v: q.ndim == 1 and q.size > 0 and bool(
         np.all((q >= 0.0) & (q <= 1.0))), "a non-empty sequence of numbers in [0, 1]")

@@ -13,6 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .._fields import CORE_RANGES
 from ..api import collide
 from ..inputs import Bed, Gas, Liquid, Particle
 
@@ -42,8 +43,18 @@ class InputSpec:
         )
 
 
-def _spec(target, field, units, long_name, lo=0.0, hi=INF, lo_open=True, hi_open=True):
-    return InputSpec(target, field, units, long_name, lo, hi, lo_open, hi_open)
+_CLASSES = {"p_i": "Particle", "p_j": "Particle", "liquid": "Liquid", "gas": "Gas",
+            "bed": "Bed", "call": "collide"}
+
+
+def _spec(target, field, units, long_name, lo=None, hi=None, lo_open=None, hi_open=None):
+    """The input's physical range: that of :data:`agglomtool._fields.CORE_RANGES` (the one
+    the core validates), narrowed where given here (a speed towards the other, > 0)."""
+    c_lo, c_hi, c_lo_open, c_hi_open, _unit = CORE_RANGES[f"{_CLASSES[target]}.{field}"]
+    return InputSpec(target, field, units, long_name,
+                     c_lo if lo is None else lo, c_hi if hi is None else hi,
+                     c_lo_open if lo_open is None else lo_open,
+                     c_hi_open if hi_open is None else hi_open)
 
 
 #: name in ``uncertain=`` -> InputSpec
@@ -52,24 +63,23 @@ UNCERTAIN_INPUTS: dict[str, InputSpec] = {
     "d_j": _spec("p_j", "d", "m", "solid diameter of particle j"),
     "rho_i": _spec("p_i", "rho", "kg/m^3", "solid density of particle i"),
     "rho_j": _spec("p_j", "rho", "kg/m^3", "solid density of particle j"),
-    "h0_i": _spec("p_i", "h0", "m", "coating thickness of particle i", lo_open=False),
-    "h0_j": _spec("p_j", "h0", "m", "coating thickness of particle j", lo_open=False),
-    "ha_i": _spec("p_i", "ha", "m", "asperity height of particle i", lo_open=False),
-    "ha_j": _spec("p_j", "ha", "m", "asperity height of particle j", lo_open=False),
+    "h0_i": _spec("p_i", "h0", "m", "coating thickness of particle i"),
+    "h0_j": _spec("p_j", "h0", "m", "coating thickness of particle j"),
+    "ha_i": _spec("p_i", "ha", "m", "asperity height of particle i"),
+    "ha_j": _spec("p_j", "ha", "m", "asperity height of particle j"),
     "mu_l": _spec("liquid", "mu", "Pa s", "liquid viscosity"),
     "gamma": _spec("liquid", "gamma", "N/m", "liquid surface tension"),
     "rho_l": _spec("liquid", "rho", "kg/m^3", "liquid density"),
-    "theta_deg": _spec("liquid", "theta_deg", "degree", "contact angle", 0.0, 90.0, False),
+    "theta_deg": _spec("liquid", "theta_deg", "degree", "contact angle"),
     "mu_g": _spec("gas", "mu", "Pa s", "gas viscosity"),
     "rho_g": _spec("gas", "rho", "kg/m^3", "gas density"),
-    "eps": _spec("bed", "eps", "dimensionless", "local bed voidage", 0.0, 1.0),
-    "U": _spec("bed", "U", "m/s", "emulsion superficial gas velocity", lo_open=False),
-    "u0": _spec("call", "u0", "m/s", "impact speed of particle i (lab frame)"),
-    "u0_j": _spec("call", "u0_j", "m/s", "impact speed of particle j (lab frame)",
-                  lo_open=False),
-    "beta_deg": _spec("call", "beta_deg", "degree", "collision angle", -INF, INF),
-    "e": _spec("call", "e", "dimensionless", "dry restitution coefficient", 0.0, 1.0,
-               False, False),
+    "eps": _spec("bed", "eps", "dimensionless", "local bed voidage"),
+    "U": _spec("bed", "U", "m/s", "emulsion superficial gas velocity"),
+    "u0": _spec("call", "u0", "m/s", "impact speed of particle i (lab frame)", lo=0.0,
+                lo_open=True),
+    "u0_j": _spec("call", "u0_j", "m/s", "impact speed of particle j (lab frame)", lo=0.0),
+    "beta_deg": _spec("call", "beta_deg", "degree", "collision angle"),
+    "e": _spec("call", "e", "dimensionless", "dry restitution coefficient"),
 }
 
 

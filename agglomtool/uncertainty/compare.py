@@ -40,9 +40,9 @@ _WORDS = {"asperity_height": "asperity height", "restitution_dry": "dry restitut
 
 def _options(option_grid: Mapping) -> tuple[str, list]:
     if len(option_grid) != 1:
-        raise ValueError("compare takes exactly one field with its options, e.g. "
-                         "solid_j=['silica-sand', 'ilmenite']; got "
-                         f"{sorted(option_grid) or 'none'}")
+        raise ValueError(f"option: {sorted(option_grid) or 'none'} given; allowed: exactly "
+                         "one field (a Scene field) with its options, e.g. "
+                         "solid_j=['silica-sand', 'ilmenite']")
     (field, values), = option_grid.items()
     if field not in CATEGORICAL_FIELDS and field not in NUMERIC_FIELDS:
         raise ValueError(f"{field!r} is not a Scene field; fields: "
@@ -53,7 +53,8 @@ def _options(option_grid: Mapping) -> tuple[str, list]:
     if len(vals) < 2:
         raise ValueError(f"compare {field}: needs at least two options, got {values!r}")
     if len({str(v) for v in vals}) != len(vals):
-        raise ValueError(f"compare {field}: options repeat: {values!r}")
+        raise ValueError(f"compare {field}: options repeat: {values!r}; allowed: distinct "
+                         "options")
     return field, vals
 
 
@@ -103,22 +104,29 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         first-order index of the difference, and that index. ``attrs["verdicts"]``: one
         sentence per pair (``agglomtool.uncertainty.compare.verdicts``).
     """
+    from ..scene import Scene
+    from ._sampling import resolve_seed
     from .monte_carlo import monte_carlo
+    from .scene_mc import split_uncertain
 
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene = {scene!r} is not allowed: an agglomtool.Scene is required")
     field, opts = _options(option)
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ValueError(f"n = {n!r} must be a positive integer")
     if isinstance(bins, bool) or not isinstance(bins, int | np.integer) or not 2 <= bins <= n:
         raise ValueError(f"bins = {bins!r} must be an integer in [2, n = {n}]")
-    q = (0.05, 0.5, 0.95)
-    runs = []
+    resolve_seed(seed)  # every request checked before the first draw
+    split_uncertain(uncertain)
+    scenes = []
     for v in opts:
         try:
-            s = scene.replace(**{field: v})
+            scenes.append(scene.replace(**{field: v}))
         except ValueError as exc:
             raise ValueError(f"compare {field}: option {v!r}: {exc}") from None
-        runs.append(monte_carlo(s, uncertain=uncertain, n=int(n), seed=seed, quantiles=q,
-                                bins=8))
+    q = (0.05, 0.5, 0.95)
+    runs = [monte_carlo(s, uncertain=uncertain, n=int(n), seed=seed, quantiles=q, bins=8)
+            for s in scenes]
     prop = np.stack([r.propensity.values for r in runs])  # (option, sample)
     # the inputs each option drew (its sample variables that carry a distribution)
     inputs = [[k for k in r.data_vars if r[k].dims == ("sample",)

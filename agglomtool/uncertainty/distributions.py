@@ -83,6 +83,12 @@ class Distribution:
 
         units = getattr(self, "units", None)  # (a user's law may have no units field)
         given = {k: v for k, v in self._params().items() if isinstance(v, str) or is_quantity(v)}
+        for k, v in self._params().items():  # a list, a dict, None for a required number
+            if k not in given and (v is not None or k in ("mean", "sd", "low", "high")) and (
+                    isinstance(v, bool) or not isinstance(
+                        v, int | float | np.integer | np.floating)):
+                raise ValueError(f"{type(self).__name__}: {k} = {v!r} is not a number or a "
+                                 "quantity with a unit")
         if units is None and not given:
             return False
         if units is not None:

@@ -17,6 +17,7 @@ import numpy as np
 import xarray as xr
 
 from .._fields import DEFAULT_MODE
+from .._validate import check_int, check_range
 from .._version import __version__
 from ..collision.outcome import Stage
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, evaluate_e_w
@@ -73,6 +74,22 @@ def e_w_density(e_w: np.ndarray, edges: np.ndarray) -> np.ndarray:
     reb = e_w[e_w > 0.0]
     counts, _ = np.histogram(reb, bins=edges)
     return counts / (e_w.size * np.diff(edges))
+
+
+def check_summary_options(quantiles, bins) -> None:
+    """``quantiles`` (a non-empty 1-D sequence in [0, 1]) and ``bins`` (an integer >= 1 or
+    increasing, finite bin edges) of a Monte Carlo summary, before any draw: a
+    ``ValueError`` naming the option, its value and what is allowed."""
+    q = check_range("quantiles", quantiles, 0.0, 1.0)
+    if q.ndim != 1:
+        raise ValueError(f"quantiles = {quantiles!r} must be a sequence of numbers in [0, 1]")
+    if np.ndim(bins) == 0 and not isinstance(bins, float):
+        check_int("bins", bins, 1)
+        return
+    edges = check_range("bins", bins, 0.0, None)
+    if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0.0):
+        raise ValueError(f"bins = {bins!r} is not allowed: a positive integer or increasing "
+                         "bin edges (two or more)")
 
 
 def monte_carlo(
@@ -174,6 +191,7 @@ def monte_carlo(
     """
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ValueError(f"n = {n!r} must be a positive integer")
+    check_summary_options(quantiles, bins)
     from ..scene import Scene
 
     if isinstance(p_i, Scene):
@@ -199,7 +217,8 @@ def monte_carlo(
     if q.ndim != 1 or np.any(~((q >= 0.0) & (q <= 1.0))):
         raise ValueError(f"quantiles = {quantiles!r} must be a sequence of numbers in [0, 1]")
     if not isinstance(uncertain, Mapping) or not uncertain:
-        raise ValueError("uncertain must be a non-empty mapping of input name -> distribution")
+        raise ValueError(f"uncertain = {uncertain!r} is not allowed: a non-empty mapping of "
+                         "input name -> distribution")
     n = int(n)
     chunk = int(min(chunk_size, n))
     base = base_inputs(p_i, p_j, liquid, gas, bed, u0, u0_j, beta_deg, e, body_forces,

@@ -61,8 +61,8 @@ def split_uncertain(uncertain) -> tuple[dict, bool]:
                              "else a mapping of Scene field -> distribution")
         return {}, True
     if not isinstance(uncertain, Mapping) or not uncertain:
-        raise ValueError("uncertain must be a non-empty mapping of Scene field -> "
-                         f"distribution, or {ASSUMED!r}")
+        raise ValueError(f"uncertain = {uncertain!r} is not allowed: a non-empty mapping of "
+                         f"Scene field -> distribution, or {ASSUMED!r}")
     fields = dict(uncertain)
     flag = fields.pop(ASSUMED, False)
     if not isinstance(flag, bool):
