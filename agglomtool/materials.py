@@ -83,7 +83,7 @@ class AssumedLaw:
     ``"uniform"`` with ``params = (lo, hi)``; values in the field's SI unit. A melt's
     composition takes ``"logratio"`` with ``params = (factor_p05, factor_p95)``: the 5 and
     95 % quantiles of the lognormal factor on each oxide's share (see
-    :data:`COMPOSITION_LAW`).
+    ``COMPOSITION_LAW``).
     """
 
     field: str

@@ -76,7 +76,7 @@ def _wet_umf_ufunc(d, h0, m, mu_g, rho_g, c1, c2):
 def wet_mass(p: Particle, rho_l) -> np.ndarray:
     """Mass of a coated particle [kg] (Eqs. 32-33); ``inf`` for a plate.
 
-    :func:`agglomtool.collision.physics.wet_mass` over the broadcast arrays (the coating
+    ``agglomtool.collision.physics.wet_mass`` over the broadcast arrays (the coating
     volume written without cancellation for thin coatings).
     """
     return np.asarray(_wet_mass_ufunc(p.d, p.rho, p.h0, rho_l))
@@ -93,7 +93,7 @@ def emulsion_velocity(p_i, p_j, liquid, gas, bed) -> np.ndarray:
     :data:`agglomtool.collision.physics.U_E_PER_UMF`), a plate not counting.
 
     ``U_mf`` uses the wet diameter and the wet particle's mean density (not stated
-    in the paper; immaterial at its coatings): :func:`agglomtool.collision.physics.wet_umf`.
+    in the paper; immaterial at its coatings): ``agglomtool.collision.physics.wet_umf``.
     """
     if bed.U is not None:
         return np.asarray(bed.U, dtype=float)

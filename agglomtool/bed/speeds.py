@@ -43,7 +43,7 @@ a sticking window above ``u0*`` is resolved to ``(1 - F(u0*)) / (2N)`` in probab
 
 Given the collisions as the fused kernels take them (``pair``, as scenes, maps and beds
 pass it), the set of speeds above ``u0*`` at which the pair sticks again is found in
-compiled code instead (:mod:`agglomtool.collision.sticking`: modes ``"relative"`` and
+compiled code instead (``agglomtool.collision.sticking``: modes ``"relative"`` and
 ``"paper"`` without body forces on the axis) and the CDF integrated over it exactly::
 
     P = F(u0*) + sum_k F(b_k) - F(max(a_k, u0*))
@@ -151,10 +151,10 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
         lies above ``u0*`` (elsewhere ``P = 1`` without a collision); the same numbers.
     pair : callable, optional
         ``pair(u_star)`` -> ``(ins, steps, shape, tier, body, particle_slip)``, the
-        collisions as the fused kernels take them (:mod:`agglomtool.collision.fused`), or
+        collisions as the fused kernels take them (``agglomtool.collision.fused``), or
         None where the tier has no compiled sticking set. Given (and not None), the set of
         speeds above ``u0*`` at which the pair sticks again is found in compiled code
-        (:mod:`agglomtool.collision.sticking`) and the law's CDF integrated over it:
+        (``agglomtool.collision.sticking``) and the law's CDF integrated over it:
         exact, no quadrature. Collisions whose set has no proven bracket are integrated by
         the ``nodes`` quadrature as without ``pair``.
     report : dict, optional
@@ -187,7 +187,7 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
     return p
 
 
-#: Family codes of the compiled integration (:mod:`agglomtool.collision.sticking`).
+#: Family codes of the compiled integration (``agglomtool.collision.sticking``).
 _FAMILY_CODES = {"fixed": 0, "lognormal": 1, "maxwellian": 2}
 
 

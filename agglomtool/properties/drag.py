@@ -55,7 +55,7 @@ def drag_force_gidaspow(slip, d, volume, eps, mu_g, rho_g):
 
     The Schiller-Naumann form of ``C_d`` is written so that ``slip = 0`` gives 0, not NaN:
     ``C_d Re = 24 (1 + 0.15 Re^0.687)`` is used with ``|slip| / Re = mu_g / (rho_g eps d)``.
-    The formula is written once, :func:`agglomtool.collision.physics.drag_gidaspow` (which
+    The formula is written once, ``agglomtool.collision.physics.drag_gidaspow`` (which
     the compiled kernels call too), and broadcast here over the arrays.
     """
     return np.asarray(_drag_ufunc(slip, d, volume, eps, mu_g, rho_g))

@@ -57,7 +57,7 @@ def umf_wen_yu(d, rho_p, mu_g, rho_g, c1=WEN_YU_C1, c2=WEN_YU_C2):
         U_mf = Re_mf mu_g / (rho_g d)
 
     The second form of ``Re_mf`` avoids cancellation for fine particles (small ``Ar``).
-    The formula is written once, :func:`agglomtool.collision.physics.umf_wen_yu` (which the
+    The formula is written once, ``agglomtool.collision.physics.umf_wen_yu`` (which the
     compiled kernels call too), and broadcast here over the arrays.
     """
     return np.asarray(_umf_ufunc(d, rho_p, mu_g, rho_g, c1, c2))
@@ -168,8 +168,8 @@ def umf(d, rho_p, gas, method="wen-yu", *, eps_mf=None, phi=1.0):
             "float64, float64, float64)"], cache=CACHE)
 def _coated_kernel(d, rho_s, h0, rho_l, vol, d_wet, mu_g, rho_g, c1, c2):
     """:func:`umf_coated`'s one compiled pass: the wet mass
-    (:func:`agglomtool.collision.physics.wet_mass`), the wet density over the given wet
-    volume ``vol`` and :func:`agglomtool.collision.physics.umf_wen_yu` of the wet diameter
+    (``agglomtool.collision.physics.wet_mass``), the wet density over the given wet
+    volume ``vol`` and ``agglomtool.collision.physics.umf_wen_yu`` of the wet diameter
     ``d_wet``, as the numpy route takes them; NaN where the wet density does not exceed the
     gas's (or is NaN)."""
     rho_p = wet_mass(d, rho_s, h0, rho_l) / vol
