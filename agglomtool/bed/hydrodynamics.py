@@ -47,9 +47,36 @@ def _warn(message: str, stacklevel: int = 3) -> None:
     warnings.warn(message, PlausibilityWarning, stacklevel=stacklevel)
 
 
+def _float_arrays(*values) -> bool:
+    """Whether every value is a float64 array or a float (no conversion needed: the
+    compiled checks take them as they are; anything else takes the plain path)."""
+    return all((isinstance(v, np.ndarray) and v.dtype == np.float64) or type(v) is float
+               for v in values)
+
+
+@vectorize(cache=CACHE)
+def _excess_checked(U, Umf):  # pragma: no cover - compiled
+    """``U - Umf`` of one element where ``0 <= U``, ``0 < Umf``, both finite and
+    ``U > Umf``; else -1 (no excess is negative): the caller then takes the plain path,
+    whose error names the field and the value. One pass, no temporaries."""
+    if U >= 0.0 and Umf > 0.0 and U < math.inf and Umf < math.inf:
+        excess = U - Umf
+        if excess > 0.0:
+            return excess
+    return -1.0
+
+
 def _excess(U, Umf):
     """``U - U_mf`` [m/s] after checking both, with the ``ValueError`` a bubbling-bed
     correlation gives where the bed is not fluidized."""
+    if _float_arrays(U, Umf) and (np.ndim(U) or np.ndim(Umf)):
+        # on a map's arrays: the checks and the difference in one compiled pass (the
+        # same subtraction, so the same numbers); any bad element reruns the plain
+        # checks below for their message
+        with np.errstate(invalid="ignore"):  # a NaN compared: the plain path names it
+            excess = _excess_checked(U, Umf)
+        if excess.size and excess.min() > 0.0:
+            return excess
     U = check_range("U", U, 0.0, None, unit="m/s")
     Umf = check_range("Umf", Umf, 0.0, None, lo_open=True, unit="m/s")
     excess = U - Umf
@@ -104,18 +131,13 @@ def _check_group(name: str, d_p, rho_p, rho_g, allowed=("B",), why=None) -> None
     if d_p is None or rho_p is None:
         return
     # the group's bounds as numbers (a string per element would cost more than the
-    # correlation on a map); the first element outside is named
-    d_um = np.asarray(d_p, dtype=float) * 1e6
-    drho = (np.asarray(rho_p, dtype=float) - np.asarray(rho_g, dtype=float)) * 1e-3
-    if np.any(drho <= 0.0):
+    # correlation on a map), in one compiled pass; the first element outside is named
+    rho_p, rho_g = np.asarray(rho_p, dtype=float), np.asarray(rho_g, dtype=float)
+    if np.any((rho_p - rho_g) * 1e-3 <= 0.0):
         raise ValueError("rho_p must exceed rho_g: a particle lighter than the gas does not "
                          "fluidize")
-    x = drho * d_um
-    outside = np.zeros(np.shape(x), dtype=bool)
-    if "A" not in allowed:
-        outside |= x < _GELDART_AB
-    if "D" not in allowed:
-        outside |= x * d_um >= _GELDART_BD
+    outside = _outside_groups(np.asarray(d_p, dtype=float), rho_p, rho_g,
+                              "A" not in allowed, "D" not in allowed)
     if np.any(outside):
         first = np.unravel_index(int(np.argmax(outside)), outside.shape)
 
@@ -126,6 +148,15 @@ def _check_group(name: str, d_p, rho_p, rho_g, allowed=("B",), why=None) -> None
         why = why or f"the correlation was fitted to group {'/'.join(allowed)} powders"
         _warn(f"{name}: d_p = {at(d_p):g} m is a Geldart group {group} powder; {why}",
               stacklevel=4)
+
+
+@vectorize(cache=CACHE)
+def _outside_groups(d_p, rho_p, rho_g, below_a, above_d):  # pragma: no cover - compiled
+    """Whether one powder is outside the allowed groups: Geldart's A/B and B/D bounds of
+    :func:`geldart_group`, ``below_a`` / ``above_d`` saying whether A / D are outside."""
+    d_um = d_p * 1e6
+    x = (rho_p - rho_g) * 1e-3 * d_um
+    return (below_a and x < _GELDART_AB) or (above_d and x * d_um >= _GELDART_BD)
 
 
 def bubble_diameter_darton(U, Umf, h, A0=0.0, *, d_p=None, rho_p=None, rho_g=0.0):
@@ -243,8 +274,15 @@ def bubble_diameter_mori_wen(U, Umf, h, D_t, A0=0.0, *, d_p=None):
                                              if d_p is not None else [])
     for name, val, unit in checks:
         lo, hi = rng["excess" if name == "U - Umf" else name]
-        if np.any(val < lo) or np.any(val > hi):
-            out = float(np.min(val)) if np.any(val < lo) else float(np.max(val))
+        # two reductions, no temporaries; with a NaN among the values (its minimum is
+        # NaN) the element-wise comparisons, which skip it
+        mn, mx = np.min(val), np.max(val)
+        if mn != mn:
+            out_lo, out_hi = bool(np.any(val < lo)), bool(np.any(val > hi))
+        else:
+            out_lo, out_hi = bool(mn < lo), bool(mx > hi)
+        if out_lo or out_hi:
+            out = float(mn) if out_lo else float(mx)
             _warn(f"bubble_diameter_mori_wen: {name} = {out:g} {unit} is outside the data "
                   f"of Mori and Wen (1975), {lo:g}-{hi:g} {unit}", stacklevel=3)
     return _mori_wen(excess, A_t, A0, h, D_t)
@@ -297,7 +335,9 @@ def bubble_rise_velocity_davidson_harrison(d_b, D_t=None):
     if D_t is None:
         return 0.711 * np.sqrt(GRAVITY * d_b)
     D_t = check_range("D_t", D_t, 0.0, None, lo_open=True, unit="m")
-    worst = float(np.max(d_b / D_t))
+    # a scalar column: the largest bubble over it (division by a positive number keeps
+    # the order, so the same number without a full-size quotient)
+    worst = float(np.max(d_b) / D_t) if D_t.ndim == 0 else float(np.max(d_b / D_t))
     if worst >= SLUGGING_RATIO:
         _warn(f"bubbles of d_b = {worst:.3g} D_t: the bed slugs (d_b >= {SLUGGING_RATIO:g} "
               "D_t), outside the bubbling-bed correlations; the rise velocity of slugs, "
@@ -483,6 +523,14 @@ def granular_temperature_bubble_wake(delta, u_b, wake_fraction):
     stresses, and dispersion in bubbling beds, Ind. Eng. Chem. Res. 44:1329-1341,
     doi:10.1021/ie0496838.
     """
+    if _float_arrays(delta, u_b, wake_fraction) and (np.ndim(delta) or np.ndim(u_b)):
+        # on a map's arrays: the checks and the formula in one compiled pass (the same
+        # operations in the same order, so the same numbers); any bad element reruns the
+        # plain checks below for their message
+        with np.errstate(invalid="ignore"):  # a NaN compared: the plain path names it
+            theta = _wake_checked(delta, u_b, wake_fraction)
+        if theta.size and theta.min() >= 0.0:
+            return theta
     delta = check_range("delta", delta, 0.0, 1.0, hi_open=True)
     f_w = check_range("wake_fraction", wake_fraction, 0.0, None, lo_open=True)
     u_b = check_range("u_b", u_b, 0.0, None, unit="m/s")
@@ -490,6 +538,18 @@ def granular_temperature_bubble_wake(delta, u_b, wake_fraction):
         solids_downflow_kunii_levenspiel(delta, u_b, f_w)  # raises, naming the cause
     phi = f_w * delta / (1.0 - delta)
     return phi * u_b * u_b / (3.0 * (1.0 - phi))
+
+
+@vectorize(cache=CACHE)
+def _wake_checked(delta, u_b, f_w):  # pragma: no cover - compiled
+    """The wakes' granular temperature of one element where ``0 <= delta < 1``,
+    ``0 <= u_b``, ``0 < f_w``, both finite, and the wakes leave an emulsion; else -1 (no
+    temperature is negative): the caller then takes the plain path for the message."""
+    if (0.0 <= delta < 1.0 and 0.0 <= u_b < math.inf and 0.0 < f_w < math.inf
+            and 1.0 - delta - f_w * delta > 0.0):
+        phi = f_w * delta / (1.0 - delta)
+        return phi * u_b * u_b / (3.0 * (1.0 - phi))
+    return -1.0
 
 
 def radial_distribution_carnahan_starling(eps_s):
