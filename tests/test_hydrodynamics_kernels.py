@@ -133,3 +133,12 @@ def test_slugging_warning_names_the_largest_bubble():
     worst = float(np.max(d_b / D_t))
     with pytest.warns(at.PlausibilityWarning, match=f"d_b = {worst:.3g} D_t"):
         hd.bubble_rise_velocity_davidson_harrison(d_b, D_t)
+
+
+def test_bubble_fraction_of_one_or_more_names_the_largest():
+    """Bubbles too slow to carry the excess gas (delta >= 1) anywhere in an array: the
+    error names the largest fraction (Kunii and Levenspiel's slow-bubble form here,
+    0.18 / (0.01 + 2 x 0.02) = 3.6)."""
+    with pytest.raises(ValueError, match="delta = 3.6 >= 1"):
+        hd.bubble_fraction_kunii_levenspiel(np.array([0.2, 0.2]), 0.02,
+                                            np.array([1.0, 0.01]), 0.5)

@@ -430,8 +430,9 @@ def bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps_mf):
     u_b = check_range("u_b", u_b, 0.0, None, lo_open=True, unit="m/s")
     eps_mf = check_range("eps_mf", eps_mf, 0.0, 1.0, lo_open=True, hi_open=True)
     delta = _fraction(excess, Umf, u_b, eps_mf)
-    if np.any(delta >= 1.0):
-        raise ValueError(f"bubble fraction delta = {float(np.max(delta)):.3g} >= 1: bubbles "
+    worst = np.max(delta)  # one reduction (every input checked finite: no NaN in delta)
+    if worst >= 1.0:
+        raise ValueError(f"bubble fraction delta = {float(worst):.3g} >= 1: bubbles "
                          "rising this slowly cannot carry U - Umf; outside the bubbling-bed "
                          "model")
     return delta
