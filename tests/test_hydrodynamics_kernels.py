@@ -142,3 +142,50 @@ def test_bubble_fraction_of_one_or_more_names_the_largest():
     with pytest.raises(ValueError, match="delta = 3.6 >= 1"):
         hd.bubble_fraction_kunii_levenspiel(np.array([0.2, 0.2]), 0.02,
                                             np.array([1.0, 0.01]), 0.5)
+
+
+def _chain(U, Umf, d_b, D_t, eps, f_w):
+    u_b = hd.bubble_velocity_davidson_harrison(U, Umf, d_b, D_t)
+    delta = hd.bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps)
+    return hd.granular_temperature_bubble_wake(delta, u_b, f_w)
+
+
+def test_bubble_chain_is_the_functions_in_turn_bitwise():
+    """granular_temperature_bubbles on arrays (one compiled pass) gives the numbers of the
+    three functions called in turn, exactly, over every regime of the bubble fraction
+    (u_b / u_f from below 1 to above 10) and of the rise velocity (free, wall, slug)."""
+    Umf = RNG.uniform(0.005, 0.3, N)
+    U = Umf * RNG.uniform(1.05, 3.0, N)
+    d_b = RNG.uniform(0.001, 0.12, N)
+    for D_t in (0.5, 0.15):  # 0.15 m: bubbles of 0.6 D_t and more, a slug's velocity
+        with warnings.catch_warnings(record=True) as fused_w:
+            warnings.simplefilter("always")
+            fused = hd.granular_temperature_bubbles(U, Umf, d_b, D_t, 0.45, 0.25)
+        with warnings.catch_warnings(record=True) as chain_w:
+            warnings.simplefilter("always")
+            chain = _chain(U, Umf, d_b, D_t, 0.45, 0.25)
+        np.testing.assert_array_equal(fused, chain)
+        assert [str(w.message) for w in fused_w] == [str(w.message) for w in chain_w]
+        assert bool(fused_w) == (D_t == 0.15)  # the slugging warning, once
+    # the regimes were all reached
+    u_b = hd.bubble_velocity_davidson_harrison(U, Umf, d_b, 0.5)
+    ratio = u_b / (Umf / 0.45)
+    assert ratio.min() < 1.0 and ratio.max() > 10.0
+
+
+@pytest.mark.parametrize("U, Umf, d_b, eps, f_w, match", [
+    ([0.2, 0.2], 0.02, [0.05, 1e-9], 0.5, 0.25, "delta = "),    # bubbles too slow
+    ([0.3, 0.3], 0.1, [0.05, 0.0], 0.45, 0.25, "d_b = 0"),
+    ([0.3, 0.3], 0.1, [0.05, 0.05], 1.0, 0.25, "eps_mf = 1"),
+    ([0.9, 0.9], 0.1, [0.02, 0.02], 0.45, 2.0, "wakes fill the bed"),
+    ([0.3, 0.05], 0.1, [0.05, 0.05], 0.45, 0.25, "does not exceed Umf"),
+])
+def test_bubble_chain_errors_are_the_functions(U, Umf, d_b, eps, f_w, match):
+    """Where one of the three functions refuses an element, the fused form refuses it with
+    the same message."""
+    args = (np.array(U), Umf, np.array(d_b), 0.5, eps, f_w)
+    with pytest.raises(ValueError, match=match) as fused:
+        hd.granular_temperature_bubbles(*args)
+    with pytest.raises(ValueError) as chain:
+        _chain(*args)
+    assert str(fused.value) == str(chain.value)

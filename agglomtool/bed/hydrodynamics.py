@@ -19,7 +19,7 @@ import math
 import warnings
 
 import numpy as np
-from numba import vectorize
+from numba import njit, vectorize
 
 from .._jit import CACHE
 from .._validate import PlausibilityWarning, check_range
@@ -29,7 +29,8 @@ __all__ = [
     "geldart_group", "bubble_diameter_darton", "bubble_diameter_mori_wen",
     "bubble_rise_velocity_davidson_harrison", "bubble_velocity_davidson_harrison",
     "bubble_fraction_kunii_levenspiel", "solids_downflow_kunii_levenspiel",
-    "granular_temperature_bubble_wake", "radial_distribution_carnahan_starling",
+    "granular_temperature_bubble_wake", "granular_temperature_bubbles",
+    "radial_distribution_carnahan_starling",
     "granular_temperature_collisional_balance", "SLUGGING_RATIO", "MORI_WEN_RANGE",
 ]
 
@@ -335,6 +336,12 @@ def bubble_rise_velocity_davidson_harrison(d_b, D_t=None):
     if D_t is None:
         return 0.711 * np.sqrt(GRAVITY * d_b)
     D_t = check_range("D_t", D_t, 0.0, None, lo_open=True, unit="m")
+    _check_slugging(d_b, D_t)
+    return _rise_with_wall(d_b, D_t)
+
+
+def _check_slugging(d_b, D_t, stacklevel=4) -> None:
+    """Warn where bubbles fill 0.6 of the column or more, naming the largest ratio."""
     # a scalar column: the largest bubble over it (division by a positive number keeps
     # the order, so the same number without a full-size quotient)
     worst = float(np.max(d_b) / D_t) if D_t.ndim == 0 else float(np.max(d_b / D_t))
@@ -342,14 +349,19 @@ def bubble_rise_velocity_davidson_harrison(d_b, D_t=None):
         _warn(f"bubbles of d_b = {worst:.3g} D_t: the bed slugs (d_b >= {SLUGGING_RATIO:g} "
               "D_t), outside the bubbling-bed correlations; the rise velocity of slugs, "
               "0.35 sqrt(g D_t), is used there. A wider column, a lower U or a shallower "
-              "height of interest gives bubbling", stacklevel=3)
-    return _rise_with_wall(d_b, D_t)
+              "height of interest gives bubbling", stacklevel=stacklevel)
 
 
 @vectorize(cache=CACHE)
 def _rise_with_wall(d_b, D_t):  # pragma: no cover - compiled
     """Davidson and Harrison's rise velocity with Wallis's wall factor, or a slug's, of one
     element (compiled)."""
+    return _rise_one(d_b, D_t)
+
+
+@njit(cache=CACHE)
+def _rise_one(d_b, D_t):  # pragma: no cover - compiled
+    """The rise velocity of one bubble (shared by the vectorized forms)."""
     ratio = d_b / D_t
     if ratio >= SLUGGING_RATIO:
         return 0.35 * math.sqrt(GRAVITY * D_t)
@@ -442,6 +454,12 @@ def bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps_mf):
 def _fraction(excess, Umf, u_b, eps_mf):  # pragma: no cover - compiled
     """Kunii and Levenspiel's bubble fraction of one element, its regime by ``u_b / u_f``
     (compiled: the one form that applies is evaluated, not all five)."""
+    return _fraction_one(excess, Umf, u_b, eps_mf)
+
+
+@njit(cache=CACHE)
+def _fraction_one(excess, Umf, u_b, eps_mf):  # pragma: no cover - compiled
+    """The bubble fraction of one element (shared by the vectorized forms)."""
     ratio = u_b / (Umf / eps_mf)
     if ratio < 1.0:
         return excess / (u_b + 2.0 * Umf)
@@ -546,11 +564,68 @@ def _wake_checked(delta, u_b, f_w):  # pragma: no cover - compiled
     """The wakes' granular temperature of one element where ``0 <= delta < 1``,
     ``0 <= u_b``, ``0 < f_w``, both finite, and the wakes leave an emulsion; else -1 (no
     temperature is negative): the caller then takes the plain path for the message."""
+    return _wake_one(delta, u_b, f_w)
+
+
+@njit(cache=CACHE)
+def _wake_one(delta, u_b, f_w):  # pragma: no cover - compiled
+    """The wakes' granular temperature of one element, or -1 outside the domain."""
     if (0.0 <= delta < 1.0 and 0.0 <= u_b < math.inf and 0.0 < f_w < math.inf
             and 1.0 - delta - f_w * delta > 0.0):
         phi = f_w * delta / (1.0 - delta)
         return phi * u_b * u_b / (3.0 * (1.0 - phi))
     return -1.0
+
+
+@vectorize(cache=CACHE)
+def _bubble_chain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """Rise velocity, bubble fraction and the wakes' granular temperature of one element in
+    one pass: the same compiled operations as :func:`bubble_velocity_davidson_harrison`,
+    :func:`bubble_fraction_kunii_levenspiel` and :func:`granular_temperature_bubble_wake`
+    in turn, or -1 where any of their checks would object (the caller then takes them in
+    turn for the message)."""
+    if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0):
+        return -1.0
+    u_b = excess + _rise_one(d_b, D_t)
+    if not 0.0 < u_b < math.inf:
+        return -1.0
+    delta = _fraction_one(excess, Umf, u_b, eps_mf)
+    if not delta < 1.0:
+        return -1.0
+    return _wake_one(delta, u_b, f_w)
+
+
+def granular_temperature_bubbles(U, Umf, d_b, D_t, eps_mf, wake_fraction):
+    """Granular temperature of the solids' circulation by bubbles of diameter ``d_b``
+    [m2/s2]: :func:`bubble_velocity_davidson_harrison`,
+    :func:`bubble_fraction_kunii_levenspiel` and :func:`granular_temperature_bubble_wake`
+    in turn (their checks, errors and warnings), on a map's arrays in one compiled pass
+    with the same numbers.
+
+    Parameters
+    ----------
+    U, Umf : array_like
+        Superficial and minimum fluidization velocities [m/s], ``U > Umf``.
+    d_b : array_like
+        Bubble diameter [m].
+    D_t : array_like
+        Column diameter [m].
+    eps_mf : array_like
+        Voidage of the emulsion [-].
+    wake_fraction : array_like
+        Wake volume over bubble volume [-].
+    """
+    if (_float_arrays(U, Umf, d_b, D_t, eps_mf, wake_fraction)
+            and (np.ndim(U) or np.ndim(Umf) or np.ndim(d_b))):
+        excess = _excess(U, Umf)
+        with np.errstate(invalid="ignore"):  # a NaN compared: the plain path names it
+            theta = _bubble_chain(excess, Umf, d_b, D_t, eps_mf, wake_fraction)
+        if theta.size and theta.min() >= 0.0:
+            _check_slugging(np.asarray(d_b), np.asarray(D_t), stacklevel=4)
+            return theta
+    u_b = bubble_velocity_davidson_harrison(U, Umf, d_b, D_t)
+    delta = bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps_mf)
+    return granular_temperature_bubble_wake(delta, u_b, wake_fraction)
 
 
 def radial_distribution_carnahan_starling(eps_s):
