@@ -6,7 +6,14 @@ not at hand: its worked examples (5.1, the rise velocity of a single bubble; 6.2
 sizes in a Geldart B bed) are checked through an independent open implementation of the
 same equations, chemics 21.4 (wigging/chemics), whose printed values are the expected
 numbers; where a number comes from a recomputation in the paper's own units, the test says
-so. The two granular-temperature models are this package's constructions from cited pieces
+so. Darton et al.'s (1977) bubble size has no such check: no worked example with its
+inputs and stated result, and no independent implementation quoting a value, was found
+(searched: Kunii and Levenspiel's examples as transcribed by open textbook companions,
+whose chapter 6 uses Werther's and Mori and Wen's sizes, not Darton's; Rhodes'
+Introduction to Particle Technology, not at hand; open fluidization codes, which
+implement the formula without quoting a number). Its tests check what the paper states
+of the equation: the units and the distributor's shift of the origin. The two
+granular-temperature models are this package's constructions from cited pieces
 (no published number to compare with): their tests check the balances they state.
 """
 
@@ -96,6 +103,21 @@ def test_darton_is_dimensionally_consistent():
     cgs = (0.54 * ((U - Umf) * 100) ** 0.4 * (h * 100 + 4 * math.sqrt(A0 * 1e4)) ** 0.8
            * G_CGS**-0.2)
     np.testing.assert_allclose(si, cgs / 100.0, rtol=1e-12)
+
+
+def test_darton_distributor_is_a_shift_of_the_origin():
+    """What Darton et al. (1977) say of the distributor (their abstract: the bubble size
+    depends on U - U_mf, the height h above the distributor and h0, "a measure of the
+    initial bubble size", which "characterises the distributor"; "h0 is effectively zero
+    for a porous plate"; in the paper h0 = 4 sqrt(A0) for a plate of area A0 per
+    orifice): a perforated plate's bubbles at h are a porous plate's at h + h0, and a
+    porous plate starts from no bubble at all. Tolerance 1e-12: rounding only."""
+    U, Umf, h = 0.45, 0.05, np.array([0.0, 0.1, 0.5, 1.2])
+    for A0 in (1e-4, 6.25e-4, 0.01):
+        np.testing.assert_allclose(hd.bubble_diameter_darton(U, Umf, h, A0),
+                                   hd.bubble_diameter_darton(U, Umf, h + 4 * math.sqrt(A0)),
+                                   rtol=1e-12)
+    assert hd.bubble_diameter_darton(U, Umf, 0.0) == 0.0
 
 
 def test_darton_against_mori_wen_in_their_common_range():

@@ -19,7 +19,7 @@ import math
 import warnings
 
 import numpy as np
-from numba import vectorize
+from numba import njit, vectorize
 
 from .._jit import CACHE
 from .._validate import PlausibilityWarning, check_range
@@ -29,7 +29,8 @@ __all__ = [
     "geldart_group", "bubble_diameter_darton", "bubble_diameter_mori_wen",
     "bubble_rise_velocity_davidson_harrison", "bubble_velocity_davidson_harrison",
     "bubble_fraction_kunii_levenspiel", "solids_downflow_kunii_levenspiel",
-    "granular_temperature_bubble_wake", "radial_distribution_carnahan_starling",
+    "granular_temperature_bubble_wake", "granular_temperature_bubbles",
+    "radial_distribution_carnahan_starling",
     "granular_temperature_collisional_balance", "SLUGGING_RATIO", "MORI_WEN_RANGE",
 ]
 
@@ -47,9 +48,36 @@ def _warn(message: str, stacklevel: int = 3) -> None:
     warnings.warn(message, PlausibilityWarning, stacklevel=stacklevel)
 
 
+def _float_arrays(*values) -> bool:
+    """Whether every value is a float64 array or a float (no conversion needed: the
+    compiled checks take them as they are; anything else takes the plain path)."""
+    return all((isinstance(v, np.ndarray) and v.dtype == np.float64) or type(v) is float
+               for v in values)
+
+
+@vectorize(cache=CACHE)
+def _excess_checked(U, Umf):  # pragma: no cover - compiled
+    """``U - Umf`` of one element where ``0 <= U``, ``0 < Umf``, both finite and
+    ``U > Umf``; else -1 (no excess is negative): the caller then takes the plain path,
+    whose error names the field and the value. One pass, no temporaries."""
+    if U >= 0.0 and Umf > 0.0 and U < math.inf and Umf < math.inf:
+        excess = U - Umf
+        if excess > 0.0:
+            return excess
+    return -1.0
+
+
 def _excess(U, Umf):
     """``U - U_mf`` [m/s] after checking both, with the ``ValueError`` a bubbling-bed
     correlation gives where the bed is not fluidized."""
+    if _float_arrays(U, Umf) and (np.ndim(U) or np.ndim(Umf)):
+        # on a map's arrays: the checks and the difference in one compiled pass (the
+        # same subtraction, so the same numbers); any bad element reruns the plain
+        # checks below for their message
+        with np.errstate(invalid="ignore"):  # a NaN compared: the plain path names it
+            excess = _excess_checked(U, Umf)
+        if excess.size and excess.min() > 0.0:
+            return excess
     U = check_range("U", U, 0.0, None, unit="m/s")
     Umf = check_range("Umf", Umf, 0.0, None, lo_open=True, unit="m/s")
     excess = U - Umf
@@ -104,18 +132,13 @@ def _check_group(name: str, d_p, rho_p, rho_g, allowed=("B",), why=None) -> None
     if d_p is None or rho_p is None:
         return
     # the group's bounds as numbers (a string per element would cost more than the
-    # correlation on a map); the first element outside is named
-    d_um = np.asarray(d_p, dtype=float) * 1e6
-    drho = (np.asarray(rho_p, dtype=float) - np.asarray(rho_g, dtype=float)) * 1e-3
-    if np.any(drho <= 0.0):
+    # correlation on a map), in one compiled pass; the first element outside is named
+    rho_p, rho_g = np.asarray(rho_p, dtype=float), np.asarray(rho_g, dtype=float)
+    if np.any((rho_p - rho_g) * 1e-3 <= 0.0):
         raise ValueError("rho_p must exceed rho_g: a particle lighter than the gas does not "
                          "fluidize")
-    x = drho * d_um
-    outside = np.zeros(np.shape(x), dtype=bool)
-    if "A" not in allowed:
-        outside |= x < _GELDART_AB
-    if "D" not in allowed:
-        outside |= x * d_um >= _GELDART_BD
+    outside = _outside_groups(np.asarray(d_p, dtype=float), rho_p, rho_g,
+                              "A" not in allowed, "D" not in allowed)
     if np.any(outside):
         first = np.unravel_index(int(np.argmax(outside)), outside.shape)
 
@@ -126,6 +149,15 @@ def _check_group(name: str, d_p, rho_p, rho_g, allowed=("B",), why=None) -> None
         why = why or f"the correlation was fitted to group {'/'.join(allowed)} powders"
         _warn(f"{name}: d_p = {at(d_p):g} m is a Geldart group {group} powder; {why}",
               stacklevel=4)
+
+
+@vectorize(cache=CACHE)
+def _outside_groups(d_p, rho_p, rho_g, below_a, above_d):  # pragma: no cover - compiled
+    """Whether one powder is outside the allowed groups: Geldart's A/B and B/D bounds of
+    :func:`geldart_group`, ``below_a`` / ``above_d`` saying whether A / D are outside."""
+    d_um = d_p * 1e6
+    x = (rho_p - rho_g) * 1e-3 * d_um
+    return (below_a and x < _GELDART_AB) or (above_d and x * d_um >= _GELDART_BD)
 
 
 def bubble_diameter_darton(U, Umf, h, A0=0.0, *, d_p=None, rho_p=None, rho_g=0.0):
@@ -243,8 +275,15 @@ def bubble_diameter_mori_wen(U, Umf, h, D_t, A0=0.0, *, d_p=None):
                                              if d_p is not None else [])
     for name, val, unit in checks:
         lo, hi = rng["excess" if name == "U - Umf" else name]
-        if np.any(val < lo) or np.any(val > hi):
-            out = float(np.min(val)) if np.any(val < lo) else float(np.max(val))
+        # two reductions, no temporaries; with a NaN among the values (its minimum is
+        # NaN) the element-wise comparisons, which skip it
+        mn, mx = np.min(val), np.max(val)
+        if mn != mn:
+            out_lo, out_hi = bool(np.any(val < lo)), bool(np.any(val > hi))
+        else:
+            out_lo, out_hi = bool(mn < lo), bool(mx > hi)
+        if out_lo or out_hi:
+            out = float(mn) if out_lo else float(mx)
             _warn(f"bubble_diameter_mori_wen: {name} = {out:g} {unit} is outside the data "
                   f"of Mori and Wen (1975), {lo:g}-{hi:g} {unit}", stacklevel=3)
     return _mori_wen(excess, A_t, A0, h, D_t)
@@ -297,19 +336,32 @@ def bubble_rise_velocity_davidson_harrison(d_b, D_t=None):
     if D_t is None:
         return 0.711 * np.sqrt(GRAVITY * d_b)
     D_t = check_range("D_t", D_t, 0.0, None, lo_open=True, unit="m")
-    worst = float(np.max(d_b / D_t))
+    _check_slugging(d_b, D_t)
+    return _rise_with_wall(d_b, D_t)
+
+
+def _check_slugging(d_b, D_t, stacklevel=4) -> None:
+    """Warn where bubbles fill 0.6 of the column or more, naming the largest ratio."""
+    # a scalar column: the largest bubble over it (division by a positive number keeps
+    # the order, so the same number without a full-size quotient)
+    worst = float(np.max(d_b) / D_t) if D_t.ndim == 0 else float(np.max(d_b / D_t))
     if worst >= SLUGGING_RATIO:
         _warn(f"bubbles of d_b = {worst:.3g} D_t: the bed slugs (d_b >= {SLUGGING_RATIO:g} "
               "D_t), outside the bubbling-bed correlations; the rise velocity of slugs, "
               "0.35 sqrt(g D_t), is used there. A wider column, a lower U or a shallower "
-              "height of interest gives bubbling", stacklevel=3)
-    return _rise_with_wall(d_b, D_t)
+              "height of interest gives bubbling", stacklevel=stacklevel)
 
 
 @vectorize(cache=CACHE)
 def _rise_with_wall(d_b, D_t):  # pragma: no cover - compiled
     """Davidson and Harrison's rise velocity with Wallis's wall factor, or a slug's, of one
     element (compiled)."""
+    return _rise_one(d_b, D_t)
+
+
+@njit(cache=CACHE)
+def _rise_one(d_b, D_t):  # pragma: no cover - compiled
+    """The rise velocity of one bubble (shared by the vectorized forms)."""
     ratio = d_b / D_t
     if ratio >= SLUGGING_RATIO:
         return 0.35 * math.sqrt(GRAVITY * D_t)
@@ -390,8 +442,9 @@ def bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps_mf):
     u_b = check_range("u_b", u_b, 0.0, None, lo_open=True, unit="m/s")
     eps_mf = check_range("eps_mf", eps_mf, 0.0, 1.0, lo_open=True, hi_open=True)
     delta = _fraction(excess, Umf, u_b, eps_mf)
-    if np.any(delta >= 1.0):
-        raise ValueError(f"bubble fraction delta = {float(np.max(delta)):.3g} >= 1: bubbles "
+    worst = np.max(delta)  # one reduction (every input checked finite: no NaN in delta)
+    if worst >= 1.0:
+        raise ValueError(f"bubble fraction delta = {float(worst):.3g} >= 1: bubbles "
                          "rising this slowly cannot carry U - Umf; outside the bubbling-bed "
                          "model")
     return delta
@@ -401,6 +454,12 @@ def bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps_mf):
 def _fraction(excess, Umf, u_b, eps_mf):  # pragma: no cover - compiled
     """Kunii and Levenspiel's bubble fraction of one element, its regime by ``u_b / u_f``
     (compiled: the one form that applies is evaluated, not all five)."""
+    return _fraction_one(excess, Umf, u_b, eps_mf)
+
+
+@njit(cache=CACHE)
+def _fraction_one(excess, Umf, u_b, eps_mf):  # pragma: no cover - compiled
+    """The bubble fraction of one element (shared by the vectorized forms)."""
     ratio = u_b / (Umf / eps_mf)
     if ratio < 1.0:
         return excess / (u_b + 2.0 * Umf)
@@ -483,6 +542,14 @@ def granular_temperature_bubble_wake(delta, u_b, wake_fraction):
     stresses, and dispersion in bubbling beds, Ind. Eng. Chem. Res. 44:1329-1341,
     doi:10.1021/ie0496838.
     """
+    if _float_arrays(delta, u_b, wake_fraction) and (np.ndim(delta) or np.ndim(u_b)):
+        # on a map's arrays: the checks and the formula in one compiled pass (the same
+        # operations in the same order, so the same numbers); any bad element reruns the
+        # plain checks below for their message
+        with np.errstate(invalid="ignore"):  # a NaN compared: the plain path names it
+            theta = _wake_checked(delta, u_b, wake_fraction)
+        if theta.size and theta.min() >= 0.0:
+            return theta
     delta = check_range("delta", delta, 0.0, 1.0, hi_open=True)
     f_w = check_range("wake_fraction", wake_fraction, 0.0, None, lo_open=True)
     u_b = check_range("u_b", u_b, 0.0, None, unit="m/s")
@@ -490,6 +557,75 @@ def granular_temperature_bubble_wake(delta, u_b, wake_fraction):
         solids_downflow_kunii_levenspiel(delta, u_b, f_w)  # raises, naming the cause
     phi = f_w * delta / (1.0 - delta)
     return phi * u_b * u_b / (3.0 * (1.0 - phi))
+
+
+@vectorize(cache=CACHE)
+def _wake_checked(delta, u_b, f_w):  # pragma: no cover - compiled
+    """The wakes' granular temperature of one element where ``0 <= delta < 1``,
+    ``0 <= u_b``, ``0 < f_w``, both finite, and the wakes leave an emulsion; else -1 (no
+    temperature is negative): the caller then takes the plain path for the message."""
+    return _wake_one(delta, u_b, f_w)
+
+
+@njit(cache=CACHE)
+def _wake_one(delta, u_b, f_w):  # pragma: no cover - compiled
+    """The wakes' granular temperature of one element, or -1 outside the domain."""
+    if (0.0 <= delta < 1.0 and 0.0 <= u_b < math.inf and 0.0 < f_w < math.inf
+            and 1.0 - delta - f_w * delta > 0.0):
+        phi = f_w * delta / (1.0 - delta)
+        return phi * u_b * u_b / (3.0 * (1.0 - phi))
+    return -1.0
+
+
+@vectorize(cache=CACHE)
+def _bubble_chain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """Rise velocity, bubble fraction and the wakes' granular temperature of one element in
+    one pass: the same compiled operations as :func:`bubble_velocity_davidson_harrison`,
+    :func:`bubble_fraction_kunii_levenspiel` and :func:`granular_temperature_bubble_wake`
+    in turn, or -1 where any of their checks would object (the caller then takes them in
+    turn for the message)."""
+    if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0):
+        return -1.0
+    u_b = excess + _rise_one(d_b, D_t)
+    if not 0.0 < u_b < math.inf:
+        return -1.0
+    delta = _fraction_one(excess, Umf, u_b, eps_mf)
+    if not delta < 1.0:
+        return -1.0
+    return _wake_one(delta, u_b, f_w)
+
+
+def granular_temperature_bubbles(U, Umf, d_b, D_t, eps_mf, wake_fraction):
+    """Granular temperature of the solids' circulation by bubbles of diameter ``d_b``
+    [m2/s2]: :func:`bubble_velocity_davidson_harrison`,
+    :func:`bubble_fraction_kunii_levenspiel` and :func:`granular_temperature_bubble_wake`
+    in turn (their checks, errors and warnings), on a map's arrays in one compiled pass
+    with the same numbers.
+
+    Parameters
+    ----------
+    U, Umf : array_like
+        Superficial and minimum fluidization velocities [m/s], ``U > Umf``.
+    d_b : array_like
+        Bubble diameter [m].
+    D_t : array_like
+        Column diameter [m].
+    eps_mf : array_like
+        Voidage of the emulsion [-].
+    wake_fraction : array_like
+        Wake volume over bubble volume [-].
+    """
+    if (_float_arrays(U, Umf, d_b, D_t, eps_mf, wake_fraction)
+            and (np.ndim(U) or np.ndim(Umf) or np.ndim(d_b))):
+        excess = _excess(U, Umf)
+        with np.errstate(invalid="ignore"):  # a NaN compared: the plain path names it
+            theta = _bubble_chain(excess, Umf, d_b, D_t, eps_mf, wake_fraction)
+        if theta.size and theta.min() >= 0.0:
+            _check_slugging(np.asarray(d_b), np.asarray(D_t), stacklevel=4)
+            return theta
+    u_b = bubble_velocity_davidson_harrison(U, Umf, d_b, D_t)
+    delta = bubble_fraction_kunii_levenspiel(U, Umf, u_b, eps_mf)
+    return granular_temperature_bubble_wake(delta, u_b, wake_fraction)
 
 
 def radial_distribution_carnahan_starling(eps_s):

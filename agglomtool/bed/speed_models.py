@@ -72,23 +72,28 @@ def bubble_state(x: dict, correlation: str) -> dict:
     voidage), ``column_diameter``, ``orifice_area`` and ``height`` (SI);
     ``correlation`` is ``"darton"`` or ``"mori-wen"``.
     """
-    U, Umf, h = x["U"], x["Umf"], x["height"]
-    D_t, A0 = x["column_diameter"], x["orifice_area"]
-    if correlation == "darton":
-        d_b = hd.bubble_diameter_darton(U, Umf, h, A0, d_p=x["d_p"], rho_p=x["rho_p"],
-                                        rho_g=x["rho_g"])
-    else:
-        d_b = hd.bubble_diameter_mori_wen(U, Umf, h, D_t, A0, d_p=x["d_p"])
+    U, Umf, D_t = x["U"], x["Umf"], x["column_diameter"]
+    d_b = _bubble_diameter(x, correlation)
     u_b = hd.bubble_velocity_davidson_harrison(U, Umf, d_b, D_t)
     delta = hd.bubble_fraction_kunii_levenspiel(U, Umf, u_b, x["eps"])
     return {"d_b": d_b, "u_b": u_b, "delta": delta}
 
 
+def _bubble_diameter(x: dict, correlation: str):
+    """The bubble diameter at the height of interest [m] by ``correlation``."""
+    U, Umf, h, A0 = x["U"], x["Umf"], x["height"], x["orifice_area"]
+    if correlation == "darton":
+        return hd.bubble_diameter_darton(U, Umf, h, A0, d_p=x["d_p"], rho_p=x["rho_p"],
+                                         rho_g=x["rho_g"])
+    return hd.bubble_diameter_mori_wen(U, Umf, h, x["column_diameter"], A0, d_p=x["d_p"])
+
+
 def _bubble(correlation: str):
     def law(x) -> SpeedModel:
-        state = bubble_state(x, correlation)
-        theta = hd.granular_temperature_bubble_wake(state["delta"], state["u_b"],
-                                                    x["wake_fraction"])
+        # bubble_state's chain, the steps after the bubble size in one compiled pass
+        theta = hd.granular_temperature_bubbles(
+            x["U"], x["Umf"], _bubble_diameter(x, correlation), x["column_diameter"],
+            x["eps"], x["wake_fraction"])
         return SpeedModel("maxwellian", granular_temperature=theta)
 
     return law
