@@ -1,0 +1,93 @@
+"""A map computed in memory is assembled without block-sized copies, and it is the same map,
+bit for bit, as the one its blocks give when each is computed on its own (the lazy Dataset
+of ``build``, whose blocks are new arrays) and as one block over the whole grid."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from agglomtool.maps import build, sweep
+from agglomtool.maps.layout import GROUPS, _block_function
+from agglomtool.maps.plan import _compat, _plan
+from agglomtool.scene import Scene
+
+WATER = Scene(liquid="water", T=298.15, d_i=300e-6)
+SLAG = Scene(liquid="hypothetical-slag", h0=0.15e-6, d_i=1000e-6)
+AXES = {
+    "water": (WATER, dict(T=np.linspace(283.15, 363.15, 5), h0=np.geomspace(1e-6, 30e-6, 4))),
+    "slag": (SLAG, dict(T=np.linspace(900.0, 1300.0, 5), h0=np.geomspace(0.12e-6, 2e-6, 4))),
+}
+LAWS = {
+    "excess-gas": ({}, dict(U_Umf=np.linspace(1.2, 8.0, 6))),
+    "fixed": ({"speed": "fixed", "u0": 0.1}, dict(u0=np.geomspace(0.01, 2.0, 6))),
+    "lognormal": ({"speed": "lognormal", "u0": 0.1, "sigma_ln": 0.5},
+                  dict(u0=np.geomspace(0.01, 2.0, 6))),
+    "maxwellian": ({"speed": "maxwellian", "granular_temperature": 0.01},
+                   dict(granular_temperature=np.geomspace(1e-4, 1.0, 6))),
+}
+CASES = [(m, law) for m in AXES for law in LAWS]
+
+
+def _case(mat, law):
+    scene, axes = AXES[mat]
+    fields, axis = LAWS[law]
+    return Scene(**{**scene.values(), **fields}), {**axes, **axis}
+
+
+def _bits(a):
+    a = np.asarray(a)
+    return a.view(np.uint8) if a.dtype.kind == "f" else a
+
+
+def _same_bits(a: xr.Dataset, b: xr.Dataset):
+    xr.testing.assert_identical(a, b)
+    for name in a.variables:
+        x, y = a[name].values, b[name].values
+        assert x.dtype == y.dtype and x.shape == y.shape, name
+        assert np.array_equal(_bits(x), _bits(y)), name  # NaN and -0.0 included
+
+
+@pytest.mark.parametrize("mat, law", CASES)
+def test_in_memory_map_equals_its_blocks_computed_alone(mat, law):
+    scene, axes = _case(mat, law)
+    # blocks that split every axis: a block's part of a result array is not contiguous
+    chunks = {"T": 2, "h0": 3, list(LAWS[law][1])[0]: 4}
+    here = sweep(scene, chunks=chunks, **axes)
+    lazy = build(scene, chunks=chunks, **axes).compute(scheduler="synchronous")
+    _same_bits(here, lazy)
+    _same_bits(sweep(scene, chunks=None, **axes), here)
+
+
+@pytest.mark.parametrize("mat, law", [("water", "excess-gas"), ("slag", "lognormal")])
+def test_in_memory_map_equals_one_block_over_the_grid(mat, law):
+    """The collision group as one call of its block function (new arrays) on the whole
+    grid, against the sweep's arrays, which its blocks wrote in place."""
+    scene, axes = _case(mat, law)
+    ds = sweep(scene, chunks={"T": 2, "h0": 1}, **axes)
+    plan = _plan(scene, None, 16, axes)
+    dims = plan.group_dims["collision"]
+    args = [_compat(plan.grid[d], (d,), dims) for d in dims]
+    u_star = _compat(ds["u_star"].values, plan.group_dims["critical"], dims)
+    vals = _block_function(plan.base, dims, "collision", 16)(*args, u_star)
+    for name, v in zip(GROUPS["collision"][1], vals, strict=True):
+        if name in ds.data_vars:
+            assert np.array_equal(_bits(ds[name].values), _bits(v)), name
+
+
+def test_blocks_are_written_in_place():
+    """With ``out`` a block's variables are computed into the result's arrays: what
+    ``evaluate`` returns is the result's memory, not a copy of it."""
+    scene, axes = _case("slag", "fixed")
+    plan = _plan(scene, {"T": 2, "h0": 2, "u0": 3}, 16, axes)
+    out = {k: np.full(plan.var_shape(k), 7, dtype=plan.variables[k][1])
+           for k in plan.lazy_names}
+    for idx, sl in plan.blocks():
+        got = plan.evaluate(sl, plan.owned(idx), out)
+        assert set(got) == set(plan.owned(idx))
+        for name, a in got.items():
+            block = out[name][tuple(sl[d] for d in plan.variables[name][0])]
+            assert np.shares_memory(a, block), name
+            assert np.array_equal(_bits(a), _bits(block)), name
+    ref = sweep(scene, chunks={"T": 2, "h0": 2, "u0": 3}, **axes)
+    for name in plan.lazy_names:
+        assert np.array_equal(_bits(out[name]), _bits(ref[name].values)), name
