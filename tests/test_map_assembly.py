@@ -91,3 +91,50 @@ def test_blocks_are_written_in_place():
     ref = sweep(scene, chunks={"T": 2, "h0": 2, "u0": 3}, **axes)
     for name in plan.lazy_names:
         assert np.array_equal(_bits(out[name]), _bits(ref[name].values)), name
+
+
+@pytest.mark.parametrize("mode", ["relative", "paper"])
+def test_one_pass_propensity_equals_windows_then_integration(mode):
+    """The sticking sets and their integration in one launch (collisions constant along
+    trailing axes: a map's speed axes) give bitwise the propensity of the two steps
+    (``sticking_windows`` per collision, then ``propensity_from_windows`` per element),
+    on random pairs of which some stick again above u0* (the test fails if none does),
+    every speed family, body forces on and off the axis (the quadrature's NaN where no
+    set is proven)."""
+    import math
+
+    from test_sticking_exact import Pairs, _random_pairs
+
+    from agglomtool.collision.sticking import (
+        propensity_exact,
+        propensity_from_windows,
+        sticking_windows,
+    )
+
+    rng = np.random.default_rng(26)
+    windows = fallback = 0
+    for pairs in _random_pairs(11, 100, angles=25):  # test_sticking_exact's set
+        if mode != "relative":
+            k = pairs.kw
+            pairs = Pairs(k["p_i"], k["p_j"], k["liquid"], k["gas"], k["beta_deg"], k["e"],
+                          mode=mode)
+        ins, steps, cshape, tier, body, slip = pairs.pair(pairs.u_star)
+        n = int(np.prod(cshape))
+        us = np.ascontiguousarray(np.broadcast_to(pairs.u_star, cshape)).ravel()
+        lo, hi, count, status = sticking_windows(ins, steps, n, tier, body, slip, us)
+        windows += int(np.count_nonzero(count > 0))
+        fallback += int(np.count_nonzero(status != 0))
+        inner = 9  # speeds per collision, trailing
+        finite = np.where(np.isfinite(us) & (us > 0.0), us, 1.0)
+        speeds = (finite[:, None] * np.geomspace(0.3, 300.0, inner)[None, :]).ravel()
+        idx = np.repeat(np.arange(n, dtype=np.int64), inner)
+        for family, p1, p2 in ((0, speeds, np.ones(1)),
+                               (1, speeds, rng.uniform(0.05, 1.5, n * inner)),
+                               (2, speeds**2 / math.log(2.0), np.ones(1))):
+            ref = propensity_from_windows(idx, family, p1, p2, us, lo, hi, count, status)
+            got = propensity_exact(ins, steps, n, tier, body, slip, us, inner, family, p1,
+                                   p2)
+            assert np.array_equal(got.view(np.uint64), ref.view(np.uint64)), family
+    assert windows > 0
+    if mode == "paper":
+        assert fallback > 0  # body forces off the axis: sets left to the quadrature
