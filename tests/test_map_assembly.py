@@ -138,3 +138,27 @@ def test_one_pass_propensity_equals_windows_then_integration(mode):
     assert windows > 0
     if mode == "paper":
         assert fallback > 0  # body forces off the axis: sets left to the quadrature
+
+
+def test_a_sweep_run_again_is_not_warmed_up_again(monkeypatch):
+    """The estimate's warm-up (every group on a sample of points, to load the kernels
+    before blocks are timed) runs once per process for a scene and its swept fields; a
+    different scene is warmed up in its turn."""
+    from agglomtool.maps.plan import SweepPlan
+
+    calls = []
+    real = SweepPlan.sample
+    monkeypatch.setattr(SweepPlan, "sample",
+                        lambda self, *a, **k: calls.append(1) or real(self, *a, **k))
+    scene, axes = _case("slag", "fixed")
+    scene = scene.replace(e=0.8123)  # a scene no other test sweeps
+    axes = {**axes, "T": np.linspace(900.0, 1300.0, 100), "h0": np.geomspace(1e-7, 2e-6, 50),
+            "u0": np.geomspace(0.01, 2.0, 30)}  # 1.5e5 points: timed, so warmed up
+    first = sweep(scene, chunks=40_000, **axes)
+    assert calls
+    calls.clear()
+    again = sweep(scene, chunks=40_000, **axes)
+    assert not calls
+    _same_bits(first, again)
+    sweep(scene.replace(e=0.8124), chunks=40_000, **axes)
+    assert calls
