@@ -268,7 +268,9 @@ def _block_function(scene_values: dict, names: tuple, group: str, nodes: int, ou
             c = critical_outputs(r)
             out = tuple(c[k] for k in GROUPS["critical"][1])
         else:
-            c = collision_outputs(r, arrays[-1], nodes)
+            c = collision_outputs(r, arrays[-1], nodes, None if into is None else {
+                k: t for k, t in zip(GROUPS["collision"][1], into, strict=True)
+                if t is not None})
             out = tuple(c[k] for k in GROUPS["collision"][1])
         shape = np.broadcast_shapes(*[np.shape(a) for a in arrays]) if arrays else ()
         if into is None:
