@@ -135,6 +135,18 @@ def test_one_pass_propensity_equals_windows_then_integration(mode):
             got = propensity_exact(ins, steps, n, tier, body, slip, us, inner, family, p1,
                                    p2)
             assert np.array_equal(got.view(np.uint64), ref.view(np.uint64)), family
+        # a parameter per position along the speed axis, or per collision, read in place
+        # of its copy over every element (PER_TRAILING, PER_COLLISION): the same numbers
+        along = np.geomspace(0.01, 2.0, inner)
+        per_c = finite * 3.0
+        for family in (0, 1, 2):
+            for part, how, full in ((along, 3, np.tile(along, n)),
+                                    (per_c, 2, np.repeat(per_c, inner))):
+                ref = propensity_from_windows(idx, family, full, np.full(1, 0.5), us, lo, hi,
+                                              count, status)
+                got = propensity_exact(ins, steps, n, tier, body, slip, us, inner, family,
+                                       part, np.full(1, 0.5), (how, 0))
+                assert np.array_equal(got.view(np.uint64), ref.view(np.uint64)), (family, how)
     assert windows > 0
     if mode == "paper":
         assert fallback > 0  # body forces off the axis: sets left to the quadrature

@@ -463,9 +463,22 @@ def propensity_from_windows(idx, family, p1, p2, u_star, lo, hi, count, status):
     return out
 
 
+@njit(cache=CACHE, inline="always")
+def _param(p, how, k, q, inner):
+    """A law parameter at element ``k`` of collision ``q`` (:func:`propensity_exact`'s
+    ``how``: 0 one value, 1 per element, 2 per collision, 3 per trailing position)."""
+    if how == 0:
+        return p[0]
+    if how == 1:
+        return p[k]
+    if how == 2:
+        return p[q]
+    return p[k - q * inner]
+
+
 @njit(cache=CACHE)
-def _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, s1,
-                      p2, s2, out, q0, q1):
+def _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, h1,
+                      p2, h2, out, q0, q1):
     empty = np.empty(0)
     lo = np.zeros(MAX_WINDOWS)
     hi = np.zeros(MAX_WINDOWS)
@@ -475,42 +488,51 @@ def _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, fam
         us = u_star[q * su]
         c, s = _windows_one(_raw(ins, st, q), us, tier, body, particle_slip, lo, hi, empty)
         for k in range(q * inner, (q + 1) * inner):
-            out[k] = _p_one(family, us, p1[k * s1], p2[k * s2], lo, hi, c, s)
+            out[k] = _p_one(family, us, _param(p1, h1, k, q, inner),
+                            _param(p2, h2, k, q, inner), lo, hi, c, s)
 
 
 @njit(cache=CACHE)
-def _propensity_serial(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, s1,
-                       p2, s2, out):
-    _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, s1,
-                      p2, s2, out, 0, out.shape[0] // inner)
+def _propensity_serial(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, h1,
+                       p2, h2, out):
+    _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, h1,
+                      p2, h2, out, 0, out.shape[0] // inner)
 
 
 @njit(parallel=True, cache=CACHE)
 def _propensity_parallel(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1,
-                         s1, p2, s2, out):
+                         h1, p2, h2, out):
     n = out.shape[0] // inner
     per = max(1, 4096 // inner)  # collisions per block: about 4096 elements, at least one
     nb = (n + per - 1) // per
     for b in prange(nb):
         _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1,
-                          s1, p2, s2, out, b * per, min(n, (b + 1) * per))
+                          h1, p2, h2, out, b * per, min(n, (b + 1) * per))
 
 
-def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, family, p1, p2):
+#: How :func:`propensity_exact` reads a law parameter: one value, one per element, one per
+#: collision, one per position along the trailing axes.
+ONE, PER_ELEMENT, PER_COLLISION, PER_TRAILING = 0, 1, 2, 3
+
+
+def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, family, p1, p2,
+                     how=None):
     """The sticking sets of :func:`sticking_windows` and the propensity of
     :func:`propensity_from_windows` in one pass (one launch): ``P`` at ``n * inner``
     elements, element ``k`` of collision ``k // inner`` (the collisions constant along the
     trailing axes of the elements, a map's speed axes), with the same arithmetic as the
-    two steps. ``p1``, ``p2``: float64 arrays of length 1 or ``n * inner``. NaN where the
+    two steps. ``p1``, ``p2``: float64 arrays read as ``how`` says (a pair of
+    :data:`ONE`, :data:`PER_ELEMENT`, :data:`PER_COLLISION`, :data:`PER_TRAILING`; by
+    default ``ONE`` for an array of length 1, else ``PER_ELEMENT``). NaN where the
     collision's set was not proven and probability lies above ``u0*``."""
     u_star = np.ascontiguousarray(u_star, dtype=np.float64).reshape(-1)
     su = 1 if u_star.shape[0] > 1 else 0
     out = np.empty(n * int(inner))
-    s1 = 1 if p1.shape[0] > 1 else 0
-    s2 = 1 if p2.shape[0] > 1 else 0
+    if how is None:
+        how = tuple(ONE if p.shape[0] == 1 else PER_ELEMENT for p in (p1, p2))
     particle = True if particle_slip else None
     args = (ins, steps, u_star, su, int(tier), bool(body), particle, int(inner), int(family),
-            p1, s1, p2, s2, out)
+            p1, int(how[0]), p2, int(how[1]), out)
     if n < SERIAL_BELOW // 4 and out.shape[0] < SERIAL_BELOW:
         _propensity_serial(*args)
     else:
