@@ -842,8 +842,11 @@ def critical_outputs(r: Resolved, u_star=None) -> dict:
     return {"u_star": us, "u_star_flag": flag, "Ca_star": ca, "regime": regime}
 
 
-def collision_outputs(r: Resolved, u_star, nodes: int) -> dict:
-    """Outcome at the typical speed, Stokes number, propensity and margin."""
+def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
+    """Outcome at the typical speed, Stokes number, propensity and margin. ``out``: an
+    optional ``{name: array of the block's shape}`` (a map's result, in memory) into which
+    the margin is computed, with no temporaries of the block's size; the other outputs
+    are returned as views, for the caller to write once."""
     u_typ = r.u_typical
     res = r.collide(u_typ)
     # The block's shape: names (solids, mode, ...) reach the kernel as one scalar each, so
@@ -852,12 +855,20 @@ def collision_outputs(r: Resolved, u_star, nodes: int) -> dict:
                                 np.shape(u_typ))
     prop = sticking_probability(r.speeds, u_star, r.collide, nodes=nodes, shape=shape,
                                 collide_on=r.collide_on, pair=r.sticking_pair)
-    with np.errstate(divide="ignore"):
-        margin = np.where(np.isinf(u_star), 0.0, u_typ / u_star)
     b = np.broadcast_to
+    target = None if out is None else out.get("margin")
+    with np.errstate(divide="ignore"):
+        if (target is not None and target.shape == tuple(shape)
+                and target.dtype == np.float64):
+            # the same numbers as the np.where below, written once into the result
+            np.divide(u_typ, u_star, out=target)
+            np.copyto(target, 0.0, where=np.isinf(u_star))
+            margin = target
+        else:
+            margin = b(np.where(np.isinf(u_star), 0.0, u_typ / u_star), shape)
     return {
         "u_typical": b(u_typ, shape), "U": b(r.U, shape), "e_w": b(res.e_w, shape),
         "agglomerated": b(res.agglomerated, shape), "stage": b(res.stage, shape),
         "St": b(r.stokes(u_typ), shape), "propensity": b(prop, shape),
-        "margin": b(margin, shape),
+        "margin": margin,
     }

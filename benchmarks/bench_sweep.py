@@ -147,6 +147,11 @@ def _plain_collide(scene, axes):
 
 
 def bench_speeds(repeats: int = 5, which=None) -> None:
+    import agglomtool
+
+    # which checkout is timed (the script's own directory comes first on sys.path: an A/B
+    # against another checkout runs this file from elsewhere with PYTHONPATH set)
+    print(f"agglomtool {agglomtool.__version__} from {agglomtool.__file__}", flush=True)
     for mat, (scene, base) in MATERIALS.items():
         for law, (fields, axis) in LAWS.items():
             if which and f"{mat}/{law}" not in which:

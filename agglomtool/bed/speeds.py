@@ -203,7 +203,11 @@ def _exact(speeds: SpeedModel, u_star, fused, shape):
     """``(P, left)``: ``P`` from the compiled sticking sets, ``left`` (a boolean array) where
     a collision's set was not proven and the quadrature must fill ``P`` in; None where the
     collisions' shape does not broadcast to ``shape``."""
-    from ..collision.sticking import propensity_from_windows, sticking_windows
+    from ..collision.sticking import (
+        propensity_exact,
+        propensity_from_windows,
+        sticking_windows,
+    )
 
     ins, steps, cshape, tier, body, particle_slip = fused
     cshape = tuple(cshape)
@@ -217,12 +221,6 @@ def _exact(speeds: SpeedModel, u_star, fused, shape):
         return None
     n_c = int(np.prod(cshape, dtype=np.int64))
     us = np.ascontiguousarray(np.broadcast_to(u_star, cshape), dtype=float).reshape(-1)
-    lo, hi, count, status = sticking_windows(ins, steps, n_c, tier, body, particle_slip, us)
-    if cshape == shape:
-        idx = np.arange(n_c, dtype=np.int64)
-    else:
-        idx = np.ascontiguousarray(np.broadcast_to(
-            np.arange(n_c, dtype=np.int64).reshape(cshape), shape)).reshape(-1)
     fam = speeds.family
     if fam == "maxwellian":
         p1, p2 = speeds.theta, 1.0
@@ -230,10 +228,57 @@ def _exact(speeds: SpeedModel, u_star, fused, shape):
         p1, p2 = speeds.u0, speeds.sigma_ln
     else:
         p1, p2 = speeds.u0, 1.0
-    p = propensity_from_windows(idx, _FAMILY_CODES[fam], _flat_param(p1, shape),
-                                _flat_param(p2, shape), us, lo, hi, count, status)
+    lead = _trailing(cshape, shape)
+    if lead is not None:  # each collision's elements consecutive: one pass, no index
+        inner = int(np.prod(shape[lead:], dtype=np.int64))
+        (p1, h1), (p2, h2) = (_part_param(a, shape, lead) for a in (p1, p2))
+        p = propensity_exact(ins, steps, n_c, tier, body, particle_slip, us, inner,
+                             _FAMILY_CODES[fam], p1, p2, (h1, h2))
+    else:
+        p1, p2 = _flat_param(p1, shape), _flat_param(p2, shape)
+        lo, hi, count, status = sticking_windows(ins, steps, n_c, tier, body, particle_slip,
+                                                 us)
+        idx = np.ascontiguousarray(np.broadcast_to(
+            np.arange(n_c, dtype=np.int64).reshape(cshape), shape)).reshape(-1)
+        p = propensity_from_windows(idx, _FAMILY_CODES[fam], p1, p2, us, lo, hi, count,
+                                    status)
     p = p.reshape(shape)
     return p, np.isnan(p)
+
+
+def _trailing(cshape: tuple, shape: tuple):
+    """``m`` where the collisions (``cshape``, broadcasting to ``shape``) vary along the
+    first ``m`` axes of ``shape`` only, all of them (element ``k`` is collision
+    ``k // inner``, ``inner`` the size of the trailing axes); None where they do not."""
+    if 0 in shape:
+        return None
+    cshape = (1,) * (len(shape) - len(cshape)) + tuple(cshape)
+    m = len(shape)
+    while m > 0 and cshape[m - 1] == 1:
+        m -= 1
+    if cshape[:m] != shape[:m]:
+        return None
+    return m
+
+
+def _part_param(a, shape, lead):
+    """A law parameter as :func:`agglomtool.collision.sticking.propensity_exact` reads it:
+    ``(float64 array, how)``, one value, one per collision (the first ``lead`` axes of
+    ``shape``), one per position along the others, or one per element; no array of the
+    block's size where the parameter varies along one kind of axis only."""
+    from ..collision.sticking import ONE, PER_COLLISION, PER_ELEMENT, PER_TRAILING
+
+    a = np.asarray(a, dtype=float)
+    if a.size == 1:
+        return a.reshape(1), ONE
+    ashape = (1,) * (len(shape) - a.ndim) + a.shape
+    if all(x == 1 for x in ashape[lead:]):
+        part = np.broadcast_to(a.reshape(ashape[:lead]), shape[:lead])
+        return np.ascontiguousarray(part).reshape(-1), PER_COLLISION
+    if all(x == 1 for x in ashape[:lead]):
+        part = np.broadcast_to(a.reshape(ashape[lead:]), shape[lead:])
+        return np.ascontiguousarray(part).reshape(-1), PER_TRAILING
+    return _flat_param(a, shape), PER_ELEMENT
 
 
 def _quadrature(speeds: SpeedModel, u_star, collide, nodes, shape, collide_on, within=None):

@@ -53,7 +53,7 @@ from .._jit import CACHE, parallel_launch
 from .critical_relative import _e_zero, _sep, kernel_constants
 from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one, tier_kernel
 
-__all__ = ["sticking_windows", "propensity_from_windows", "FIXED", "LOGNORMAL",
+__all__ = ["sticking_windows", "propensity_from_windows", "propensity_exact", "FIXED", "LOGNORMAL",
            "MAXWELLIAN", "EXACT", "FALLBACK", "MAX_WINDOWS", "T_RTOL", "MAX_STEPS"]
 
 #: Speed-law family codes of :func:`propensity_from_windows`.
@@ -394,37 +394,39 @@ def _cdf(family, u, p1, p2):
     return -math.expm1(-(u * u) / p1)
 
 
+@njit(cache=CACHE, inline="always")
+def _p_one(family, us, a, b, lo, hi, count, status):
+    """``P`` of one element: its collision's ``u0*`` ``us``, sticking set (``lo``, ``hi``:
+    its rows, ``count``, ``status``) and the law's parameters ``a``, ``b``."""
+    f_star = _cdf(family, us, a, b)
+    if not (1.0 - f_star) > REST_MIN:
+        return 1.0
+    if status != EXACT:
+        return math.nan
+    if family == FIXED:
+        # Every collision at p1 >= u0*: it sticks iff p1 lies in a window.
+        stuck = 0.0
+        if not a > 0.0:
+            stuck = 1.0  # a speed of 0 cannot collide: sticks, as the quadrature says
+        for j in range(count):
+            if lo[j] <= a <= hi[j]:
+                stuck = 1.0
+        return f_star + (1.0 - f_star) * stuck
+    p = f_star
+    for j in range(count):
+        top = hi[j]
+        if top > us:
+            p += _cdf(family, top, a, b) - _cdf(family, max(lo[j], us), a, b)
+    return min(p, 1.0)
+
+
 @njit(cache=CACHE)
 def _integrate_range(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out, k0,
                      k1):
     for k in range(k0, k1):
         q = idx[k]
-        us = u_star[q]
-        a = p1[k * s1]
-        b = p2[k * s2]
-        f_star = _cdf(family, us, a, b)
-        if not (1.0 - f_star) > REST_MIN:
-            out[k] = 1.0
-            continue
-        if status[q] != EXACT:
-            out[k] = math.nan
-            continue
-        if family == FIXED:
-            # Every collision at p1 >= u0*: it sticks iff p1 lies in a window.
-            stuck = 0.0
-            if not a > 0.0:
-                stuck = 1.0  # a speed of 0 cannot collide: sticks, as the quadrature says
-            for j in range(count[q]):
-                if lo[q, j] <= a <= hi[q, j]:
-                    stuck = 1.0
-            out[k] = f_star + (1.0 - f_star) * stuck
-            continue
-        p = f_star
-        for j in range(count[q]):
-            top = hi[q, j]
-            if top > us:
-                p += _cdf(family, top, a, b) - _cdf(family, max(lo[q, j], us), a, b)
-        out[k] = min(p, 1.0)
+        out[k] = _p_one(family, u_star[q], p1[k * s1], p2[k * s2], lo[q], hi[q], count[q],
+                        status[q])
 
 
 @njit(cache=CACHE)
@@ -458,4 +460,81 @@ def propensity_from_windows(idx, family, p1, p2, u_star, lo, hi, count, status):
         _integrate_serial(*args)
     else:
         parallel_launch(_integrate_parallel, *args)
+    return out
+
+
+@njit(cache=CACHE, inline="always")
+def _param(p, how, k, q, inner):
+    """A law parameter at element ``k`` of collision ``q`` (:func:`propensity_exact`'s
+    ``how``: 0 one value, 1 per element, 2 per collision, 3 per trailing position)."""
+    if how == 0:
+        return p[0]
+    if how == 1:
+        return p[k]
+    if how == 2:
+        return p[q]
+    return p[k - q * inner]
+
+
+@njit(cache=CACHE)
+def _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, h1,
+                      p2, h2, out, q0, q1):
+    empty = np.empty(0)
+    lo = np.zeros(MAX_WINDOWS)
+    hi = np.zeros(MAX_WINDOWS)
+    for q in range(q0, q1):
+        lo[:] = 0.0
+        hi[:] = 0.0
+        us = u_star[q * su]
+        c, s = _windows_one(_raw(ins, st, q), us, tier, body, particle_slip, lo, hi, empty)
+        for k in range(q * inner, (q + 1) * inner):
+            out[k] = _p_one(family, us, _param(p1, h1, k, q, inner),
+                            _param(p2, h2, k, q, inner), lo, hi, c, s)
+
+
+@njit(cache=CACHE)
+def _propensity_serial(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, h1,
+                       p2, h2, out):
+    _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, h1,
+                      p2, h2, out, 0, out.shape[0] // inner)
+
+
+@njit(parallel=True, cache=CACHE)
+def _propensity_parallel(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1,
+                         h1, p2, h2, out):
+    n = out.shape[0] // inner
+    per = max(1, 4096 // inner)  # collisions per block: about 4096 elements, at least one
+    nb = (n + per - 1) // per
+    for b in prange(nb):
+        _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1,
+                          h1, p2, h2, out, b * per, min(n, (b + 1) * per))
+
+
+#: How :func:`propensity_exact` reads a law parameter: one value, one per element, one per
+#: collision, one per position along the trailing axes.
+ONE, PER_ELEMENT, PER_COLLISION, PER_TRAILING = 0, 1, 2, 3
+
+
+def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, family, p1, p2,
+                     how=None):
+    """The sticking sets of :func:`sticking_windows` and the propensity of
+    :func:`propensity_from_windows` in one pass (one launch): ``P`` at ``n * inner``
+    elements, element ``k`` of collision ``k // inner`` (the collisions constant along the
+    trailing axes of the elements, a map's speed axes), with the same arithmetic as the
+    two steps. ``p1``, ``p2``: float64 arrays read as ``how`` says (a pair of
+    :data:`ONE`, :data:`PER_ELEMENT`, :data:`PER_COLLISION`, :data:`PER_TRAILING`; by
+    default ``ONE`` for an array of length 1, else ``PER_ELEMENT``). NaN where the
+    collision's set was not proven and probability lies above ``u0*``."""
+    u_star = np.ascontiguousarray(u_star, dtype=np.float64).reshape(-1)
+    su = 1 if u_star.shape[0] > 1 else 0
+    out = np.empty(n * int(inner))
+    if how is None:
+        how = tuple(ONE if p.shape[0] == 1 else PER_ELEMENT for p in (p1, p2))
+    particle = True if particle_slip else None
+    args = (ins, steps, u_star, su, int(tier), bool(body), particle, int(inner), int(family),
+            p1, int(how[0]), p2, int(how[1]), out)
+    if n < SERIAL_BELOW // 4 and out.shape[0] < SERIAL_BELOW:
+        _propensity_serial(*args)
+    else:
+        parallel_launch(_propensity_parallel, *args)
     return out

@@ -261,13 +261,11 @@ def _compute_here(plan, progress: bool, announce) -> dict:
         announce(seconds, method)
         bar = SweepBar(plan.points, plan.n_blocks, "sweep", progress)
 
-    def done(idx, sl, values):
-        for name, a in values.items():
-            out[name][tuple(sl[d] for d in plan.variables[name][0])] = a
+    def done(idx, sl, values):  # the values are already in ``out`` (plan.evaluate's out)
         bar.update(plan.block_points(sl))
 
     try:
-        run_blocks_here(plan, lambda idx, sl: plan.evaluate(sl, plan.owned(idx)), done,
+        run_blocks_here(plan, lambda idx, sl: plan.evaluate(sl, plan.owned(idx), out), done,
                         start)
     finally:
         if bar is not None:

@@ -247,8 +247,12 @@ def _chunks(grid: dict, chunks) -> dict:
     return out
 
 
-def _block_function(scene_values: dict, names: tuple, group: str, nodes: int):
-    """The numpy function of one output group over one block."""
+def _block_function(scene_values: dict, names: tuple, group: str, nodes: int, out=None):
+    """The numpy function of one output group over one block: a tuple of new arrays, one
+    per output. With ``out`` (a tuple, one item per output: an array of the block's shape,
+    or None) each output is written into its array instead, once, with no block-sized copy
+    in between; an output whose item is None is returned as a read-only view."""
+    into = out
 
     def func(*arrays):
         values = dict(scene_values)
@@ -264,10 +268,22 @@ def _block_function(scene_values: dict, names: tuple, group: str, nodes: int):
             c = critical_outputs(r)
             out = tuple(c[k] for k in GROUPS["critical"][1])
         else:
-            c = collision_outputs(r, arrays[-1], nodes)
+            c = collision_outputs(r, arrays[-1], nodes, None if into is None else {
+                k: t for k, t in zip(GROUPS["collision"][1], into, strict=True)
+                if t is not None})
             out = tuple(c[k] for k in GROUPS["collision"][1])
         shape = np.broadcast_shapes(*[np.shape(a) for a in arrays]) if arrays else ()
-        return tuple(np.broadcast_to(o, shape).copy() for o in out)
+        if into is None:
+            return tuple(np.broadcast_to(o, shape).copy() for o in out)
+        done = []
+        for target, o in zip(into, out, strict=True):
+            if target is None:  # not wanted: a view, never copied
+                done.append(np.broadcast_to(o, shape))
+                continue
+            if o is not target:  # as ``a[...] = o`` would
+                np.copyto(target, np.broadcast_to(o, shape), casting="unsafe")
+            done.append(target)
+        return tuple(done)
 
     return func
 

@@ -221,29 +221,37 @@ class SweepPlan:
         self._memo.last = (key, vals)
         return vals
 
-    def _group(self, group: str, sl: dict, u_star=None) -> dict:
+    def _group(self, group: str, sl: dict, u_star=None, out=None) -> dict:
         dims = self.group_dims[group]
         args = [_compat(self.grid[d][sl[d]], (d,), dims) for d in dims]
         if group == "collision":
             args.append(_compat(np.asarray(u_star), self.group_dims["critical"], dims))
-        vals = _block_function(self.base, dims, group, int(self.nodes))(*args)
+        into = None
+        if out is not None:
+            into = tuple(None if k not in out else out[k][tuple(sl[d] for d in dims)]
+                         for k in GROUPS[group][1])
+        vals = _block_function(self.base, dims, group, int(self.nodes), into)(*args)
         return dict(zip(GROUPS[group][1], vals, strict=True))
 
-    def evaluate(self, sl: dict, wanted) -> dict:
+    def evaluate(self, sl: dict, wanted, out=None) -> dict:
         """``{name: array}`` of the variables ``wanted`` over the block ``sl``
         (``{dim: slice}``), each over its own dimensions' slices; from the plan's
-        materials snapshot, where it has one."""
+        materials snapshot, where it has one. With ``out`` (``{name: array of the
+        variable's whole shape}``, e.g. the result of a sweep in memory) each wanted
+        variable is written straight into its block of ``out`` (no copy of the block in
+        between), and the arrays returned are those blocks."""
         if self.materials is None:
-            return self._evaluate(sl, wanted)
+            return self._evaluate(sl, wanted, out)
         from .. import materials
 
         with materials.pinned(self.materials):
-            return self._evaluate(sl, wanted)
+            return self._evaluate(sl, wanted, out)
 
-    def _evaluate(self, sl: dict, wanted) -> dict:
+    def _evaluate(self, sl: dict, wanted, out=None) -> dict:
         wanted = list(wanted)
         groups = {self.variables[v][2] for v in wanted}
-        out = {}
+        into = None if out is None else {k: out[k] for k in wanted}
+        found: dict = {}
         for group in GROUPS:
             if group not in groups:
                 continue
@@ -252,11 +260,17 @@ class SweepPlan:
             elif group == "critical":
                 vals = self._critical(sl)
             elif group == "collision":
-                vals = self._group(group, sl, self._critical(sl)["u_star"])
+                vals = self._group(group, sl, self._critical(sl)["u_star"], into)
             else:
-                vals = self._group(group, sl)
-            out.update({k: v for k, v in vals.items() if k in wanted})
-        return out
+                vals = self._group(group, sl, out=into)
+            found.update({k: v for k, v in vals.items() if k in wanted})
+        if out is not None:  # the critical group's (kept for the next block): copied once
+            for k, v in found.items():
+                block = out[k][tuple(sl[d] for d in self.variables[k][0])]
+                if v is not block:
+                    block[...] = v
+                    found[k] = block
+        return found
 
     def sample(self, points: dict, group: str, u_star=None) -> dict:
         """The group's outputs at the 1-D sample ``points`` (``{dim: array}``, names as
