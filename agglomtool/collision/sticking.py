@@ -50,6 +50,7 @@ import numpy as np
 from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
+from .critical import _raw
 from .critical_relative import _e_zero, _sep, kernel_constants
 from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one, tier_kernel
 
@@ -315,17 +316,6 @@ def _windows_one(raw, u_star, tier, body, particle_slip, lo, hi, empty):
             return 0, FALLBACK
         lo[k], hi[k] = wa / wpu, wb / wpu
     return count, EXACT
-
-
-@njit(cache=CACHE, inline="always")
-def _raw(ins, st, q):
-    return (
-        ins[0][q * st[0]], ins[1][q * st[1]], ins[2][q * st[2]], ins[3][q * st[3]],
-        ins[4][q * st[4]], ins[5][q * st[5]], ins[6][q * st[6]], ins[7][q * st[7]],
-        ins[8][q * st[8]], ins[9][q * st[9]], ins[10][q * st[10]], ins[11][q * st[11]],
-        ins[12][q * st[12]], ins[13][q * st[13]], ins[14][q * st[14]], ins[15][q * st[15]],
-        ins[16][q * st[16]], ins[17][q * st[17]],
-    )
 
 
 @njit(cache=CACHE)

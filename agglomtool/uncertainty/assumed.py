@@ -73,6 +73,7 @@ SPEED_COEFFICIENT = AssumedLaw(
             "k (U - U_mf) with k = 1: an order-of-magnitude assumption, not a fitted "
             "correlation. k is drawn within a factor of about 3 either way (5-95 %: "
             "0.3-3; engineering judgement)."))
+_COEFFICIENT_KEY = "model excess-gas fluctuation_ratio"
 
 #: The choice of impact-speed model, drawn where a scene leaves the speed estimate at its
 #: default: a uniform number on [0, 1) that picks a model by the cumulative weights of
@@ -187,8 +188,11 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
     inputs: dict[str, AssumedInput] = {}
     not_drawn: list[str] = []
 
+    def law_of(entry, field_name):
+        return next((x for x in entry.uncertainty if x.field == field_name), None)
+
     def add(kind, entry, field_name, scene_field):
-        law = next((x for x in entry.uncertainty if x.field == field_name), None)
+        law = law_of(entry, field_name)
         if law is None:
             return
         key = f"{kind} {entry.name} {field_name}"
@@ -199,7 +203,7 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
                                        float(getattr(entry, field_name)))
 
     def add_composition(entry):
-        law = next((x for x in entry.uncertainty if x.field == "composition_wt"), None)
+        law = law_of(entry, "composition_wt")
         if law is None or entry.composition_wt is None:
             not_drawn.append(f"{entry.name} composition_wt (no law stated)")
             return
@@ -229,25 +233,23 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
         if values.get(scene_field) is not None or scene_field in given:
             continue
         add("liquid", liquid, field_name, scene_field)
-    if (values.get("speed") == "excess-gas" and "fluctuation_ratio" not in given
-            and values.get("fluctuation_ratio") == DEFAULTS["fluctuation_ratio"]):
-        key = "model excess-gas fluctuation_ratio"
-        bounds, text = _scene_range("fluctuation_ratio")
-        inputs[key] = AssumedInput(key, "model", "excess-gas", "fluctuation_ratio",
-                                   SPEED_COEFFICIENT, law_distribution(SPEED_COEFFICIENT),
-                                   bounds, text, float(values["fluctuation_ratio"]))
+
+    def add_model(key, model, law):  # a model's coefficient left at its default: drawn
+        if law.field not in given and values.get(law.field) == DEFAULTS[law.field]:
+            bounds, text = _scene_range(law.field)
+            inputs[key] = AssumedInput(key, "model", model, law.field, law,
+                                       law_distribution(law), bounds, text,
+                                       float(values[law.field]))
+
+    if values.get("speed") == "excess-gas":
+        add_model(_COEFFICIENT_KEY, "excess-gas", SPEED_COEFFICIENT)
+    if _COEFFICIENT_KEY in inputs:  # the default estimate, left at its default: the model too
         key = _SPEED_MODEL_KEY
         inputs[key] = AssumedInput(key, "model", "speed", "speed", SPEED_MODEL,
                                    law_distribution(SPEED_MODEL), (0.0, 1.0, False, True),
                                    "[0, 1)", 0.0)
-    bubbles = (str(values.get("speed")).startswith("bubble-")
-               or _SPEED_MODEL_KEY in inputs)
-    if (bubbles and "wake_fraction" not in given
-            and values.get("wake_fraction") == DEFAULTS["wake_fraction"]):
-        bounds, text = _scene_range("wake_fraction")
-        inputs[_WAKE_KEY] = AssumedInput(_WAKE_KEY, "model", "bubble", "wake_fraction",
-                                         WAKE_FRACTION, law_distribution(WAKE_FRACTION),
-                                         bounds, text, float(values["wake_fraction"]))
+    if str(values.get("speed")).startswith("bubble-") or _SPEED_MODEL_KEY in inputs:
+        add_model(_WAKE_KEY, "bubble", WAKE_FRACTION)
     return inputs, list(dict.fromkeys(not_drawn))
 
 
@@ -273,9 +275,8 @@ def scene_fields(values: dict, draws: dict[str, np.ndarray]) -> dict[str, np.nda
     key = f"liquid {liquid.name} theta_deg"
     if key in draws:
         out["theta_deg"] = draws[key]
-    key = "model excess-gas fluctuation_ratio"
-    if key in draws:
-        out["fluctuation_ratio"] = draws[key]
+    if _COEFFICIENT_KEY in draws:
+        out["fluctuation_ratio"] = draws[_COEFFICIENT_KEY]
     if _WAKE_KEY in draws:
         out["wake_fraction"] = draws[_WAKE_KEY]
     if _SPEED_MODEL_KEY in draws:
