@@ -12,7 +12,9 @@ many, ``NUMBA_NUM_THREADS``), best and median of ``--repeats`` of:
 - one plain 4e6-point ``collide`` of the water map's pairs at their typical speed (the
   kernel alone, what the map is held against).
 
-The efficiency from 2 to n threads is ``t(2) / (t(n) n / 2)`` on the medians. ``--bed``
+Each time is followed by the median seconds spent inside the package's parallel kernels
+(every ``parallel_launch`` timed): the rest is the serial remainder. The efficiency from 2
+to n threads is ``t(2) / (t(n) n / 2)`` on the medians. ``--bed``
 adds the 30 x 30 ``bed_sweep`` of the 3-component x 20-class water bed of
 ``bench_bed.py`` at 2 threads and at the most; ``--profile DIR`` writes a cProfile of one
 water map at the most threads (the serial remainder: time spent outside the compiled
@@ -65,12 +67,47 @@ def plain_collide(scene, axes):
     return lambda: r.collide(u)
 
 
-def timed(fn, repeats):
+#: Seconds spent inside the parallel kernels since the last reset (``_instrument``).
+IN_KERNELS = [0.0]
+
+
+def _instrument() -> None:
+    """Time every parallel launch of the package: each module's ``parallel_launch`` wrapped
+    (what is left of a map's time is its serial remainder: Python, numpy, small kernels)."""
+    import importlib
+    import pkgutil
+
+    import agglomtool
+    from agglomtool import _jit
+
+    real = _jit.parallel_launch
+
+    def launch(kernel, *args):
+        t = time.perf_counter()
+        try:
+            return real(kernel, *args)
+        finally:
+            IN_KERNELS[0] += time.perf_counter() - t
+
+    for info in pkgutil.walk_packages(agglomtool.__path__, "agglomtool."):
+        if info.name.endswith("__main__"):
+            continue
+        mod = importlib.import_module(info.name)
+        if getattr(mod, "parallel_launch", None) is real:
+            mod.parallel_launch = launch
+
+
+def timed(fn, repeats, kernels=None):
+    """Wall times of ``repeats`` calls; ``kernels`` (a list) gets each call's seconds inside
+    the parallel kernels."""
     out = []
     for _ in range(repeats):
+        IN_KERNELS[0] = 0.0
         t = time.perf_counter()
         fn()
         out.append(time.perf_counter() - t)
+        if kernels is not None:
+            kernels.append(IN_KERNELS[0])
     return out
 
 
@@ -91,23 +128,27 @@ def main() -> None:
           f"{numba.config.THREADING_LAYER}, NUMBA_NUM_THREADS {numba.config.NUMBA_NUM_THREADS}, "
           f"numpy {np.__version__}, load {os.getloadavg()}", flush=True)
     warnings.simplefilter("ignore")
+    _instrument()
     t0 = time.perf_counter()
     for scene, axes in AXES.values():
         sweep(scene, **small(axes))
     col = plain_collide(*AXES["water"])
     col()
-    print(f"compile and warm-up {time.perf_counter() - t0:.1f} s", flush=True)
+    print(f"compile and warm-up {time.perf_counter() - t0:.1f} s; threading layer "
+          f"{numba.threading_layer()}", flush=True)
     med = {}
     for n in threads:
         numba.set_num_threads(n)
         line = [f"{n:2d} threads"]
         for name, (scene, axes) in AXES.items():
-            ts = timed(lambda s=scene, x=axes: sweep(s, **x), a.repeats)
+            kt: list[float] = []
+            ts = timed(lambda s=scene, x=axes: sweep(s, **x), a.repeats, kt)
             med[name, n] = statistics.median(ts)
-            line.append(f"{name} map {fmt(ts)}")
-        ts = timed(col, a.repeats)
+            line.append(f"{name} map {fmt(ts)} (in kernels {statistics.median(kt):.3f} s)")
+        kt = []
+        ts = timed(col, a.repeats, kt)
         med["collide", n] = statistics.median(ts)
-        line.append(f"plain collide {fmt(ts)}")
+        line.append(f"plain collide {fmt(ts)} (in kernels {statistics.median(kt):.3f} s)")
         print(line[0] + ": " + "; ".join(line[1:]) + f"; load {os.getloadavg()[0]:.1f}", flush=True)
     if 2 in threads:
         for name in ("water", "slag", "collide"):
