@@ -189,19 +189,36 @@ def main() -> None:
             print(f"bed 30 x 30 (3 x 20 classes, water) at {n} threads: {fmt(ts)}; load "
                   f"{os.getloadavg()[0]:.1f}", flush=True)
     if a.cluster:
+        import shutil
+        import tempfile
+
         from dask.distributed import Client, LocalCluster
+
+        from agglomtool.maps.plan import SweepPlan
 
         scene, axes = AXES["water"]
         with LocalCluster(n_workers=a.cluster, processes=True, threads_per_worker=1,
                           dashboard_address=None) as cluster, Client(cluster) as client:
             t = time.perf_counter()
             sweep(scene, client=client, **small(axes))
-            print(f"cluster of {a.cluster} workers: start and warm-up "
+            print(f"cluster of {a.cluster} one-thread workers: warm-up "
                   f"{time.perf_counter() - t:.1f} s", flush=True)
-            ts = timed(lambda: sweep(scene, client=client, **axes), a.repeats)
-            print(f"water map on the cluster: {fmt(ts)} (in-process at {top} threads: "
-                  f"median {med.get(('water', top), float('nan')):.3f} s)", flush=True)
-
+            for how in ("in memory", "into a store"):
+                walls, cpus = [], []
+                for _ in range(a.repeats):
+                    tmp = tempfile.mkdtemp()
+                    store = {"store": os.path.join(tmp, "s.zarr")} if how != "in memory" else {}
+                    c, t = time.process_time(), time.perf_counter()
+                    ds = sweep(scene, client=client, progress=False, **store, **axes)
+                    walls.append(time.perf_counter() - t)
+                    cpus.append(time.process_time() - c)
+                    ds.close()
+                    shutil.rmtree(tmp)
+                n_blocks = SweepPlan.from_dataset(sweep(scene, compute=False, **axes)).n_blocks
+                print(f"water map on the cluster, {how}: {fmt(walls)}; the client's CPU "
+                      f"median {statistics.median(cpus):.3f} s for {n_blocks} blocks "
+                      f"(in-process at {top} threads: median "
+                      f"{med.get(('water', top), float('nan')):.3f} s)", flush=True)
 
 if __name__ == "__main__":
     main()
