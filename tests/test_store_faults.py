@@ -583,3 +583,37 @@ def test_cli_with_a_scheduler_without_workers_says_so_in_one_line(tmp_path):
     assert "Traceback" not in res.stderr
     lines = [ln for ln in res.stderr.splitlines() if "error" in ln]
     assert len(lines) == 1 and "no live worker for 2 s" in lines[0], res.stderr
+
+
+def test_a_file_edited_during_a_bed_sweep_is_said_and_not_used(my_sand, monkeypatch):
+    """A bed sweep computes from the files as read at its start, like a map, and says so
+    (MaterialsChangedWarning) when one changed while it ran, as a map does."""
+    from agglomtool import materials
+    from agglomtool.bed import Component, bed_sweep
+    from agglomtool.bed import propensity as bed_mod
+
+    comps = [Component("my-sand", 1.0, d50=400e-6, gsd=1.2, classes=3)]
+    grid = dict(T=[950.0, 1250.0], U_Umf=[2.0, 4.0])
+    materials._LAST.clear()
+    ref = bed_sweep(SCENE, comps, **grid)
+    evaluate = bed_mod._evaluate
+
+    def editing(*args, **kwargs):
+        my_sand.write_text(SAND.format("900.0"))  # edited once the run has started
+        return evaluate(*args, **kwargs)
+
+    monkeypatch.setattr(bed_mod, "_evaluate", editing)
+    with pytest.warns(materials.MaterialsChangedWarning, match="mine.toml changed while the "
+                      "bed sweep"):
+        during = bed_sweep(SCENE, comps, **grid)
+    xr.testing.assert_identical(ref, during)  # every value from the files at the start
+
+
+def test_a_bed_sweep_with_unchanged_files_says_nothing(my_sand):
+    from agglomtool import materials
+    from agglomtool.bed import Component, bed_sweep
+
+    comps = [Component("my-sand", 1.0, d50=400e-6, gsd=1.2, classes=3)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", materials.MaterialsChangedWarning)
+        bed_sweep(SCENE, comps, T=[950.0], U_Umf=[2.0, 4.0])

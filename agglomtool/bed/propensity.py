@@ -258,19 +258,29 @@ class _PairBatch(Resolved):
         return get
 
 
-def _one_snapshot(func):
-    """``func`` with every materials look-up answered from one snapshot of the files, read
-    once per call (:func:`agglomtool.materials.pinned`): no file is looked at per look-up,
-    and a bed never mixes two versions of a file."""
+def _one_snapshot(what: str):
+    """Decorator: the function with every materials look-up answered from one snapshot of
+    the files, read once per call (:func:`agglomtool.materials.pinned`): no file is looked
+    at per look-up, and a bed never mixes two versions of a file. A call that took the
+    snapshot says at its end which files changed while it ran
+    (:class:`~agglomtool.materials.MaterialsChangedWarning`, as a map does), ``what``
+    naming the run."""
 
-    @functools.wraps(func)
-    def pinned(*args, **kwargs):
-        from .. import materials
+    def decorate(func):
+        @functools.wraps(func)
+        def pinned(*args, **kwargs):
+            from .. import materials
 
-        with materials.pinned():
-            return func(*args, **kwargs)
+            outermost = materials.current() is None
+            with materials.pinned() as snap:
+                out = func(*args, **kwargs)
+            if outermost:
+                materials.warn_if_changed(snap, what)
+            return out
 
-    return pinned
+        return pinned
+
+    return decorate
 
 
 def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions: int,
@@ -442,7 +452,7 @@ def _class_coords(ev, dim):
                 "m", "upper edge of the class"))}
 
 
-@_one_snapshot
+@_one_snapshot("the bed point")
 def bed_propensity(scene: Scene, components, *, nodes: int = 16,
                    directions: int = DEFAULT_DIRECTIONS) -> xr.Dataset:
     """Agglomeration propensity of a bed of one or more components at one operating point.
@@ -621,7 +631,7 @@ def _bed_provenance(first: dict, comps, grid: dict, names) -> dict:
     return out
 
 
-@_one_snapshot
+@_one_snapshot("the bed sweep")
 def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
               directions: int = DEFAULT_DIRECTIONS, matrix: bool = False,
               progress: bool = False, **grid) -> xr.Dataset:
