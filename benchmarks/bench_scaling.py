@@ -18,8 +18,11 @@ to n threads is ``t(2) / (t(n) n / 2)`` on the medians. ``--bed``
 adds the 30 x 30 ``bed_sweep`` of the 3-component x 20-class water bed of
 ``bench_bed.py`` at 2 threads and at the most; ``--profile DIR`` writes a cProfile of one
 water map at the most threads (the serial remainder: time spent outside the compiled
-kernels); ``--cluster N`` times the water map on a LocalCluster of N one-thread workers.
-The figures depend on the machine: the script prints its core count and load average.
+kernels); ``--ceiling`` first times a synthetic compute-bound kernel over the same thread
+counts (what the machine gives a perfectly parallel loop); ``--cluster N`` times the water
+map on a LocalCluster of N one-thread workers, in memory and into a store, with the client
+process's CPU time. The figures depend on the machine: the script prints its core count
+and load average.
 """
 
 from __future__ import annotations
@@ -115,6 +118,36 @@ def fmt(ts):
     return f"best {min(ts):.3f} s, median {statistics.median(ts):.3f} s"
 
 
+@numba.njit(parallel=True, cache=True)
+def _synthetic(x, out):
+    """A compute-bound loop with no memory traffic to speak of (5 exp/log1p/sqrt per
+    element), in equal 4096-element blocks like the kernels': what the machine's cores
+    give a perfectly parallel kernel."""
+    n = x.shape[0]
+    for b in numba.prange((n + 4095) // 4096):
+        for i in range(b * 4096, min(n, (b + 1) * 4096)):
+            v = x[i]
+            for _ in range(5):
+                v = np.sqrt(np.log1p(np.exp(-v) + v))
+            out[i] = v
+
+
+def ceiling(threads, repeats) -> None:
+    x = np.random.default_rng(0).uniform(0.1, 2.0, 4_000_000)
+    out = np.empty_like(x)
+    _synthetic(x[:10], out[:10])
+    med = {}
+    for n in threads:
+        numba.set_num_threads(n)
+        ts = timed(lambda: _synthetic(x, out), repeats)
+        med[n] = statistics.median(ts)
+        print(f"synthetic compute-bound kernel, 4e6 elements, {n:2d} threads: {fmt(ts)}",
+              flush=True)
+    if 2 in med:
+        print("synthetic: efficiency from 2 threads " + ", ".join(
+            f"{n}: {med[2] / (med[n] * n / 2):.0%}" for n in threads if n > 2), flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--threads", type=int, nargs="*", default=[1, 2, 4, 8, 16])
@@ -122,12 +155,16 @@ def main() -> None:
     ap.add_argument("--bed", action="store_true")
     ap.add_argument("--profile", metavar="DIR")
     ap.add_argument("--cluster", type=int, default=0)
+    ap.add_argument("--ceiling", action="store_true",
+                    help="first, a synthetic compute-bound kernel: the machine's own scaling")
     a = ap.parse_args()
     threads = [n for n in a.threads if n <= numba.config.NUMBA_NUM_THREADS]
     print(f"{os.cpu_count()} cores, Numba {numba.__version__} threading layer "
           f"{numba.config.THREADING_LAYER}, NUMBA_NUM_THREADS {numba.config.NUMBA_NUM_THREADS}, "
           f"numpy {np.__version__}, load {os.getloadavg()}", flush=True)
     warnings.simplefilter("ignore")
+    if a.ceiling:
+        ceiling(threads, a.repeats)
     _instrument()
     t0 = time.perf_counter()
     for scene, axes in AXES.values():
