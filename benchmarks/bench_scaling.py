@@ -40,7 +40,10 @@ import numba
 import numpy as np
 
 from agglomtool.maps import sweep
-from agglomtool.scene import Resolved, Scene
+from agglomtool.scene import Scene
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_sweep import _plain_collide as plain_collide  # noqa: E402
 
 WATER = Scene(liquid="water", T=298.15, d_i=300e-6)
 SLAG = Scene(liquid="hypothetical-slag", h0=0.15e-6, d_i=1000e-6)
@@ -54,20 +57,6 @@ AXES = {
 
 def small(axes):
     return {k: v[::40] for k, v in axes.items()}
-
-
-def plain_collide(scene, axes):
-    """One plain collide of the map's pairs at their typical speed (inputs resolved first)."""
-    names = list(axes)
-    values = dict(scene.values())
-    for k, name in enumerate(names):
-        shape = [1] * len(names)
-        shape[k] = -1
-        values[name] = np.asarray(axes[name]).reshape(shape)
-    r = Resolved(values)
-    u = np.broadcast_to(r.u_typical, tuple(len(axes[n]) for n in names))
-    r.collide(u[:1, :1, :1])
-    return lambda: r.collide(u)
 
 
 #: Seconds spent inside the parallel kernels since the last reset (``_instrument``).
@@ -169,7 +158,7 @@ def main() -> None:
     t0 = time.perf_counter()
     for scene, axes in AXES.values():
         sweep(scene, **small(axes))
-    col = plain_collide(*AXES["water"])
+    col = plain_collide(*AXES["water"])  # bench_sweep's: one collide at the typical speed
     col()
     print(f"compile and warm-up {time.perf_counter() - t0:.1f} s; threading layer "
           f"{numba.threading_layer()}", flush=True)
@@ -211,7 +200,6 @@ def main() -> None:
                 st.sort_stats("cumulative").print_stats(45)
             print(f"wrote {path}", flush=True)
     if a.bed:
-        sys.path.insert(0, os.path.dirname(__file__))
         from bench_bed import WATER as BED_WATER
         from bench_bed import bed
 
