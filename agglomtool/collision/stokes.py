@@ -28,7 +28,7 @@ from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from .outcome import DETAIL_NAMES, Path, Stage
-from .records import TierInputs, pair_at, tier_inputs
+from .records import Pair, TierInputs, tier_inputs
 from .relative import reduced_mass
 
 __all__ = ["run_stokes", "stokes_kernel"]
@@ -83,8 +83,13 @@ def stokes_kernel(pair, w, det):
 
 @njit(parallel=True, cache=CACHE)
 def _run_stokes_batch(ins, e_w, stage, path, det):
+    nan = math.nan
     for q in prange(e_w.shape[0]):
-        ew, st, pa = stokes_kernel(pair_at(ins, q), ins.w[q], det[q])
+        # Only the fields Ennis' criterion reads are loaded (the others NaN): loading all
+        # twelve cost about 10 % on 1e6 collisions, the loads of five arrays it never uses.
+        pair = Pair(ins.m_i[q], ins.m_j[q], ins.r[q], ins.H0[q], ins.Ha[q], ins.mu_l[q], nan,
+                    nan, nan, nan, nan, ins.e[q])
+        ew, st, pa = stokes_kernel(pair, ins.w[q], det[q])
         e_w[q] = ew
         stage[q] = st
         path[q] = pa
