@@ -5,7 +5,8 @@ tuples of integer codes.
 Each record is a :class:`typing.NamedTuple`, which Numba compiles in nopython mode as a
 tuple with names: built, passed in and out and read by attribute inside compiled code, at
 no cost (its fields are passed as the separate scalars they were before; measured on the
-benchmark batch, see ``docs/maintainers.md``). Units are SI; each field says its own.
+benchmark batch, see ``docs/maintainers.md``), except that building one from arrays loads
+every field (:func:`pair_at`). Units are SI; each field says its own.
 """
 
 from __future__ import annotations
