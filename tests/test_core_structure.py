@@ -1,4 +1,4 @@
-"""The collision core's functions take named records, not long positional lists (issue 25).
+"""The collision core's functions take named records, not long positional lists.
 
 Every function of ``agglomtool/collision/`` (nested ones and ``@overload`` implementations
 included) is read with :mod:`ast`; its positional parameters are those that can be passed
