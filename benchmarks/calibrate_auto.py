@@ -90,7 +90,7 @@ def piecewise_envelope(arrs, truth):
     print("piecewise closed forms: largest |e_w(n pieces) - e_w(ode)| / g over the clear "
           "rebounds")
     for n in PIECE_COUNTS:
-        e, _, _, g, clear = piecewise_batch(*arrs, n)
+        e, _, _, g, clear = piecewise_batch(arrs, n)
         reb = (e > 0) & np.isfinite(g) & (g > 0)
         ok = reb & clear
         ratio = np.abs(e - truth)[ok] / g[ok]
@@ -123,7 +123,7 @@ def piecewise_critical_ratios(arrs, factor):
         def run(f, n=n):
             b = list(base)
             b[9] = base[9] * f
-            return piecewise_batch(*b, n)
+            return piecewise_batch(b, n)
 
         lo = np.full(base[0].size, SPEEDS[0])
         hi = np.full(base[0].size, SPEEDS[-1])
@@ -141,14 +141,16 @@ def piecewise_critical_ratios(arrs, factor):
 def main():
     from agglomtool.collision.auto import ODE_STEPS, closed_form_indicator_lean, ode_options
     from agglomtool.collision.ode import ode_batch
+    from agglomtool.collision.records import TierInputs, pair_at
     from agglomtool.collision.relative import run_relative
 
     arrs, factor, scene = measure()
     n = arrs[0].size
     print(f"{scene.max() + 1} scenes with a finite critical speed, {n} collisions")
-    truth = ode_batch(*arrs)[0]
-    e_rel = run_relative(*arrs)[0]
-    g = np.array([closed_form_indicator_lean(*[float(a[q]) for a in arrs])[3]
+    truth = ode_batch(arrs)[0]
+    e_rel = run_relative(arrs)[0]
+    ins = TierInputs(*arrs)
+    g = np.array([closed_form_indicator_lean(pair_at.py_func(ins, q), float(ins.w[q]))[3]
                   for q in range(n)])
     reb = (e_rel > 0) & np.isfinite(g) & (g > 0)
     ratio = np.abs(e_rel - truth)[reb] / g[reb]
@@ -164,12 +166,12 @@ def main():
           "with k = e_w^2, and largest |e_w - e_w(ode)|")
     k_t = truth * truth
     for rtol in RTOLS:
-        e_l, _, _, _, steps = ode_batch(*arrs, **ode_options(rtol))
+        e_l, _, _, _, steps = ode_batch(arrs, **ode_options(rtol))
         dk = np.abs(e_l * e_l - k_t)
         flips = int(np.sum((e_l > 0) != (truth > 0)))
         print(f"  rtol {rtol:g}: {dk.max() / rtol:.3g}; e_w {np.abs(e_l - truth).max():.3g}; "
               f"outcome flips {flips}; mean steps {steps.mean():.1f}")
-        e_d, _, _, _, steps_d = ode_batch(*arrs, rtol=rtol, atol=1e-2 * rtol)
+        e_d, _, _, _, steps_d = ode_batch(arrs, rtol=rtol, atol=1e-2 * rtol)
         dk_d = np.abs(e_d * e_d - k_t)
         print(f"    (default steps, first 0.01 and no cap: {dk_d.max() / rtol:.3g}; e_w "
               f"{np.abs(e_d - truth).max():.3g}; mean steps {steps_d.mean():.1f})")

@@ -74,8 +74,8 @@ def convergence(scenes):
         for s in paper:
             u = float(at.critical_impact_speed(**s.kwargs(), mode="ode"))
             args = s.kernel_inputs(u * FACTORS)
-            e1 = ode_batch(*args, rtol=rtol, atol=1e-2 * rtol)[0]
-            e2 = ode_batch(*args, rtol=rtol / 2, atol=0.5e-2 * rtol)[0]
+            e1 = ode_batch(args, rtol=rtol, atol=1e-2 * rtol)[0]
+            e2 = ode_batch(args, rtol=rtol / 2, atol=0.5e-2 * rtol)[0]
             diffs.append(np.abs(e1 - e2).max())
         out[rtol] = max(diffs)
     return out
@@ -88,8 +88,8 @@ def main():
     n = arrays[0].size
     big = [np.ascontiguousarray(np.tile(a, TIME_REPEAT)) for a in arrays]
     n_big = big[0].size
-    e_ode, _, _, det_ode, steps = ode_batch(*arrays, details=True)
-    t_ode = best_time(lambda: ode_batch(*big)) / n_big
+    e_ode, _, _, det_ode, steps = ode_batch(arrays, details=True)
+    t_ode = best_time(lambda: ode_batch(big)) / n_big
     band = (factor >= BAND[0]) & (factor <= BAND[1])
 
     rows = [dict(tier="ode", time_us=t_ode * 1e6, speedup_vs_ode=1.0, max_err=0.0,
@@ -98,8 +98,8 @@ def main():
     u_stars = {"ode": u_star_ode}
     for name in TIERS_COMPARED:
         tier = TIERS[name]
-        e_w = tier(*arrays)[0]
-        t = best_time(lambda tier=tier: tier(*big)) / n_big
+        e_w = tier(arrays)[0]
+        t = best_time(lambda tier=tier: tier(big)) / n_big
         err = np.abs(e_w - e_ode)
         u_t = np.array([float(at.critical_impact_speed(**s.kwargs(), mode=name))
                         for s in scenes])
@@ -107,7 +107,7 @@ def main():
         rel = u_t / u_star_ode - 1.0
         frac = np.nan
         if name == "auto":
-            tier_used = auto_batch(*arrays, tol=TOL)[4]
+            tier_used = auto_batch(arrays, tol=TOL)[4]
             frac = float(np.mean(tier_used == TIER_ODE))
         rows.append(dict(tier=name, time_us=t * 1e6, speedup_vs_ode=t_ode / t,
                          max_err=err.max(), rms_err=np.sqrt(np.mean(err**2)),
@@ -115,7 +115,7 @@ def main():
                          u0_rms_rel_err=np.sqrt(np.mean(rel**2)), ode_fraction=frac))
     # Auto against ode at the integration tolerance and steps auto itself uses inside.
     rtol_in = ode_rtol(TOL)
-    t_ode_loose = best_time(lambda: ode_batch(*big, **ode_options(rtol_in))) / n_big
+    t_ode_loose = best_time(lambda: ode_batch(big, **ode_options(rtol_in))) / n_big
 
     with open(RESULTS / "fidelity.csv", "w", newline="") as fh:
         wr = csv.DictWriter(fh, fieldnames=list(rows[0]))

@@ -78,7 +78,7 @@ def near_threshold_inputs(n_scenes=150, seed=3, factors=NEAR, slag_share=0.5):
 @pytest.fixture(scope="module")
 def hard():
     args = near_threshold_inputs()
-    return args, ode_batch(*args)[0]
+    return args, ode_batch(args)[0]
 
 
 @pytest.mark.parametrize("tol", [0.01, 0.003])
@@ -88,7 +88,7 @@ def test_loose_ode_stays_within_its_bound_in_k_near_u0(hard, tol):
     step cap, ``rtol = 1e-5`` erred by up to 190 ``rtol`` in ``k`` near ``u0*``."""
     args, truth = hard
     rtol = ode_rtol(tol)
-    e_w = ode_batch(*args, **ode_options(rtol))[0]
+    e_w = ode_batch(args, **ode_options(rtol))[0]
     dk = np.abs(e_w * e_w - truth * truth)
     assert dk.max() <= ODE_K_ERROR_PER_RTOL * rtol
     bound = ode_bound(e_w, rtol)
@@ -102,7 +102,7 @@ def test_loose_ode_stays_within_its_bound_in_k_near_u0(hard, tol):
 def just_above():
     """Water pairs at 1.003-1.03 times their critical speed: ``k`` ends close to 0."""
     args = near_threshold_inputs(300, 3, np.geomspace(1.003, 1.03, 10), slag_share=0.0)
-    return args, ode_batch(*args)[0]
+    return args, ode_batch(args)[0]
 
 
 @pytest.mark.parametrize("tol", [0.01, 0.003])
@@ -113,7 +113,7 @@ def test_auto_near_u0_within_tol_and_no_flip_where_the_margin_is_clear(request, 
     converse. (Measured before the step cap: an error of 0.011 on ``just_above`` at tol
     0.01, 0.015 on the mixed benchmark batch.)"""
     args, truth = request.getfixturevalue(cases)
-    e_w, _, _, _, tier, bound, form = auto_batch(*args, tol=tol, return_pieces=True)
+    e_w, _, _, _, tier, bound, form = auto_batch(args, tol=tol, return_pieces=True)
     err = np.abs(e_w - truth)
     assert err.max() <= tol
     ode = tier == TIER_ODE
@@ -130,22 +130,22 @@ def test_mode_ode_keeps_its_step_settings():
     """The step settings are options of ``ode_batch``: its defaults (first step 0.01, no
     cap) give mode "ode" unchanged, and nonsense settings are refused by name."""
     args = near_threshold_inputs(n_scenes=4, seed=11)
-    a = ode_batch(*args)[0]
-    b = ode_batch(*args, first_step=0.01, max_step=np.inf, first_change=np.inf)[0]
+    a = ode_batch(args)[0]
+    b = ode_batch(args, first_step=0.01, max_step=np.inf, first_change=np.inf)[0]
     np.testing.assert_array_equal(a, b)
-    c = ode_batch(*args, **ODE_STEPS)[0]
+    c = ode_batch(args, **ODE_STEPS)[0]
     assert np.abs(c - a).max() <= 1e-6 and np.any(c != a)
     for bad in (dict(first_step=0.0), dict(first_step=2.0, max_step=1.0),
                 dict(first_change=0.0)):
         with pytest.raises(ValueError, match="first_step"):
-            ode_batch(*args, **bad)
+            ode_batch(args, **bad)
 
 
 @pytest.fixture(scope="module")
 def both_sides():
     """Mixed pairs at 0.9-1.1 times their critical speed: sticks and rebounds near it."""
     args = near_threshold_inputs(120, 7, np.geomspace(0.9, 1.1, 12))
-    return args, ode_batch(*args)[0]
+    return args, ode_batch(args)[0]
 
 
 @pytest.mark.parametrize("tol", [0.01, 0.003])
@@ -157,8 +157,8 @@ def test_stick_stop_ends_only_pairs_that_stick(both_sides, tol):
     args, truth = both_sides
     opts = ode_options(ode_rtol(tol))
     plain = dict(opts, stick_margin=None)
-    e_s, st_s, _, _, n_s = ode_batch(*args, **opts)
-    e_p, st_p, _, _, n_p = ode_batch(*args, **plain)
+    e_s, st_s, _, _, n_s = ode_batch(args, **opts)
+    e_p, st_p, _, _, n_p = ode_batch(args, **plain)
     stopped = n_s < n_p
     assert np.all(n_s <= n_p)
     assert stopped.sum() >= 50
@@ -173,4 +173,4 @@ def test_stick_stop_ends_only_pairs_that_stick(both_sides, tol):
 def test_stick_stop_refuses_a_negative_margin():
     args = near_threshold_inputs(n_scenes=2, seed=11)
     with pytest.raises(ValueError, match="stick_margin"):
-        ode_batch(*args, stick_margin=-1e-6)
+        ode_batch(args, stick_margin=-1e-6)

@@ -33,6 +33,7 @@ from agglomtool.collision.auto import (
 )
 from agglomtool.collision.ode import ode_batch
 from agglomtool.collision.outcome import DETAIL_NAMES
+from agglomtool.collision.records import Pair
 from agglomtool.collision.relative import relative_kernel
 from agglomtool.pair import prepare_pair
 
@@ -90,7 +91,7 @@ def kernel_inputs(kw, factors, mode="ode"):
 def spread():
     """Mixed scenes from 0.6 to 4 times their critical speed, with the truth."""
     args = kernel_inputs(mixed_scenes(200, 17), np.geomspace(0.6, 4.0, 24))
-    return args, ode_batch(*args)[0]
+    return args, ode_batch(args)[0]
 
 
 def test_one_piece_is_mode_relative_bitwise(spread):
@@ -102,9 +103,10 @@ def test_one_piece_is_mode_relative_bitwise(spread):
     stages = set()
     for q in range(0, args[0].size, 7):
         x = [float(a[q]) for a in args]
-        ew, sg, pa, g, _ = piecewise_kernel(*x, 1, det_p)
-        assert (ew, sg, pa, g) == closed_form_indicator(*x, det_r), q
-        relative_kernel(*x, det_r)
+        pair, w = Pair(*x[:9], *x[10:]), x[9]  # the tier order has w after theta
+        ew, sg, pa, g, _ = piecewise_kernel(pair, w, 1, det_p)
+        assert (ew, sg, pa, g) == closed_form_indicator(pair, w, det_r), q
+        relative_kernel(pair, w, det_r)
         np.testing.assert_array_equal(det_p, det_r)
         stages.add(sg)
     assert len(stages) >= 3  # rebounds and sticks at several stages
@@ -122,8 +124,8 @@ def test_pieces_converge_to_ode_where_whole_stages_err(spread):
     256), so near 4 pieces the two cancel (measured largest errors 1.5e-3 at both 4 and
     16 pieces, 2.9e-2 for the whole stages)."""
     args, truth = spread
-    err = {n: np.abs(piecewise_batch(*args, n)[0] - truth) for n in (1, 2, 4, 16, 64, 256)}
-    clear = piecewise_batch(*args, 4)[4] & piecewise_batch(*args, 16)[4]
+    err = {n: np.abs(piecewise_batch(args, n)[0] - truth) for n in (1, 2, 4, 16, 64, 256)}
+    clear = piecewise_batch(args, 4)[4] & piecewise_batch(args, 16)[4]
     hard = (err[1] > 0.005) & clear & (truth > 0)
     assert hard.sum() >= 100
     for n in (4, 16):
@@ -140,9 +142,9 @@ def test_pieces_stay_within_their_calibrated_bound(seed, lo, span):
     """Clear rebounds with ``g <= G_MAX`` at every piece count of the ladder: the error
     against the truth is at most ``PIECEWISE_BOUND * g``."""
     args = kernel_inputs(mixed_scenes(6, seed), np.geomspace(lo, lo * span, 8))
-    truth = ode_batch(*args)[0]
+    truth = ode_batch(args)[0]
     for n in PIECES:
-        e, _, _, g, clear = piecewise_batch(*args, n)
+        e, _, _, g, clear = piecewise_batch(args, n)
         ok = (e > 0) & clear & (g <= G_MAX)
         assert np.all(np.abs(e - truth)[ok] <= PIECEWISE_BOUND * g[ok]), n
 
@@ -153,7 +155,7 @@ def test_auto_uses_every_form_and_stays_within_tol(spread, tol):
     within ``tol`` and within the bound reported, no outcome flipped where the truth is
     clear of ``tol``; the fused path chooses the same forms."""
     args, truth = spread
-    e_w, _, _, _, tier, bound, pieces = auto_batch(*args, tol=tol, return_pieces=True)
+    e_w, _, _, _, tier, bound, pieces = auto_batch(args, tol=tol, return_pieces=True)
     err = np.abs(e_w - truth)
     assert err.max() <= tol
     assert np.all(err <= bound + 1e-15)
@@ -176,7 +178,7 @@ def test_fused_auto_chooses_as_auto_batch(size):
                                      kw["bed"], kw["beta_deg"], 0.9, u0, None)
     e_f, st_f, pa_f, _, pc_f = auto_fused(ins, steps, n, True, False, return_pieces=True)
     k = fused.prepare_flat(ins, steps, n, True, False)
-    e_b, st_b, pa_b, _, _, _, pc_b = auto_batch(*k[:13], return_pieces=True)
+    e_b, st_b, pa_b, _, _, _, pc_b = auto_batch(k[:13], return_pieces=True)
     np.testing.assert_array_equal(pc_f, pc_b)
     np.testing.assert_array_equal(e_f, e_b)
     np.testing.assert_array_equal(st_f, st_b)
@@ -189,7 +191,7 @@ def test_details_of_the_pieces_balance(spread):
     losses, and the energies balance (``K_fin = K_ini - losses``, ``e_w^2 = K_fin /
     K_ini``)."""
     args, _ = spread
-    e_w, _, _, det, _, _, pieces = auto_batch(*args, details=True, return_pieces=True)
+    e_w, _, _, det, _, _, pieces = auto_batch(args, details=True, return_pieces=True)
     col = {name: det[:, k] for k, name in enumerate(DETAIL_NAMES)}
     rows = (pieces > 1) & (e_w > 0) & np.isfinite(col["L_vis_sep"])
     assert rows.sum() >= 20

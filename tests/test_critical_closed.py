@@ -33,6 +33,7 @@ from agglomtool.collision.critical import (
 )
 from agglomtool.collision.critical_relative import FAILED, OK, relative_threshold
 from agglomtool.collision.fused import prepare_flat
+from agglomtool.collision.records import Pair
 from agglomtool.collision.relative import relative_kernel
 
 RTOL = 1e-6
@@ -271,8 +272,8 @@ def _threshold(p_i, p_j, liq, e=0.9, fn_i=0.0, fn_j=0.0, max_iter=60):
 
 def _outcome(args, w, fn_i=0.0, fn_j=0.0, e=0.9):
     m_i, m_j, r, H0, Ha, mu, gamma, cos_t, theta = args
-    return relative_kernel(m_i, m_j, r, H0, Ha, mu, gamma, cos_t, theta, w, fn_i, fn_j, e,
-                           np.empty(0))
+    return relative_kernel(Pair(m_i, m_j, r, H0, Ha, mu, gamma, cos_t, theta, fn_i, fn_j, e),
+                           w, np.empty(0))
 
 
 def test_approach_limited_threshold():

@@ -43,6 +43,7 @@ from agglomtool.collision.critical_relative import (
     kernel_e_w,
     relative_threshold,
 )
+from agglomtool.collision.records import Pair
 from agglomtool.collision.relative import relative_kernel
 
 
@@ -57,9 +58,9 @@ def _both(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e, w):
     path = np.empty(n, dtype=np.int64)
     empty = np.empty(0)
     for k in range(n):
-        ew, sg, pa, _ = relative_kernel(m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k],
-                                        gamma[k], cos_t[k], theta[k], w[k], fn_i[k],
-                                        fn_j[k], e[k], empty)
+        ew, sg, pa, _ = relative_kernel(Pair(m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k],
+                                             gamma[k], cos_t[k], theta[k], fn_i[k], fn_j[k],
+                                             e[k]), w[k], empty)
         kc = kernel_constants(m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k], gamma[k],
                               cos_t[k], theta[k], fn_i[k], fn_j[k])
         ref[k] = ew

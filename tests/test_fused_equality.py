@@ -27,6 +27,7 @@ import agglomtool as at
 from agglomtool.api import _evaluate, _fused_inputs, _lab_speeds
 from agglomtool.collision import fused
 from agglomtool.collision.paper import run_paper
+from agglomtool.collision.records import Pair
 from agglomtool.collision.relative import run_relative
 from agglomtool.pair import prepare_pair
 from agglomtool.properties.fluidization import GRAVITY
@@ -136,7 +137,7 @@ def _check(p_i, p_j, liq, gas, bed, beta, e, u0, u0_j=None, mode="paper", body=T
             np.testing.assert_allclose(k[q], ref, rtol=1e-12, atol=0.0, err_msg=name)
     # Same prepared numbers, same kernel: bitwise, serial and parallel alike.
     runner = run_paper if mode == "paper" else run_relative
-    e_k, st_k, pa_k, _ = runner(*k[:13])
+    e_k, st_k, pa_k, _ = runner(k[:13])
     tier = fused.TIER_PAPER if mode == "paper" else fused.TIER_RELATIVE
     for n_serial in (0, n + 1):
         old = fused.SERIAL_BELOW
@@ -226,7 +227,7 @@ def test_repeated_angles(body, slip):
             for tier, runner in ((fused.TIER_PAPER, run_paper),
                                  (fused.TIER_RELATIVE, run_relative)):
                 e_f, st_f, pa_f, _, _ = fused.fused_batch(ins, steps, n, tier, body, slip)
-                e_k, st_k, pa_k, _ = runner(*alone[:13])
+                e_k, st_k, pa_k, _ = runner(alone[:13])
                 np.testing.assert_array_equal(e_f, e_k)
                 np.testing.assert_array_equal(st_f, st_k)
                 np.testing.assert_array_equal(pa_f, pa_k)
@@ -268,7 +269,7 @@ def test_auto_fused_equals_auto_batch_bitwise(checks, tol):
                        e=e, mode="auto", details=False, tol=tol)
         shape, ins, steps, n = _fused_inputs(p_i, p_j, liq, gas, bed, beta, e, u0, u0_j)
         k = fused.prepare_flat(ins, steps, n, True, False)
-        e_w, stage, path, _, tier, _ = auto_batch(*k[:13], tol=DEFAULT_TOL if tol is None
+        e_w, stage, path, _, tier, _ = auto_batch(k[:13], tol=DEFAULT_TOL if tol is None
                                                   else tol)
         np.testing.assert_array_equal(r.e_w.ravel(), e_w)
         np.testing.assert_array_equal(r.stage.ravel(), stage)
@@ -292,9 +293,10 @@ def test_lean_indicator_equals_the_indicator_bitwise(checks):
     det = np.empty(len(DETAIL_NAMES))
     outcomes = set()
     for q in range(n):
-        args = [float(k[j][q]) for j in range(13)]
-        a = closed_form_indicator(*args, det)
-        b = closed_form_indicator_lean(*args)
+        x = [float(k[j][q]) for j in range(13)]
+        pair, w = Pair(*x[:9], *x[10:]), x[9]  # the tier order has w after theta
+        a = closed_form_indicator(pair, w, det)
+        b = closed_form_indicator_lean(pair, w)
         assert a == b, (q, a, b)
         outcomes.add(a[1])
     assert len(outcomes) >= 5  # rebounds and sticks at several stages

@@ -15,6 +15,7 @@ import numpy as np
 import agglomtool as at
 from agglomtool.collision.outcome import DETAIL_NAMES
 from agglomtool.collision.paper import paper_kernel, run_paper
+from agglomtool.collision.records import Pair, TierInputs
 from agglomtool.pair import prepare_pair
 
 AIR = at.Gas(mu=18.48e-6, rho=1.168)
@@ -89,11 +90,13 @@ def _no_bridge_cases():
 
 
 def _compare(args):
-    e_w, stage, path, det = run_paper(*args, details=True)
+    e_w, stage, path, det = run_paper(args, details=True)
     n = e_w.size
     for k in range(n):
         d = np.empty(len(DETAIL_NAMES))
-        ew, st, pa = paper_kernel.py_func(*(a[k] for a in args), d)
+        x = TierInputs(*(a[k] for a in args))
+        pair = Pair(*(getattr(x, name) for name in Pair._fields))
+        ew, st, pa = paper_kernel.py_func(pair, x.w, d)
         np.testing.assert_allclose(ew, e_w[k], rtol=1e-12, atol=0.0, err_msg=f"e_w at {k}")
         assert st == stage[k], (k, st, stage[k])
         assert pa == path[k], (k, pa, path[k])

@@ -16,6 +16,7 @@ import pytest
 
 from agglomtool.collision.bridge import g_diff, ln_f
 from agglomtool.collision.ode import _cannot_rebound, _dp_step, _must_stick, volume_correction
+from agglomtool.collision.records import OdeForces, RuptureEnd
 
 # Dormand-Prince 5(4): nodes, stage weights, 5th-order weights, 4th-order weights.
 _C = [0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0]
@@ -63,8 +64,8 @@ def test_dp_step_is_the_textbook_step(volcorr, sigma):
         fb = rng.uniform(-1, 1) * 10.0 ** rng.uniform(-2, 3)
         vis = 10.0 ** rng.uniform(-2, 1)
         f1 = _rhs(y, k, sigma, a2, kc, fb, vis, volcorr)
-        k5, err, f7, d_new, s_new, x_new, sk5 = _dp_step(y, math.exp(y), k, h, f1, sigma, a2,
-                                                         kc, fb, vis, volcorr)
+        k5, err, f7, d_new, s_new, x_new, sk5 = _dp_step(
+            y, math.exp(y), k, h, f1, sigma, OdeForces(a2, kc, fb, vis, volcorr))
         r5, rerr, rf7, mags = _textbook_step(y, k, h, f1, sigma, a2, kc, fb, vis, volcorr)
         # rounding of the stage sums: relative to the terms summed, not to their sum
         scale = abs(k) + abs(h) * max(mags)
@@ -107,7 +108,8 @@ def test_early_stop_helpers_match_the_bridge_functions():
                 want = v - 0.5 * w_rest / v - 0.5 * vis * (lnf_end - ln_f(d, a2)) <= 0.0
             else:
                 want = False
-            assert _must_stick(d, s, k, h_end, s_end, a2, kc, fb, vis, lnf_end, pulls) == want
+            assert _must_stick(d, s, k, OdeForces(a2, kc, fb, vis, True),
+                               RuptureEnd(h_end, s_end, lnf_end, pulls)) == want
         x = volume_correction(d, a2)
         e2 = rng.uniform(0.01, 1.0)
         need = 10.0 ** rng.uniform(-6, 0)

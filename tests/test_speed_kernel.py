@@ -13,21 +13,25 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from agglomtool.collision.bridge import ln_f_diff, ln_f_parts
+from agglomtool.collision.bridge import gap_parts, ln_f_diff
 from agglomtool.collision.paper import _first_zero, _first_zero_scan, _running_energy
+from agglomtool.collision.records import Bridge, Gap, Mover
 
 
 @njit
 def _both(d_start, d_end, k, share, v, m, force, c, kcap, a2):
-    kind, val = ln_f_parts(d_start, a2)
+    s_start, kind, val = gap_parts(d_start, a2)
+    start = Gap(d_start, s_start, kind, val)
+    mover = Mover(k, v, share, m, force)
+    bridge = Bridge(c, kcap, a2)
     if not c * abs(ln_f_diff(d_start, d_end, a2)) < m * v:
         return np.nan, np.nan, 0
     if not k > 0.0:
         return np.nan, np.nan, 0
-    if _running_energy(d_end, d_start, kind, val, k, share, v, m, force, c, kcap, a2) > 0.0:
+    if _running_energy(d_end, start, mover, bridge) > 0.0:
         return np.nan, np.nan, 0
-    a = _first_zero(d_start, d_end, kind, val, k, share, v, m, force, c, kcap, a2)
-    b = _first_zero_scan(d_start, d_end, kind, val, k, share, v, m, force, c, kcap, a2)
+    a = _first_zero(start, d_end, mover, bridge)
+    b = _first_zero_scan(start, d_end, mover, bridge)
     # Count the rises of the energy on a fine grid: a non-monotonic energy.
     changes = 0
     prev = k
@@ -35,7 +39,7 @@ def _both(d_start, d_end, k, share, v, m, force, c, kcap, a2):
     d = d_start
     for _ in range(400):
         d = d * q
-        e = _running_energy(d, d_start, kind, val, k, share, v, m, force, c, kcap, a2)
+        e = _running_energy(d, start, mover, bridge)
         if e > prev:
             changes += 1
         prev = e

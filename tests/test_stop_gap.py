@@ -19,10 +19,15 @@ import numpy as np
 import pytest
 
 from agglomtool.collision import _codes as C
-from agglomtool.collision.bridge import g_diff, ln_f_diff, ln_f_parts
+from agglomtool.collision.bridge import g_diff, gap_parts, ln_f_diff
 from agglomtool.collision.paper import _first_zero_scan, _running_energy, _stop_gap
+from agglomtool.collision.records import Bridge, Gap, Mover
 
 EPS = np.finfo(float).eps
+
+
+def _gap(d, a2):
+    return Gap(d, *gap_parts(d, a2))
 
 
 def _slope(D, d_start, k, share, v, m, force, c, kcap, a2):
@@ -41,18 +46,17 @@ def _bound(x_ref, d_start, k, share, v, m, force, c, kcap, a2):
 def _check(d_start, d_end, k, share, v, m, force, c, kcap, a2, p, v_sum):
     """(new, reference, allowed relative difference) or None when the stage does not
     make the particle stop (the caller's conditions)."""
-    kind, val = ln_f_parts(d_start, a2)
+    start = _gap(d_start, a2)
+    mover = Mover(k, v, share, m, force)
+    bridge = Bridge(c, kcap, a2)
     c_delta = c * abs(ln_f_diff(d_start, d_end, a2))
     if not c_delta < p:
         return None
-    if _running_energy(d_end, d_start, kind, val, k, share, v, m, force, c, kcap, a2) > 0.0:
+    if _running_energy(d_end, start, mover, bridge) > 0.0:
         return None
-    s_start = math.sqrt(d_start * d_start + a2)
-    s_end = math.sqrt(d_end * d_end + a2)
     l_cap = kcap * g_diff(d_start, d_end, a2)
-    new = _stop_gap(d_start, s_start, kind, val, d_end, s_end, p - c_delta, l_cap, p, v_sum,
-                    force, c, kcap, a2)
-    ref = _first_zero_scan(d_start, d_end, kind, val, k, share, v, m, force, c, kcap, a2)
+    new = _stop_gap(start, _gap(d_end, a2), p - c_delta, l_cap, p, v_sum, force, bridge)
+    ref = _first_zero_scan(start, d_end, mover, bridge)
     return new, ref, _bound(ref, d_start, k, share, v, m, force, c, kcap, a2)
 
 
@@ -142,10 +146,9 @@ def test_the_kernels_stopping_gaps_are_the_scans():
     m = np.where(i_stops, m_i, m_j)
     force = np.where(i_stops, -fn_i, fn_j)
     for q in range(sel.size):
-        kind, val = ln_f_parts(Ha[q], a2[q])
-        args = (Ha[q], d[q, C.H_RUPT], kind, val, k[q], share[q], share[q] * w_s[q], m[q],
-                force[q], c[q], kcap[q], a2[q])
-        ref = _first_zero_scan(*args)
+        ref = _first_zero_scan(_gap(Ha[q], a2[q]), d[q, C.H_RUPT],
+                               Mover(k[q], share[q] * w_s[q], share[q], m[q], force[q]),
+                               Bridge(c[q], kcap[q], a2[q]))
         allowed = _bound(ref, Ha[q], k[q], share[q], share[q] * w_s[q], m[q], force[q], c[q],
                          kcap[q], a2[q])
         got = d[q, C.D_STOP_SEP]
@@ -157,8 +160,6 @@ def test_a_stop_at_the_very_end_returns_the_end(force_sign):
     """When the energy at the stage's end is zero to its last digits, the residual there may
     come out positive: the particle stops at the end, nothing beyond it is returned."""
     ha, d_end, a2 = 1e-7, 1e-5, 1e-12
-    kind, val = ln_f_parts(ha, a2)
-    s_start, s_end = math.sqrt(ha * ha + a2), math.sqrt(d_end * d_end + a2)
-    got = _stop_gap(ha, s_start, kind, val, d_end, s_end, 1e-9, 0.0, 1e-9, 1.0,
-                    force_sign * 1e-30, 1e-6, 0.0, a2)
+    got = _stop_gap(_gap(ha, a2), _gap(d_end, a2), 1e-9, 0.0, 1e-9, 1.0, force_sign * 1e-30,
+                    Bridge(1e-6, 0.0, a2))
     assert got == d_end

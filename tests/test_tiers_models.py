@@ -115,7 +115,7 @@ def test_ode_matches_radau_in_time(name, beta, factor, ode_u0):
                                           h0=case(name)["p_i"].h0, ha=0.1e-6))
     args = kernel_inputs(kw, 2 * factor * ode_u0[name])
     ref = radau_reference(args)
-    got = ode_batch(*args)[0][0]
+    got = ode_batch(args)[0][0]
     assert abs(got - ref) < 1e-6, (got, ref)
 
 
@@ -124,15 +124,15 @@ def test_ode_matches_radau_glass_on_plate():
     u_star = float(at.critical_impact_speed(**kw, mode="relative"))
     for factor in (0.8, 1.2, 3.0):
         args = kernel_inputs(kw, factor * u_star)
-        assert abs(ode_batch(*args)[0][0] - radau_reference(args)) < 1e-6
+        assert abs(ode_batch(args)[0][0] - radau_reference(args)) < 1e-6
 
 
 @pytest.mark.parametrize("name,beta", PAPER_SCENES)
 def test_ode_converges(name, beta, ode_u0):
     """Halving rtol and atol changes e_w by < 1e-6 (the integrator's accuracy goal)."""
     args = kernel_inputs(case(name, beta), 2 * ode_u0[name] * np.geomspace(0.5, 10, 200))
-    e1 = ode_batch(*args)[0]
-    e2 = ode_batch(*args, rtol=0.5e-10, atol=0.5e-12)[0]
+    e1 = ode_batch(args)[0]
+    e2 = ode_batch(args, rtol=0.5e-10, atol=0.5e-12)[0]
     assert np.abs(e1 - e2).max() < 1e-6
     assert np.any(e1 > 0) and np.any(e1 == 0)
 
@@ -207,8 +207,8 @@ def test_relative_plate_is_the_heavy_partner_limit():
     assert np.isinf(plate[0][0])  # the plate is p_i here
     heavy[0][:] = 1e12 * plate[1][0]  # m_i finite, huge (r kept: the harmonic-radius limit)
     assert np.all(heavy[10] == 0.0)  # its body force stays 0: nothing accelerates it
-    e_p = run_relative(*plate)[0]
-    e_h = run_relative(*heavy)[0]
+    e_p = run_relative(plate)[0]
+    e_h = run_relative(heavy)[0]
     np.testing.assert_allclose(e_h, e_p, rtol=1e-9, atol=1e-12)
 
 
@@ -264,8 +264,8 @@ def auto_suite():
 @pytest.mark.parametrize("tol", [0.01, 0.002])
 def test_auto_stays_within_tolerance(tol):
     args = auto_suite()
-    truth = ode_batch(*args)[0]
-    e_w, _, _, _, tier, bound = auto_batch(*args, tol=tol)
+    truth = ode_batch(args)[0]
+    e_w, _, _, _, tier, bound = auto_batch(args, tol=tol)
     assert np.abs(e_w - truth).max() <= tol
     assert np.all(bound <= tol)
     # Both tiers are used: the closed forms far from u0*, the integration near it.

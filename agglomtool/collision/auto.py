@@ -44,6 +44,7 @@ the choice is a function call (:func:`_decide_beyond`), which keeps the common c
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit, prange
@@ -63,6 +64,7 @@ from .fused import (
 from .ode import MAX_STEPS, ode_batch, ode_kernel
 from .outcome import DETAIL_NAMES
 from .paper import _viscous_loss
+from .records import Gap, OdeOptions, Pair, TierInputs, WorkScale, pair_at, tier_inputs
 from .relative import reduced_mass, relative_body_force, relative_kernel, term_work_fractions
 
 __all__ = [
@@ -120,17 +122,17 @@ _W_CONTACT = DETAIL_NAMES.index("w_contact")
 
 
 @njit(cache=CACHE)
-def closed_form_indicator(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-                          det):
-    """The closed forms' ``e_w`` and their error indicator ``g`` (module docstring).
+def closed_form_indicator(pair, w, det):
+    """The closed forms' ``e_w`` and their error indicator ``g`` (module docstring) for the
+    collision ``pair`` (a :class:`~.records.Pair`) at the relative speed ``w`` [m/s].
 
     ``det`` (length 0 or ``len(DETAIL_NAMES)``) receives the closed forms' details: the
     indicator reads the stage quantities from it, so it must have full length here.
     Returns ``(e_w, stage, path, g)``; ``g = inf`` where a stage has no viscous-only end
     speed (the closed forms stick).
     """
-    ew, st, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
-                                    fn_j, e, det)
+    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e = pair
+    ew, st, pa, _ = relative_kernel(pair, w, det)
     if not H0 > Ha:
         return ew, st, pa, 0.0
     if not ew > 0.0:
@@ -157,27 +159,27 @@ def closed_form_indicator(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_
 
 
 @njit(cache=CACHE)
-def closed_form_indicator_lean(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j,
-                               e):
+def closed_form_indicator_lean(pair, w):
     """:func:`closed_form_indicator` in one pass, without a details row: the closed forms of
     :func:`~.relative.relative_kernel` written out with the same arithmetic, each ``ln f``
     difference, capillary work and the rupture gap computed once for both the outcome and
     the indicator. Bitwise the same ``(e_w, stage, path, g)`` (tested)."""
-    if not H0 > Ha:
+    e = pair.e
+    if not pair.H0 > pair.Ha:
         if e > 0.0:
             return e, codes.REBOUND, codes.P_NO_BRIDGE, 0.0
         return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0.0
-    return _whole_at(w, e, theta, mu_l, gamma,
-                     _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
+    return _whole_at(w, e, pair.theta, pair.mu_l, pair.gamma, _whole_parts(pair))
 
 
 @njit(cache=CACHE, inline="always")
-def _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
+def _whole_parts(pair):
     """What :func:`closed_form_indicator_lean` computes independently of the speed, for a
     collision with ``H0 > Ha``: the reduced mass, ``a^2``, the force constants, the square
     roots and ``ln f`` parts of ``H0`` and ``Ha`` (:func:`~.bridge.gap_parts`), the
     approach's ``c Delta``, capillary and body losses (:func:`_decide` evaluates the closed
     forms at two speeds, and the piecewise forms start from these, :func:`_pieces_parts`)."""
+    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, _, fn_i, fn_j, _ = pair
     m_r, _, _ = reduced_mass(m_i, m_j)
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
@@ -264,17 +266,18 @@ def _pieces_parts(m_i, m_j, whole):
 
 
 @njit(cache=CACHE)
-def _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j):
-    """:func:`_pieces_parts` of one collision from its kernel numbers (``H0 > Ha``)."""
-    return _pieces_parts(m_i, m_j, _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                                fn_i, fn_j))
+def _collision_parts(pair):
+    """:func:`_pieces_parts` of one collision from its :class:`~.records.Pair`
+    (``H0 > Ha``)."""
+    return _pieces_parts(pair.m_i, pair.m_j, _whole_parts(pair))
 
 
 @njit(cache=CACHE, error_model="numpy", inline="always")
-def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s, k2, val2,
-                  s_e, a, indicator=True):
-    """One liquid stage from gap ``d_s`` to ``d_e`` in ``n`` pieces of equal ``ln f``
-    (module docstring), entering with kinetic energy ``k`` [J] at speed ``v`` [m/s].
+def _stage_pieces(k, v, start, om_s, end, law, n, indicator=True):
+    """One liquid stage from the gap ``start.d`` to ``end.d`` (:class:`~.records.Gap`
+    records) in ``n`` pieces of equal ``ln f`` (module docstring), entering with kinetic
+    energy ``k`` [J] at speed ``v`` [m/s]; ``law`` holds ``(a2, m_r, c, kcap, f_b, a)``
+    (:func:`_piecewise`'s names).
 
     Returns ``(k_end, code, l_cap, l_vis, l_bdw, eta, clear)``: ``code`` 0 reached
     ``d_e``, 1 viscosity alone stopped the pair, 2 the energy ran out; the three losses [J]
@@ -293,11 +296,14 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s,
     is tiny). The pieces next to the stage's ends take the capillary work in
     the form of :func:`~.bridge.g_diff`.
 
-    The parts of the ends (``(k1, val1, s_s, om_s)`` of ``d_s`` and ``(k2, val2)``,
-    ``s_e`` of ``d_e``, see :func:`_pieces_parts`) and ``a = sqrt(a2)`` are computed by the
-    caller, once per collision where they do not depend on the speed. ``indicator`` False
-    skips ``eta`` and ``clear`` (returned as 0 and True) where only the outcome is wanted.
+    The parts of the ends (``start``, ``end`` and ``om_s = 1 - 4 f`` of ``start.d``, see
+    :func:`_pieces_parts`) and ``a = sqrt(a2)`` are computed by the caller, once per
+    collision where they do not depend on the speed. ``indicator`` False skips ``eta`` and
+    ``clear`` (returned as 0 and True) where only the outcome is wanted.
     """
+    d_s, s_s, k1, val1 = start
+    d_e, s_e, k2, val2 = end
+    a2, m_r, c, kcap, f_b, a = law
     # ln f(d_e) - ln f(d_s) as ln_f_diff_from forms it.
     delta = abs((val2 - val1) + (k1 - k2) * _LN4)
     cd = c * (delta / n)
@@ -382,12 +388,11 @@ def _stage_pieces(k, v, d_s, d_e, a2, m_r, c, kcap, f_b, n, k1, val1, s_s, om_s,
 
 
 @njit(cache=CACHE)
-def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, n,
-                     det):
-    """One collision by the closed forms of :func:`~.relative.relative_kernel` applied on
-    ``n`` pieces of each liquid stage, each piece starting from the speed the previous one
-    left (module docstring, item 2; ``benchmarks/results/auto_calibration.md``, "Piecewise
-    closed forms").
+def piecewise_kernel(pair, w, n, det):
+    """One collision (``pair`` a :class:`~.records.Pair`, speed ``w`` [m/s]) by the closed
+    forms of :func:`~.relative.relative_kernel` applied on ``n`` pieces of each liquid
+    stage, each piece starting from the speed the previous one left (module docstring,
+    item 2; ``benchmarks/results/auto_calibration.md``, "Piecewise closed forms").
 
     Returns ``(e_w, stage, path, g, clear)`` with ``g`` the error indicator summed over
     the pieces (``inf`` where the pair sticks) and ``clear`` False where the energy inside
@@ -397,28 +402,31 @@ def piecewise_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
     ``n = 1`` gives the ``(e_w, stage, path, g)`` of :func:`closed_form_indicator` bitwise
     (tested).
     """
-    if not H0 > Ha:
+    e = pair.e
+    if not pair.H0 > pair.Ha:
         nan = math.nan
         if det.shape[0] > 0:
             for q in range(det.shape[0]):
                 det[q] = nan
-            m_r, _, _ = reduced_mass(m_i, m_j)
+            m_r, _, _ = reduced_mass(pair.m_i, pair.m_j)
             det[codes.W_CONTACT] = w
             det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
         if e > 0.0:
             return e, codes.REBOUND, codes.P_NO_BRIDGE, 0.0, True
         return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0.0, True
-    return _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det,
-                      _collision_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j))
+    return _piecewise(pair, w, n, det, _collision_parts(pair))
 
 
 @njit(cache=CACHE, error_model="numpy")
-def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
+def _piecewise(pair, w, n, det, parts, indicator=True):
     """:func:`piecewise_kernel` with ``H0 > Ha`` from the collision's ``parts``
     (:func:`_collision_parts`); ``indicator`` False: the outcome only (``g`` and ``clear``
     then mean nothing; :func:`_stage_pieces`)."""
+    H0, Ha, mu_l, gamma, theta, e = pair.H0, pair.Ha, pair.mu_l, pair.gamma, pair.theta, pair.e
     (m_r, frac_i, frac_j, a2, c, kcap, f_b, a, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha,
      om_ha, vol3) = parts
+    law = (a2, m_r, c, kcap, f_b, a)
+    gap_ha = Gap(Ha, s_ha, k_ha, v_ha)
     nan = math.nan
     want = det.shape[0] > 0
     if want:
@@ -431,8 +439,7 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
         det[codes.K_INI_J] = frac_i * k0
         det[codes.ST_APP] = m_r * w / c
     k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(
-        k0, w, H0, Ha, a2, m_r, c, kcap, f_b, n, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha, a,
-        indicator)
+        k0, w, Gap(H0, s_h0, k_h0, v_h0), om_h0, gap_ha, law, n, indicator)
     if want:
         det[codes.L_CAP_APP] = l_cap
         det[codes.L_BDW_APP_I] = frac_j * l_bdw
@@ -470,10 +477,9 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
                 path |= codes.P_BROKEN
                 k_end = k_s
             else:
-                s_hr, k_hr, v_hr = gap_parts(h_rupt, a2)
                 k_end, code, l_cap, l_vis, l_bdw, eta_s, clear_s = _stage_pieces(
-                    k_s, w_s, Ha, h_rupt, a2, m_r, c, kcap, f_b, n, k_ha, v_ha, s_ha, om_ha,
-                    k_hr, v_hr, s_hr, a, indicator)
+                    k_s, w_s, gap_ha, om_ha, Gap(h_rupt, *gap_parts(h_rupt, a2)), law, n,
+                    indicator)
                 eta = eta + eta_s
                 clear = clear and clear_s
                 if want:
@@ -490,7 +496,7 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
                 det[codes.K_FIN_I] = frac_j * k_end
                 det[codes.K_FIN_J] = frac_i * k_end
     if want:
-        body, vol = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
+        body, vol = term_work_fractions(WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
         det[codes.W_BODY] = body
         det[codes.W_VOLCORR] = vol
     if stage != codes.REBOUND:
@@ -503,13 +509,10 @@ def _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, det, parts, indicator=True):
 
 
 @njit(parallel=True, cache=CACHE)
-def _piecewise_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, n,
-                     e_w, stage, path, g, clear):
+def _piecewise_batch(ins, n, e_w, stage, path, g, clear):
     empty = np.empty(0)
     for q in prange(e_w.shape[0]):
-        ew, st, pa, gq, cl = piecewise_kernel(m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q],
-                                          gamma[q], cos_t[q], theta[q], w[q], fn_i[q],
-                                          fn_j[q], e[q], n, empty)
+        ew, st, pa, gq, cl = piecewise_kernel(pair_at(ins, q), ins.w[q], n, empty)
         e_w[q] = ew
         stage[q] = st
         path[q] = pa
@@ -517,57 +520,60 @@ def _piecewise_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn
         clear[q] = cl
 
 
-def piecewise_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-                    n_pieces):
-    """:func:`piecewise_kernel` over 1-D arrays: ``(e_w, stage, path, g, clear)``."""
+def piecewise_batch(ins: TierInputs, n_pieces):
+    """:func:`piecewise_kernel` over the 1-D arrays ``ins`` (a :class:`~.records.TierInputs`
+    or its arrays in order): ``(e_w, stage, path, g, clear)``."""
     n_pieces = int(n_pieces)
     if n_pieces < 1:
         raise ValueError(f"n_pieces = {n_pieces!r} must be at least 1")
-    size = w.shape[0]
+    ins = tier_inputs(ins)
+    size = ins.w.shape[0]
     e_w = np.empty(size)
     stage = np.empty(size, dtype=np.int8)
     path = np.empty(size, dtype=np.int8)
     g = np.empty(size)
     clear = np.empty(size, dtype=np.bool_)
-    parallel_launch(_piecewise_batch, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
-                    fn_i, fn_j, e, n_pieces, e_w, stage, path, g, clear)
+    parallel_launch(_piecewise_batch, ins, n_pieces, e_w, stage, path, g, clear)
     return e_w, stage, path, g, clear
 
 
 @njit(cache=CACHE)
-def _decide(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol, empty):
-    """The outcome and the form to use for one collision: ``(e_w, stage, path, pieces,
-    bound)`` with ``pieces`` 1 (the closed forms on whole stages), one of :data:`PIECES`
-    (the piecewise closed forms) or 0 ("ode": the outcome returned is then the closed
-    forms', to be replaced). ``empty`` is any array of length 0."""
-    return _decide_inline(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-                          tol, empty)
+def _decide(pair, w, tol, empty):
+    """The outcome and the form to use for one collision (``pair`` a
+    :class:`~.records.Pair`, speed ``w`` [m/s], tolerance ``tol`` in ``e_w``): ``(e_w,
+    stage, path, pieces, bound)`` with ``pieces`` 1 (the closed forms on whole stages),
+    one of :data:`PIECES` (the piecewise closed forms) or 0 ("ode": the outcome returned is
+    then the closed forms', to be replaced). ``empty`` is any array of length 0."""
+    return _decide_inline(pair, w, tol, empty)
 
 
 @njit(cache=CACHE, inline="always")
-def _decide_inline(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol,
-                   empty):
+def _decide_inline(pair, w, tol, empty):
     """:func:`_decide` with the whole-stage forms written into the caller and the rest
     (:func:`_decide_beyond`, 15 % of the collisions on the benchmark batch) called."""
-    if not H0 > Ha:
+    e = pair.e
+    if not pair.H0 > pair.Ha:
         if e > 0.0:
             return e, codes.REBOUND, codes.P_NO_BRIDGE, 1, 0.0
         return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 1, 0.0
     # closed_form_indicator_lean, its speed-independent part kept for a second speed
-    whole = _whole_parts(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, fn_i, fn_j)
-    ew, st, pa, g = _whole_at(w, e, theta, mu_l, gamma, whole)
+    whole = _whole_parts(pair)
+    first = _whole_at(w, e, pair.theta, pair.mu_l, pair.gamma, whole)
+    ew, st, pa, g = first
     if ew > 0.0:
         b = CLOSED_FORM_BOUND * g
         if g <= G_MAX and b <= tol:
             return ew, st, pa, 1, b
-    return _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole,
-                          ew, st, pa, g)
+    return _decide_beyond(pair, w, tol, empty, whole, first)
 
 
 @njit(cache=CACHE)
-def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole, ew, st,
-                   pa, g):
-    """:func:`_decide` where the whole-stage forms' bound did not pass at once."""
+def _decide_beyond(pair, w, tol, empty, whole, first):
+    """:func:`_decide` where the whole-stage forms' bound did not pass at once; ``whole``
+    the collision's :func:`_whole_parts`, ``first`` the whole-stage forms'
+    ``(e_w, stage, path, g)`` at ``w``."""
+    e, theta, mu_l, gamma = pair.e, pair.theta, pair.mu_l, pair.gamma
+    ew, st, pa, g = first
     if not ew > 0.0:
         # Stick: trust it if the closed forms still stick at STICK_MARGIN x the speed (the
         # same closed forms as relative_kernel, bitwise, tested, without a details array).
@@ -582,7 +588,7 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
         # pieces, which cost 0.9 us each in vain: "ode" (cost only).
         return ew, st, pa, 0, 0.0
     rebound = ew > 0.0
-    parts = _pieces_parts(m_i, m_j, whole)
+    parts = _pieces_parts(pair.m_i, pair.m_j, whole)
     for i in range(len(PIECES)):
         n = PIECES[i]
         # The pieces divide the indicator by about n (measured at least 1/n of the whole
@@ -594,12 +600,10 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
             # The whole stages stick within their margin: try the margin's speed first (a
             # rebound there ends this count; measured on the benchmark batch: no stick of
             # the whole stages became a rebound of the pieces with a passing bound).
-            ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
-                                           empty, parts, False)
+            ew2, st2, _, _, _ = _piecewise(pair, w * margin, n, empty, parts, False)
             if ew2 > 0.0 or (st2 == codes.SEP_VIS and assisted):
                 continue
-        ew_n, st_n, pa_n, g_n, clear = _piecewise(H0, Ha, mu_l, gamma, theta, w, e, n, empty,
-                                                  parts)
+        ew_n, st_n, pa_n, g_n, clear = _piecewise(pair, w, n, empty, parts)
         if ew_n > 0.0:
             b = PIECEWISE_BOUND * g_n
             if clear and g_n <= G_MAX and b <= tol:
@@ -611,20 +615,51 @@ def _decide_beyond(m_i, m_j, H0, Ha, mu_l, gamma, theta, w, e, tol, empty, whole
             # of 2.5 %, the others 1.6 % at n = 4, 0.6 % at n = 16).
             if not rebound:
                 return ew_n, st_n, pa_n, n, 0.0
-            ew2, st2, _, _, _ = _piecewise(H0, Ha, mu_l, gamma, theta, w * margin, e, n,
-                                           empty, parts, False)
+            ew2, st2, _, _, _ = _piecewise(pair, w * margin, n, empty, parts, False)
             if not ew2 > 0.0 and not (st2 == codes.SEP_VIS and assisted):
                 return ew_n, st_n, pa_n, n, 0.0
     return ew, st, pa, 0, 0.0
 
 
+class ChoiceFlags(NamedTuple):
+    """The settings of the fused loop of "auto" (:func:`auto_fused`)."""
+
+    #: True: body forces act (:func:`~.fused._one`'s ``body``)
+    body: bool
+    #: True: the drag on a particle from its own slip (:func:`~.fused.slip_flag`)
+    particle_slip: bool
+    #: True: the lab-speed rules are checked in the same pass
+    check: bool
+    #: the tolerance in ``e_w`` [-]
+    tol: float
+
+
+class ChoiceOutputs(NamedTuple):
+    """The output arrays of the fused loop of "auto" (:func:`auto_fused`), one element per
+    collision."""
+
+    #: wet restitution coefficients [-]
+    e_w: np.ndarray
+    #: stage codes (:class:`~.outcome.Stage`)
+    stage: np.ndarray
+    #: path flags (:class:`~.outcome.Path`)
+    path: np.ndarray
+    #: relative normal impact speeds [m/s]
+    w: np.ndarray
+    #: the form used (``pieces`` of :func:`auto_batch`; -1 "ode" failed)
+    pieces: np.ndarray
+
+
 @njit(cache=CACHE, inline="always")
-def _choose_block(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max, first_change,
-                  stick_margin, check, e_w, stage, path, w_out, pieces, k0, k1):
+def _choose_block(ins, st, flags, opts, out, k0, k1):
     """The fused loop of "auto" over collisions ``k0 <= k < k1`` (one thread, carrying the
     angles' memo), as :func:`~.fused._fused_block`: each speed rule's first offender among
-    them (``n``: none) is returned. Written into both entries (inline): called as a
-    function it cost about 1 % more on the benchmark batch."""
+    them (``n``: none) is returned. ``ins, st``: the fused kernels' raw inputs and their
+    steps; ``flags`` a :class:`ChoiceFlags`, ``opts`` the :class:`~.records.OdeOptions` of
+    "ode" where it is chosen, ``out`` a :class:`ChoiceOutputs`. Written into both entries
+    (inline): called as a function it cost about 1 % more on the benchmark batch."""
+    body, particle_slip, check, tol = flags
+    e_w, stage, path, w_out, pieces = out
     empty = np.empty(0)
     n = e_w.shape[0]
     g1 = n
@@ -648,14 +683,11 @@ def _choose_block(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
         mu_l = ins[8][q * st[8]]
         gamma = ins[9][q * st[9]]
         e = ins[17][q * st[17]]
-        ew, sg, pa, nq, _ = _decide_inline(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
-                                           w, fn_i, fn_j, e, tol, empty)
+        pair = Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e)
+        ew, sg, pa, nq, _ = _decide_inline(pair, w, tol, empty)
         if nq == 0:
             # "ode" here, on the numbers just prepared (what ode_batch does with them).
-            ew, sg, pa, _, status = ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t,
-                                               theta, w, fn_i, fn_j, e, empty, rtol, atol,
-                                               False, True, h_first, h_max, first_change,
-                                               stick_margin)
+            ew, sg, pa, _, status = ode_kernel(pair, w, empty, opts)
             if status != 0:
                 nq = -1
         e_w[q] = ew
@@ -670,26 +702,20 @@ def _choose_block(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
 
 
 @njit(cache=CACHE)
-def _choose_serial(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
-                   first_change, stick_margin, check, e_w, stage, path, w_out, pieces):
-    return _choose_block(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
-                         first_change, stick_margin, check, e_w, stage, path, w_out, pieces,
-                         0, e_w.shape[0])
+def _choose_serial(ins, st, flags, opts, out):
+    return _choose_block(ins, st, flags, opts, out, 0, out.e_w.shape[0])
 
 
 @njit(parallel=True, cache=CACHE)
-def _choose_parallel(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_max,
-                     first_change, stick_margin, check, e_w, stage, path, w_out, pieces):
-    n = e_w.shape[0]
+def _choose_parallel(ins, st, flags, opts, out):
+    n = out.e_w.shape[0]
     # Each speed rule's first offender as a min-reduction over the blocks.
     f1 = n
     f2 = n
     f3 = n
     f4 = n
     for b in prange((n + BLOCK - 1) // BLOCK):
-        g1, g2, g3, g4 = _choose_block(ins, st, body, particle_slip, tol, rtol, atol, h_first,
-                                       h_max, first_change, stick_margin, check, e_w, stage,
-                                       path, w_out, pieces, b * BLOCK,
+        g1, g2, g3, g4 = _choose_block(ins, st, flags, opts, out, b * BLOCK,
                                        min(n, (b + 1) * BLOCK))
         f1 = min(f1, g1)
         f2 = min(f2, g2)
@@ -698,7 +724,7 @@ def _choose_parallel(ins, st, body, particle_slip, tol, rtol, atol, h_first, h_m
     return f1, f2, f3, f4
 
 
-def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_pieces=False,
+def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, *, return_pieces=False,
                check=False):
     """Mode "auto" without details from the fused kernels' inputs (:mod:`.fused`): the
     preparation, the choice and "ode" where it is chosen in one compiled loop (no details
@@ -715,9 +741,10 @@ def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, return_piece
     w = np.empty(n)
     pieces = np.empty(n, dtype=np.int8)
     o = ode_options(ode_rtol(tol))
-    args = (ins, steps, bool(body), slip_flag(particle_slip), tol, o["rtol"], o["atol"],
-            o["first_step"], o["max_step"], o["first_change"], o["stick_margin"], bool(check),
-            e_w, stage, path, w, pieces)
+    opts = OdeOptions(o["rtol"], o["atol"], False, True, o["first_step"], o["max_step"],
+                      o["first_change"], o["stick_margin"])
+    args = (ins, steps, ChoiceFlags(bool(body), slip_flag(particle_slip), bool(check), tol),
+            opts, ChoiceOutputs(e_w, stage, path, w, pieces))
     if n < SERIAL_BELOW:
         first = _choose_serial(*args)
     else:
@@ -774,14 +801,13 @@ def _check_tol(tol):
 
 
 @njit(parallel=True, cache=CACHE)
-def _choose(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, tol,
-            e_w, stage, path, pieces, bound, det):
+def _choose(ins, tol, e_w, stage, path, pieces, bound, det):
     empty = np.empty(0)
     want = det.shape[1] > 0
     for q in prange(e_w.shape[0]):
-        ew, st, pa, nq, b = _decide(m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q],
-                                    cos_t[q], theta[q], w[q], fn_i[q], fn_j[q], e[q], tol,
-                                    empty)
+        pair = pair_at(ins, q)
+        w = ins.w[q]
+        ew, st, pa, nq, b = _decide(pair, w, tol, empty)
         e_w[q] = ew
         stage[q] = st
         path[q] = pa
@@ -790,36 +816,33 @@ def _choose(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, to
         if want and nq > 0:
             # The details of the form chosen (its outcome is the one above, bitwise).
             if nq == 1:
-                relative_kernel(m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q],
-                                cos_t[q], theta[q], w[q], fn_i[q], fn_j[q], e[q], det[q])
+                relative_kernel(pair, w, det[q])
             else:
-                piecewise_kernel(m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q],
-                                 cos_t[q], theta[q], w[q], fn_i[q], fn_j[q], e[q], nq,
-                                 det[q])
+                piecewise_kernel(pair, w, nq, det[q])
 
 
-def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-               details=False, tol=DEFAULT_TOL, return_pieces=False):
+def auto_batch(ins: TierInputs, *, details=False, tol=DEFAULT_TOL, return_pieces=False):
     """:func:`run_auto` that also returns the tier used per collision (``TIER_RELATIVE``:
     the closed forms on the relative motion, on whole stages or piecewise; ``TIER_ODE``)
     and its error bound in ``e_w`` [-] (fifth and sixth arrays). With ``return_pieces`` a
     seventh array says which form: 1 the closed forms on whole stages, ``n`` in
-    :data:`PIECES` the piecewise closed forms on ``n`` pieces, 0 "ode"."""
+    :data:`PIECES` the piecewise closed forms on ``n`` pieces, 0 "ode". ``ins``: the input
+    arrays (a :class:`~.records.TierInputs`, or its arrays in order)."""
     tol = _check_tol(tol)
-    n = w.shape[0]
+    ins = tier_inputs(ins)
+    n = ins.w.shape[0]
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     pieces = np.empty(n, dtype=np.int8)
     bound = np.empty(n)
     det = np.empty((n, len(DETAIL_NAMES) if details else 0))
-    args = (m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e)
-    parallel_launch(_choose, *args, tol, e_w, stage, path, pieces, bound, det)
+    parallel_launch(_choose, ins, tol, e_w, stage, path, pieces, bound, det)
     idx = np.flatnonzero(pieces == 0)
     if idx.size:
         rtol = ode_rtol(tol)
-        sub = [np.ascontiguousarray(a[idx]) for a in args]
-        e_o, st_o, pa_o, det_o, _ = ode_batch(*sub, details=details, **ode_options(rtol))
+        sub = TierInputs(*(np.ascontiguousarray(a[idx]) for a in ins))
+        e_o, st_o, pa_o, det_o, _ = ode_batch(sub, details=details, **ode_options(rtol))
         e_w[idx], stage[idx], path[idx] = e_o, st_o, pa_o
         bound[idx] = ode_bound(e_o, rtol)
         if details:
@@ -830,13 +853,9 @@ def auto_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
     return e_w, stage, path, det, tier, bound
 
 
-def run_auto(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-             details=False, tol=DEFAULT_TOL):
-    """Evaluate each collision with the cheapest tier whose error bound in ``e_w`` is within
-    ``tol`` [-] (module docstring). Returns ``(e_w, stage, path, det)`` like
-    :func:`agglomtool.collision.paper.run_paper`."""
-    e_w, stage, path, det, _, _ = auto_batch(
-        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, details=details,
-        tol=tol,
-    )
+def run_auto(ins: TierInputs, *, details=False, tol=DEFAULT_TOL):
+    """Evaluate each collision of ``ins`` (a :class:`~.records.TierInputs`) with the
+    cheapest tier whose error bound in ``e_w`` is within ``tol`` [-] (module docstring).
+    Returns ``(e_w, stage, path, det)`` like :func:`agglomtool.collision.paper.run_paper`."""
+    e_w, stage, path, det, _, _ = auto_batch(ins, details=details, tol=tol)
     return e_w, stage, path, det

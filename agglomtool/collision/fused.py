@@ -51,6 +51,7 @@ from ..constants import GRAVITY
 from ._codes import N_DETAILS
 from .paper import paper_kernel
 from .physics import U_E_PER_UMF, WEN_YU_C1, WEN_YU_C2, drag_gidaspow, wet_mass, wet_umf
+from .records import Pair
 from .relative import relative_kernel
 
 __all__ = [
@@ -99,20 +100,20 @@ def tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, f
 @overload(tier_kernel, prefer_literal=True, inline="always")
 def _tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
     def paper(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
-        return paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-                            row)
+        return paper_kernel(
+            Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e), w, row)
 
     def relative(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
-        ew, sg, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
-                                        fn_i, fn_j, e, row)
+        ew, sg, pa, _ = relative_kernel(
+            Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e), w, row)
         return ew, sg, pa
 
     def either(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
         if tier == TIER_PAPER:
-            return paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
-                                fn_j, e, row)
-        ew, sg, pa, _ = relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
-                                        fn_i, fn_j, e, row)
+            return paper_kernel(
+                Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e), w, row)
+        ew, sg, pa, _ = relative_kernel(
+            Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e), w, row)
         return ew, sg, pa
 
     if isinstance(tier, types.IntegerLiteral):

@@ -50,6 +50,17 @@ from numba import njit, prange
 from .._jit import CACHE, parallel_launch
 from . import _codes as codes
 from .bridge import _LN4, bridge_volume, g_diff, g_diff_s, ln_f, ln_f_parts_s, rupture_distance
+from .records import (
+    OdeForces,
+    OdeOptions,
+    OdeStops,
+    RuptureEnd,
+    RuptureLaw,
+    TierInputs,
+    WorkScale,
+    pair_at,
+    tier_inputs,
+)
 from .relative import reduced_mass, relative_body_force, term_work_fractions
 
 __all__ = [
@@ -109,9 +120,9 @@ def _vc(D, a2, volcorr):
 
 
 @njit(cache=CACHE, error_model="numpy")
-def _dp_step(y, d, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
+def _dp_step(y, d, k, h, f1, sigma, forces):
     """One Dormand-Prince 5(4) step from ``(y, k)`` (gap ``d = exp(y)``) of size ``h``
-    with ``f1 = dk/dy`` there.
+    with ``f1 = dk/dy`` there, under the force law ``forces`` (:class:`~.records.OdeForces`).
 
     Returns ``(k5, k5 - k4, dk/dy at the new point, the gap there, sqrt(D^2 + a^2) there
     (0 without the volume correction), X_v there, sqrt(max(k5, 0)))``: the third is the
@@ -120,6 +131,7 @@ def _dp_step(y, d, k, h, f1, sigma, a2, kc, fb, vis, volcorr):
     ``exp(y + c h)`` are ``d`` times powers of ``exp(h / 10)`` (``c`` = 1/5, 3/10, 4/5)
     and the new point's gap over ``exp(h / 9)`` (``c`` = 8/9): three exponentials a step.
     """
+    a2, kc, fb, vis, volcorr = forces
     e1 = math.exp(0.1 * h)
     e2 = e1 * e1
     e4 = e2 * e2
@@ -210,10 +222,11 @@ def _ln_f_s(D, s, a2):
 
 
 @njit(cache=CACHE, error_model="numpy")
-def _must_stick(D, s, k, h_end, s_end, a2, kc, fb, vis, lnf_end, pulls):
+def _must_stick(D, s, k, forces, end):
     """True when the separation, now at gap ``D`` (``s = sqrt(D^2 + a^2)``) with ``k``,
-    cannot reach the rupture gap ``h_end`` (``s_end`` its ``s``) with energy left
-    (normalised as in :func:`_rhs_at`).
+    cannot reach the rupture gap ``end.h_end`` (a :class:`~.records.RuptureEnd`) with
+    energy left (normalised as in :func:`_rhs_at`; ``forces`` an
+    :class:`~.records.OdeForces`).
 
     Two bounds, each exact for the equation of motion: (1) the energy at ``h_end`` is ``k``
     less the work ``W`` of the capillary and body forces from ``D`` to ``h_end`` less the
@@ -223,6 +236,8 @@ def _must_stick(D, s, k, h_end, s_end, a2, kc, fb, vis, lnf_end, pulls):
     vis X_v^2 / 2``, ``v(h_end) <= v - W / (2 v) - (vis / 2) (ln f(h_end) - ln f(D))``;
     that at most 0 sticks too.
     """
+    a2, kc, fb, vis, _ = forces
+    h_end, s_end, lnf_end, pulls = end
     w_rest = kc * g_diff_s(D, s, h_end, s_end, a2) + fb * (h_end - D)
     if k <= w_rest:
         return True
@@ -239,34 +254,38 @@ def _rupture_gap_log(theta, ca_per_sqrtk, vol, k):
 
 
 @njit(cache=CACHE, error_model="numpy")
-def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
-               e2, need, event, theta, ca_per_sqrtk, vol, h_first=1e-2, h_max=math.inf,
-               first_change=math.inf, stick_margin=-1.0):
-    """Integrate ``dk/dy`` from ``y0`` towards ``y1``.
+def _integrate(y0, y1, k0, sigma, forces, opts, stops, rupture):
+    """Integrate ``dk/dy`` from ``y0`` towards ``y1``, starting with ``k0``, ``sigma`` +1 on
+    the approach and -1 on the separation, under the force law ``forces``
+    (:class:`~.records.OdeForces`).
 
-    ``need >= 0`` enables the early stop of :func:`_cannot_rebound` (approach only; -1
-    disables it). ``event`` stops at the first ``y >= ln h_rupt(k)`` (self-consistent
-    rupture). ``h_first`` is the first trial step and ``h_max`` the largest step, both in
-    ``ln D``; the first trial step is also at most the one over which ``k`` changes by
-    ``first_change`` times ``max(k, 1e-3)`` at its initial rate. ``stick_margin >= 0``
-    (separation to the fixed gap ``exp(y1)`` only; -1 disables it) stops the stage as a
-    stick once :func:`_must_stick` holds for ``k + stick_margin``: with ``stick_margin`` a
-    bound of the integration error in ``k``, the pair it integrates sticks then too.
-    Returns ``(k, y, status, steps)``.
+    ``opts`` (:class:`~.records.OdeOptions`) gives the tolerances and the step settings:
+    ``h_first`` is the first trial step and ``h_max`` the largest step, both in ``ln D``;
+    the first trial step is also at most the one over which ``k`` changes by
+    ``first_change`` times ``max(k, 1e-3)`` at its initial rate. ``stops``
+    (:class:`~.records.OdeStops`): ``need >= 0`` enables the early stop of
+    :func:`_cannot_rebound` (approach only; -1 disables it); ``event`` stops at the first
+    ``y >= ln h_rupt(k)`` (self-consistent rupture, of the law ``rupture``, a
+    :class:`~.records.RuptureLaw`); ``stick_margin >= 0`` (separation to the fixed gap
+    ``exp(y1)`` only; -1 disables it) stops the stage as a stick once :func:`_must_stick`
+    holds for ``k + stick_margin``: with ``stick_margin`` a bound of the integration error
+    in ``k``, the pair it integrates sticks then too. Returns ``(k, y, status, steps)``.
     """
+    a2, kc, fb, vis, volcorr = forces
+    rtol, atol = opts.rtol, opts.atol
+    h_first, h_max, first_change = opts.h_first, opts.h_max, opts.first_change
+    e2, need, event, stick_margin = stops
+    theta, ca_per_sqrtk, vol = rupture
     direction = 1.0 if y1 > y0 else -1.0
     y, k = y0, k0
-    h_end = 0.0
-    s_end = 0.0
-    lnf_end = 0.0
-    pulls = False
+    end = RuptureEnd(0.0, 0.0, 0.0, False)
     if stick_margin >= 0.0:
         h_end = math.exp(y1)
         s_end = math.sqrt(h_end * h_end + a2)
-        lnf_end = _ln_f_s(h_end, s_end, a2)
         # kc X_v + fb keeps its sign between its values at the ends (X_v is monotonic).
-        pulls = min(kc * volume_correction(math.exp(y0), a2),
-                    kc * _x_v_s(h_end, s_end, a2)) + fb >= 0.0
+        end = RuptureEnd(h_end, s_end, _ln_f_s(h_end, s_end, a2),
+                         min(kc * volume_correction(math.exp(y0), a2),
+                             kc * _x_v_s(h_end, s_end, a2)) + fb >= 0.0)
     d = math.exp(y)
     f1 = _rhs_at(d, _vc(d, a2, volcorr), k, sigma, kc, fb, vis)
     h = direction * min(abs(y1 - y0), h_first,
@@ -275,8 +294,7 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
     while steps < MAX_STEPS:
         if direction * (y + h - y1) > 0.0:
             h = y1 - y
-        k_new, err, f_new, d_new, s_new, x_new, sk_new = _dp_step(y, d, k, h, f1, sigma, a2, kc,
-                                                                  fb, vis, volcorr)
+        k_new, err, f_new, d_new, s_new, x_new, sk_new = _dp_step(y, d, k, h, f1, sigma, forces)
         scale = atol + rtol * max(abs(k), abs(k_new))
         ratio = abs(err) / scale
         if ratio > 1.0:
@@ -289,7 +307,7 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
             k_hi = k_new
             for _ in range(60):
                 mid = 0.5 * (lo + hi)
-                k_mid = _dp_step(y, d, k, mid * h, f1, sigma, a2, kc, fb, vis, volcorr)[0]
+                k_mid = _dp_step(y, d, k, mid * h, f1, sigma, forces)[0]
                 if k_mid > 0.0 and y + mid * h >= _rupture_gap_log(
                     theta, ca_per_sqrtk, vol, k_mid
                 ):
@@ -315,8 +333,7 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
             x_new = _x_v_s(d_new, s_new, a2)
         if need >= 0.0 and _cannot_rebound(d_new, x_new, sk_new, kc, fb, vis, e2, need):
             return k, y, _CANNOT, steps
-        if stick_margin >= 0.0 and _must_stick(d_new, s_new, k + stick_margin, h_end, s_end,
-                                               a2, kc, fb, vis, lnf_end, pulls):
+        if stick_margin >= 0.0 and _must_stick(d_new, s_new, k + stick_margin, forces, end):
             return 0.0, y, _STOPPED, steps
         # 0.9 ratio^-0.2 exceeds 5 below ratio = 1.8e-4 (5.05 there): no power needed.
         factor = 5.0 if ratio <= 1.8e-4 else min(5.0, max(0.2, 0.9 * ratio ** -0.2))
@@ -327,19 +344,22 @@ def _integrate(y0, y1, k0, sigma, a2, kc, fb, vis, volcorr, rtol, atol,
 
 
 @njit(cache=CACHE)
-def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det,
-               rtol, atol, self_consistent, volcorr, h_first=1e-2, h_max=math.inf,
-               first_change=math.inf, stick_margin=-1.0):
-    """One collision integrated. Returns ``(e_w, stage, path, steps, status)``.
+def ode_kernel(pair, w, det, opts):
+    """One collision (``pair`` a :class:`~.records.Pair`, relative normal impact speed
+    ``w`` [m/s]) integrated. Returns ``(e_w, stage, path, steps, status)``.
 
     ``status`` is 4 when :data:`MAX_STEPS` was exceeded (the wrapper raises), else 0.
     ``det`` as in :func:`agglomtool.collision.paper.paper_kernel`; the per-particle columns
     hold the CM-frame split of the relative energies; the viscous losses are the energy
-    balance of the integrated stage (``K_start - K_end - L_cap - L_bdw``). ``h_first`` and
-    ``h_max``, ``first_change``: the step settings of :func:`ode_batch`; ``stick_margin``
-    (>= 0 enables it, contact rupture only): the separation stops as a stick where
-    :func:`_must_stick` holds for ``k + stick_margin``.
+    balance of the integrated stage (``K_start - K_end - L_cap - L_bdw``). ``opts`` (an
+    :class:`~.records.OdeOptions`): the tolerances, the rupture rule, the force law and
+    the step settings of :func:`ode_batch`; its ``stick_margin`` (>= 0 enables it, contact
+    rupture only): the separation stops as a stick where :func:`_must_stick` holds for
+    ``k + stick_margin``.
     """
+    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e = pair
+    self_consistent = opts.self_consistent
+    stick_margin = opts.stick_margin
     nan = math.nan
     want = det.shape[0] > 0
     if want:
@@ -390,9 +410,10 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
             need = max(need, v_min * v_min)
 
     # ---- approach
+    forces = OdeForces(a2, kc, fb, vis, opts.volcorr)
     k_c, _, status, steps = _integrate(
-        math.log(H0), math.log(Ha), 1.0, 1.0, a2, kc, fb, vis, volcorr, rtol, atol,
-        e2, need, False, theta, 0.0, vol, h_first, h_max, first_change,
+        math.log(H0), math.log(Ha), 1.0, 1.0, forces, opts, OdeStops(e2, need, False, -1.0),
+        RuptureLaw(theta, 0.0, vol),
     )
     if status == _TOO_MANY:
         return nan, codes.APP_EN, 0, steps, _TOO_MANY
@@ -426,9 +447,9 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
             # The rupture gap follows the speed; a far bound, the event ends the stage.
             y_end = math.log(Ha) + 60.0
         k_end, y_stop, status, steps_sep = _integrate(
-            math.log(Ha), y_end, k_s, -1.0, a2, kc, fb, vis, volcorr, rtol, atol,
-            e2, -1.0, self_consistent, theta, mu_l * w / gamma, vol, h_first, h_max,
-            first_change, -1.0 if self_consistent else stick_margin,
+            math.log(Ha), y_end, k_s, -1.0, forces, opts,
+            OdeStops(e2, -1.0, self_consistent, -1.0 if self_consistent else stick_margin),
+            RuptureLaw(theta, mu_l * w / gamma, vol),
         )
         steps += steps_sep
         if status == _TOO_MANY:
@@ -441,7 +462,7 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         det[codes.K_SEP_J] = frac_i * k_s * k0
         det[codes.CA] = ca
         det[codes.H_RUPT] = h_rupt
-        body, volc = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
+        body, volc = term_work_fractions(WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
         det[codes.W_BODY] = body
         det[codes.W_VOLCORR] = volc
         if h_rupt > Ha and status != _STOPPED:
@@ -460,15 +481,9 @@ def ode_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
 
 
 @njit(parallel=True, cache=CACHE)
-def _run_ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-                   rtol, atol, self_consistent, volcorr, h_first, h_max, first_change,
-                   stick_margin, e_w, stage, path, steps, status, det):
+def _run_ode_batch(ins, opts, e_w, stage, path, steps, status, det):
     for q in prange(e_w.shape[0]):
-        ew, st, pa, ns, stat = ode_kernel(
-            m_i[q], m_j[q], r[q], H0[q], Ha[q], mu_l[q], gamma[q], cos_t[q], theta[q],
-            w[q], fn_i[q], fn_j[q], e[q], det[q], rtol, atol, self_consistent, volcorr,
-            h_first, h_max, first_change, stick_margin,
-        )
+        ew, st, pa, ns, stat = ode_kernel(pair_at(ins, q), ins.w[q], det[q], opts)
         e_w[q] = ew
         stage[q] = st
         path[q] = pa
@@ -476,14 +491,15 @@ def _run_ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j
         status[q] = stat
 
 
-def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-              details=False, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, rupture="contact",
-              volume_corrected=True, first_step=DEFAULT_FIRST_STEP, max_step=math.inf,
-              first_change=math.inf, stick_margin=None):
+def ode_batch(ins: TierInputs, *, details=False, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL,
+              rupture="contact", volume_corrected=True, first_step=DEFAULT_FIRST_STEP,
+              max_step=math.inf, first_change=math.inf, stick_margin=None):
     """:func:`run_ode` that also returns the accepted steps per collision (fifth array).
 
     Parameters
     ----------
+    ins : TierInputs
+        The input arrays (:class:`~.records.TierInputs`, or the same arrays in its order).
     rtol, atol : float
         Step-control tolerances on ``k = K / K0`` [-].
     rupture : {"contact", "self-consistent"}
@@ -520,40 +536,38 @@ def ode_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
         margin = float(stick_margin)
         if not margin >= 0.0:
             raise ValueError(f"stick_margin = {stick_margin!r} must be >= 0 (or None)")
-    n = w.shape[0]
+    ins = tier_inputs(ins)
+    n = ins.w.shape[0]
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     steps = np.empty(n, dtype=np.int64)
     status = np.empty(n, dtype=np.int8)
     det = np.empty((n, codes.N_DETAILS if details else 0))
-    parallel_launch(
-        _run_ode_batch,
-        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-        float(rtol), float(atol), rupture == "self-consistent", bool(volume_corrected),
-        float(first_step), float(max_step), float(first_change), margin, e_w, stage, path,
-        steps, status, det,
-    )
+    opts = OdeOptions(float(rtol), float(atol), rupture == "self-consistent",
+                      bool(volume_corrected), float(first_step), float(max_step),
+                      float(first_change), margin)
+    parallel_launch(_run_ode_batch, ins, opts, e_w, stage, path, steps, status, det)
     if np.any(status == _TOO_MANY):
         bad = int(np.flatnonzero(status == _TOO_MANY)[0])
         raise RuntimeError(
             f"ode: collision {bad} needed more than {MAX_STEPS} steps in one stage "
-            f"(w = {w[bad]!r} m/s); loosen rtol = {rtol!r}"
+            f"(w = {ins.w[bad]!r} m/s); loosen rtol = {rtol!r}"
         )
     return e_w, stage, path, det, steps
 
 
-def run_ode(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-            details=False, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, rupture="contact",
-            volume_corrected=True):
-    """Integrate the relative equation of motion of each collision (flat float64 arrays).
+def run_ode(ins: TierInputs, *, details=False, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL,
+            rupture="contact", volume_corrected=True):
+    """Integrate the relative equation of motion of each collision (``ins``: the flat
+    float64 arrays, a :class:`~.records.TierInputs`).
 
     Returns ``(e_w, stage, path, det)`` like :func:`agglomtool.collision.paper.run_paper`.
     Options as in :func:`ode_batch`.
     """
     e_w, stage, path, det, _ = ode_batch(
-        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, details=details,
-        rtol=rtol, atol=atol, rupture=rupture, volume_corrected=volume_corrected,
+        ins, details=details, rtol=rtol, atol=atol, rupture=rupture,
+        volume_corrected=volume_corrected,
     )
     return e_w, stage, path, det
 

@@ -51,6 +51,7 @@ from .bridge import (
     ln_f_diff_from,
     rupture_distance,
 )
+from .records import Bridge, Gap, Mover, StageResult, TierInputs, pair_at, tier_inputs
 
 __all__ = ["paper_kernel", "run_paper"]
 
@@ -71,23 +72,31 @@ def _viscous_loss(v, m, c_delta):
 
 
 @njit(cache=CACHE)
-def _running_energy(D, d_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2):
-    """Energy left [J] to a particle at gap ``D`` of a stage that began at ``d_start``, both
-    particles moving (Eqs. 136-139 and their separation mirror).
+def _running_energy(D, start, mover, bridge):
+    """Energy left [J] to a particle (``mover``, a :class:`~.records.Mover`) at gap ``D``
+    of a stage that began at the gap ``start`` (a :class:`~.records.Gap`), both particles
+    moving (Eqs. 136-139 and their separation mirror); ``bridge`` a
+    :class:`~.records.Bridge`.
 
-    ``share`` is the particle's fraction of the gap change, ``force`` the body force
+    ``mover.share`` is the particle's fraction of the gap change, ``mover.f`` the body force
     projected on its direction of motion relative to the partner (Eqs. 118-119, 124-125).
     """
+    d_start, _, start_kind, start_val = start
+    k, v, share, m, force = mover
+    c, kcap, a2 = bridge
     cap = share * kcap * g_diff(d_start, D, a2)
     vis = _viscous_loss(v, m, c * abs(ln_f_diff_from(start_kind, start_val, D, a2)))
     return k - cap - vis + force * share * abs(D - d_start)
 
 
 @njit(cache=CACHE)
-def _cap_vis(D, d_start, s_start, start_kind, start_val, share, v, m, c, kcap, a2):
+def _cap_vis(D, start, mover, bridge):
     """The capillary and viscous terms of :func:`_running_energy` at ``D`` [J], bitwise as
-    there, with ``s_start = sqrt(d_start^2 + a^2)`` given and ``sqrt(D^2 + a^2)`` taken once
+    there, with ``start.s = sqrt(d_start^2 + a^2)`` given and ``sqrt(D^2 + a^2)`` taken once
     for both (:func:`~.bridge.g_diff` and :func:`~.bridge.ln_f_parts` each take it)."""
+    d_start, s_start, start_kind, start_val = start
+    _, v, share, m, _ = mover
+    c, kcap, a2 = bridge
     s, kind, val = gap_parts(D, a2)
     g = g_diff_s(d_start, s_start, D, s, a2)
     delta = (val - start_val) + (start_kind - kind) * _LN4
@@ -108,9 +117,9 @@ def _next_step(i, pos, fail_at, fail_val, default):
 
 
 @njit(cache=CACHE)
-def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c, kcap, a2):
-    """The gap between ``d_start`` and ``d_end`` nearest ``d_start`` where the running energy
-    of :func:`_running_energy` first reaches zero (Eq. 136).
+def _first_zero(start, d_end, mover, bridge):
+    """The gap between ``d_start = start.d`` and ``d_end`` nearest ``d_start`` where the
+    running energy of :func:`_running_energy` (same arguments) first reaches zero (Eq. 136).
 
     ``E(d_start) = k > 0`` and ``E(d_end) <= 0`` on entry. The first of the
     :data:`SCAN_POINTS` geometric points ``d_start q^j`` with ``E <= 0`` is located, then the
@@ -137,8 +146,10 @@ def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c,
     narrower than the spacing of the points can still be missed, exactly as by the plain
     scan.
     """
+    d_start, s_start, _, _ = start
+    k, v, share, _, force = mover
+    c, _, _ = bridge
     ratio = (d_end / d_start) ** (1.0 / SCAN_POINTS)
-    s_start = math.sqrt(d_start * d_start + a2)
     fs = force * share
     last = SCAN_POINTS - 1  # points d_1 .. d_last are scanned; d_end closes the bracket
     i = 0  # index of the last point known to have E > 0 (d_0 = d_start, E = k)
@@ -159,8 +170,7 @@ def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c,
             d_b = d_i
             for _ in range(step):
                 d_b = d_b * ratio
-            cap_b, vis_b = _cap_vis(d_b, d_start, s_start, start_kind, start_val, share, v,
-                                    m, c, kcap, a2)
+            cap_b, vis_b = _cap_vis(d_b, start, mover, bridge)
             f_a = fs * abs(d_i - d_start)
             f_b = fs * abs(d_b - d_start)
             scale = k + abs(cap_i) + abs(cap_b) + vis_b + abs(f_a) + abs(f_b)
@@ -179,8 +189,7 @@ def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c,
             step = max(1, min(int(step * pos / (pos - val)), step - 1))
             continue
         d = d_i * ratio
-        cap, vis = _cap_vis(d, d_start, s_start, start_kind, start_val, share, v, m, c, kcap,
-                            a2)
+        cap, vis = _cap_vis(d, start, mover, bridge)
         f_d = k - cap - vis + force * share * abs(d - d_start)
         if f_d <= 0.0:
             hi, f_hi = d, f_d
@@ -192,29 +201,26 @@ def _first_zero(d_start, d_end, start_kind, start_val, k, share, v, m, force, c,
         pos = f_d
         step = _next_step(i, pos, fail_at, fail_val, 2)
     if not found:
-        f_hi = _running_energy(d_end, d_start, start_kind, start_val, k, share, v, m, force,
-                               c, kcap, a2)
+        f_hi = _running_energy(d_end, start, mover, bridge)
     lo = d_i
     if f_known:
         f_lo = f_i
     else:
-        f_lo = _running_energy(d_i, d_start, start_kind, start_val, k, share, v, m, force, c,
-                               kcap, a2)
-    return _narrow(lo, f_lo, hi, f_hi, (d_start, s_start, start_kind, start_val, k, share, v,
-                                        m, force, c, kcap, a2))
+        f_lo = _running_energy(d_i, start, mover, bridge)
+    return _narrow(lo, f_lo, hi, f_hi, start, mover, bridge)
 
 
 @njit(cache=CACHE)
-def _narrow(lo, f_lo, hi, f_hi, energy):
+def _narrow(lo, f_lo, hi, f_hi, start, mover, bridge):
     """The zero of the running energy (:func:`_running_energy`, evaluated as
     :func:`_cap_vis` gives its terms) in the bracket ``[lo, hi]`` with ``E(lo) = f_lo > 0``
     and ``E(hi) = f_hi <= 0``: the Illinois variant of regula falsi, to a relative width of
     1e-12. Every iterate stays inside the bracket and the loop is capped at 100 steps: it
-    cannot run away. Returns the bracket's end where ``E <= 0``. ``energy`` holds the
-    running energy's parameters, ``(d_start, s_start, start_kind, start_val, k, share, v, m,
-    force, c, kcap, a2)`` (:func:`_first_zero`'s, and ``s_start = sqrt(d_start^2 + a^2)``).
-    Shared by :func:`_first_zero` and its reference :func:`_first_zero_scan`."""
-    d_start, s_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2 = energy
+    cannot run away. Returns the bracket's end where ``E <= 0``. ``start, mover, bridge``:
+    the running energy's parameters (:func:`_first_zero`'s). Shared by :func:`_first_zero`
+    and its reference :func:`_first_zero_scan`."""
+    d_start = start.d
+    k, _, share, _, force = mover
     side = 0
     for _ in range(100):
         if abs(hi - lo) <= 1e-12 * max(abs(hi), abs(lo)) or f_hi == 0.0:
@@ -222,8 +228,7 @@ def _narrow(lo, f_lo, hi, f_hi, energy):
         x = hi - f_hi * (hi - lo) / (f_hi - f_lo)
         if not (min(lo, hi) < x < max(lo, hi)):
             x = 0.5 * (lo + hi)
-        cap, vis = _cap_vis(x, d_start, s_start, start_kind, start_val, share, v, m, c, kcap,
-                            a2)
+        cap, vis = _cap_vis(x, start, mover, bridge)
         f_x = k - cap - vis + force * share * abs(x - d_start)
         if f_x <= 0.0:
             hi, f_hi = x, f_x
@@ -239,9 +244,10 @@ def _narrow(lo, f_lo, hi, f_hi, energy):
 
 
 @njit(cache=CACHE)
-def _stop_residual(D, d_start, s_start, start_kind, start_val, p, two_p_vs, force, c, kcap,
-                   a2):
+def _stop_residual(D, start, p, two_p_vs, force, bridge):
     """:func:`_stop_gap` 's residual ``G`` at the gap ``D`` [kg m/s] and ``dG / d ln D``."""
+    d_start, s_start, start_kind, start_val = start
+    c, kcap, a2 = bridge
     s, kind, val = gap_parts(D, a2)
     g = g_diff_s(d_start, s_start, D, s, a2)
     c_delta = c * abs((val - start_val) + (start_kind - kind) * _LN4)
@@ -255,11 +261,11 @@ def _stop_residual(D, d_start, s_start, start_kind, start_val, p, two_p_vs, forc
 
 
 @njit(cache=CACHE)
-def _stop_gap(d_start, s_start, start_kind, start_val, d_end, s_end, u_end, l_cap, p, v_sum,
-              force, c, kcap, a2):
+def _stop_gap(start, end, u_end, l_cap, p, v_sum, force, bridge):
     """The gap where a particle stops first in a separation stage of a wetting liquid
-    (``d_end > d_start``, ``kcap >= 0``): :func:`_first_zero` of its running energy, solved
-    through a better-conditioned residual.
+    (from the gap ``start`` to ``end``, :class:`~.records.Gap` records with
+    ``end.d > start.d``; ``bridge.kcap >= 0``): :func:`_first_zero` of its running energy,
+    solved through a better-conditioned residual.
 
     Why one zero. Over the stage ``c Delta < p`` (the stage checked it at its end), so the
     viscous loss ``c Delta (v - c Delta / (2 m))`` is an increasing concave function of
@@ -292,6 +298,9 @@ def _stop_gap(d_start, s_start, start_kind, start_val, d_end, s_end, u_end, l_ca
     (:func:`_first_zero_scan`) within 2e-12 plus the zero's own conditioning, 8 units of
     rounding of ``k`` over ``|dE / d ln D|`` (tested).
     """
+    d_start = start.d
+    d_end, s_end = end.d, end.s
+    c, kcap, a2 = bridge
     two_p_vs = 2.0 * p / v_sum
     qq = two_p_vs * (l_cap - force * (d_end - d_start))
     x = d_end
@@ -323,8 +332,7 @@ def _stop_gap(d_start, s_start, start_kind, start_val, d_end, s_end, u_end, l_ca
             if not lo < xn < hi:  # the bracket is down to adjacent doubles
                 return hi
         dy_old = abs(dy)
-        f, df = _stop_residual(xn, d_start, s_start, start_kind, start_val, p, two_p_vs,
-                               force, c, kcap, a2)
+        f, df = _stop_residual(xn, start, p, two_p_vs, force, bridge)
         x = xn
         if f <= 0.0:
             hi = x
@@ -336,58 +344,57 @@ def _stop_gap(d_start, s_start, start_kind, start_val, d_end, s_end, u_end, l_ca
 
 
 @njit(cache=CACHE)
-def _first_zero_scan(d_start, d_end, start_kind, start_val, k, share, v, m, force, c, kcap, a2):
+def _first_zero_scan(start, d_end, mover, bridge):
     """Reference of :func:`_first_zero`: the same result by evaluating every scan point.
 
     ``E(d_start) = k > 0`` and ``E(d_end) <= 0`` on entry. A geometric scan of
     :data:`SCAN_POINTS` points isolates the first sign change; the same regula falsi
     (:func:`_narrow`) then narrows that bracket.
     """
+    d_start = start.d
     ratio = (d_end / d_start) ** (1.0 / SCAN_POINTS)
-    lo, f_lo = d_start, k  # energy > 0 here
+    lo, f_lo = d_start, mover.k  # energy > 0 here
     hi = d_end  # energy <= 0 here
-    f_hi = _running_energy(
-        d_end, d_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2
-    )
+    f_hi = _running_energy(d_end, start, mover, bridge)
     d = d_start
     for _ in range(SCAN_POINTS - 1):
         d = d * ratio
-        f_d = _running_energy(
-            d, d_start, start_kind, start_val, k, share, v, m, force, c, kcap, a2
-        )
+        f_d = _running_energy(d, start, mover, bridge)
         if f_d <= 0.0:
             hi, f_hi = d, f_d
             break
         lo, f_lo = d, f_d
-    s_start = math.sqrt(d_start * d_start + a2)
-    return _narrow(lo, f_lo, hi, f_hi, (d_start, s_start, start_kind, start_val, k, share, v,
-                                        m, force, c, kcap, a2))
+    return _narrow(lo, f_lo, hi, f_hi, start, mover, bridge)
 
 
 @njit(cache=CACHE, inline="always")
-def _stage(d_start, s_start, start_kind, start_val, d_end, s_end, end_kind, end_val, k_i, k_j,
-           v_i, v_j, share_i, share_j, m_i, m_j, f_i, f_j, p, c, kcap, a2):
+def _stage(start, end, mover_i, mover_j, p, bridge):
     """One liquid stage (approach ``H0 -> Ha`` or separation ``Ha -> h_rupt``).
 
-    ``s_*, *_kind, *_val``: :func:`~.bridge.gap_parts` of the two gaps (computed once by
-    the caller: the approach's end is the separation's start); ``k_*``: energies at the
-    start [J]; ``v_*``: CM-frame speeds [m/s]; ``share_*``: each particle's share of the
-    gap change (Eqs. 13-16: ``v_i / (v_i + v_j)``, which is the mass fraction ``frac_j``);
-    ``f_*``: body forces along each particle's motion relative to its partner [N]; ``p``:
-    the common CM momentum [kg m/s]. Returns
-    ``(code, k_end_i, k_end_j, d_stop, flags, l_cap, l_vis, l_bdw_i, l_bdw_j)`` with
-    ``code`` 0 (both go on), 1 (viscous stop), 2 (energy spent), 3 (the lone mover runs
-    out), 4 (viscosity stops the lone mover); ``flags`` 1 if i stopped first, 2 if j did;
-    ``d_stop`` NaN when nobody stopped. Losses are those of the ordinary path (both moving
-    over the whole stage).
+    ``start, end``: the two gaps with their :func:`~.bridge.gap_parts`
+    (:class:`~.records.Gap`, computed once by the caller: the approach's end is the
+    separation's start); ``mover_i, mover_j`` (:class:`~.records.Mover`): energies at the
+    start [J], CM-frame speeds [m/s], each particle's share of the gap change (Eqs. 13-16:
+    ``v_i / (v_i + v_j)``, which is the mass fraction ``frac_j``), masses [kg] and body
+    forces along each particle's motion relative to its partner [N]; ``p``: the common CM
+    momentum [kg m/s]; ``bridge`` the force constants (:class:`~.records.Bridge`). Returns
+    a :class:`~.records.StageResult`: ``code`` 0 (both go on), 1 (viscous stop), 2 (energy
+    spent), 3 (the lone mover runs out), 4 (viscosity stops the lone mover); ``flags`` 1 if
+    i stopped first, 2 if j did; ``d_stop`` NaN when nobody stopped. Losses are those of the
+    ordinary path (both moving over the whole stage).
     """
+    d_start, s_start, start_kind, start_val = start
+    d_end, s_end, end_kind, end_val = end
+    k_i, v_i, share_i, m_i, f_i = mover_i
+    k_j, v_j, share_j, m_j, f_j = mover_j
+    c, kcap, a2 = bridge
     nan = math.nan
     # ln f differences are formed from the gaps' parts as ln_f_diff_from forms them (bitwise).
     c_delta = c * abs((end_val - start_val) + (start_kind - end_kind) * _LN4)
     dist = abs(d_end - d_start)
     l_cap = kcap * g_diff_s(d_start, s_start, d_end, s_end, a2)
     if not c_delta < p:  # viscosity alone stops both (Eqs. 73, 80 / 75, 82); also Delta = inf
-        return 1, 0.0, 0.0, nan, 0, l_cap, nan, nan, nan
+        return StageResult(1, 0.0, 0.0, nan, 0, l_cap, nan, nan, nan)
     # Each particle carries the CM momentum p = m v, so its viscous loss (_viscous_loss)
     # is c Delta v (1 - c Delta / (2 p)): one division for both, and the keep factor lies in
     # (1/2, 1] (no cancellation). A plate (v = 0) loses nothing, as there.
@@ -411,32 +418,30 @@ def _stage(d_start, s_start, start_kind, start_val, d_end, s_end, end_kind, end_
     if math.isinf(m_j):
         s_j = 0.5 * p - l_cap / v_sum - c_delta * keep + f_j * dist / v_sum
     if s_i > 0.0 and s_j > 0.0:
-        return 0, e_i, e_j, nan, 0, l_cap, l_vis, l_bdw_i, l_bdw_j
+        return StageResult(0, e_i, e_j, nan, 0, l_cap, l_vis, l_bdw_i, l_bdw_j)
     if s_i <= 0.0 and s_j <= 0.0:
-        return 2, 0.0, 0.0, nan, 0, l_cap, l_vis, l_bdw_i, l_bdw_j
+        return StageResult(2, 0.0, 0.0, nan, 0, l_cap, l_vis, l_bdw_i, l_bdw_j)
     # One particle stops first (x); the other (y) goes on alone (Section 2.3.5, Eqs. 136-145).
     if s_i <= 0.0:
         flag = 1
-        k_x, share_x, v_x, m_x, f_x = k_i, share_i, v_i, m_i, f_i
-        k_y, share_y, v_y, m_y, f_y = k_j, share_j, v_j, m_j, f_j
+        x = mover_i
+        k_y, v_y, share_y, m_y, f_y = mover_j
     else:
         flag = 2
-        k_x, share_x, v_x, m_x, f_x = k_j, share_j, v_j, m_j, f_j
-        k_y, share_y, v_y, m_y, f_y = k_i, share_i, v_i, m_i, f_i
-    if k_x <= 0.0 and not math.isinf(m_x):
+        x = mover_j
+        k_y, v_y, share_y, m_y, f_y = mover_i
+    if x.k <= 0.0 and not math.isinf(x.m):
         d_stop = d_start  # zero energy from the start: it never moves
     else:
-        if math.isinf(m_x):
+        if math.isinf(x.m):
             # The plate stops first: where its running energy per unit speed reaches zero.
-            k_z, share_z, v_z, m_z = 0.5 * p, 1.0 / v_sum, 1.0, p
+            z = Mover(0.5 * p, 1.0, 1.0 / v_sum, p, x.f)
         else:
-            k_z, share_z, v_z, m_z = k_x, share_x, v_x, m_x
+            z = x
         if d_end > d_start and kcap >= 0.0:  # a separation, wetting: one zero
-            d_stop = _stop_gap(d_start, s_start, start_kind, start_val, d_end, s_end,
-                               p - c_delta, l_cap, p, v_sum, f_x, c, kcap, a2)
+            d_stop = _stop_gap(start, end, p - c_delta, l_cap, p, v_sum, x.f, bridge)
         else:
-            d_stop = _first_zero(d_start, d_end, start_kind, start_val, k_z, share_z, v_z,
-                                 m_z, f_x, c, kcap, a2)
+            d_stop = _first_zero(start, d_end, z, bridge)
     dist_1 = abs(d_stop - d_start)
     dist_2 = abs(d_end - d_stop)
     # Eqs. 39-42, 140-142 (Eq. 142 read as Eq. 140: particle j's own share and force).
@@ -450,23 +455,25 @@ def _stage(d_start, s_start, start_kind, start_val, d_end, s_end, end_kind, end_
         + f_y * (share_y * dist_1 + dist_2)
     )
     if k_mid <= 0.0:
-        return 3, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
+        return StageResult(3, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
     v_mid = math.sqrt(2.0 * k_mid / m_y)  # Eqs. 40-41
     c_delta_2 = c * abs((end_val - stop_val) + (stop_kind - end_kind) * _LN4)
     if not c_delta_2 < m_y * v_mid:  # Eq. 144
-        return 4, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
+        return StageResult(4, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
     k_end_y = k_mid - _viscous_loss(v_mid, m_y, c_delta_2)  # Eqs. 37b, 145
     if flag == 1:
-        return 0, 0.0, k_end_y, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
-    return 0, k_end_y, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j
+        return StageResult(0, 0.0, k_end_y, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
+    return StageResult(0, k_end_y, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
 
 
 @njit(cache=CACHE)
-def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det):
-    """One collision by the paper's flow chart. Returns ``(e_w, stage, path)``.
+def paper_kernel(pair, w, det):
+    """One collision (``pair`` a :class:`~.records.Pair`, relative normal impact speed
+    ``w`` [m/s]) by the paper's flow chart. Returns ``(e_w, stage, path)``.
 
     ``det`` is a float64 array of length ``len(DETAIL_NAMES)`` to fill, or of length 0.
     """
+    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e = pair
     nan = math.nan
     want = det.shape[0] > 0
     if want:
@@ -504,11 +511,12 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
         det[codes.K_INI_I] = k_i
         det[codes.K_INI_J] = k_j
         det[codes.ST_APP] = p / c
-    s_h0, kind_h0, val_h0 = gap_parts(H0, a2)
-    s_ha, kind_ha, val_ha = gap_parts(Ha, a2)
+    bridge = Bridge(c, kcap, a2)
+    gap_h0 = Gap(H0, *gap_parts(H0, a2))
+    gap_ha = Gap(Ha, *gap_parts(Ha, a2))
     code, ka_i, ka_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
-        H0, s_h0, kind_h0, val_h0, Ha, s_ha, kind_ha, val_ha, k_i, k_j, frac_j * w,
-        frac_i * w, frac_j, frac_i, m_i, m_j, fn_i, -fn_j, p, c, kcap, a2
+        gap_h0, gap_ha, Mover(k_i, frac_j * w, frac_j, m_i, fn_i),
+        Mover(k_j, frac_i * w, frac_i, m_j, -fn_j), p, bridge
     )
     if flags == 1:
         path |= codes.P_APP_I
@@ -550,10 +558,10 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
         path |= codes.P_BROKEN
         kf_i, kf_j = ks_i, ks_j
     else:
-        s_hr, kind_hr, val_hr = gap_parts(h_rupt, a2)
         code, kf_i, kf_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
-            Ha, s_ha, kind_ha, val_ha, h_rupt, s_hr, kind_hr, val_hr, ks_i, ks_j,
-            frac_j * w_s, frac_i * w_s, frac_j, frac_i, m_i, m_j, -fn_i, fn_j, p_s, c, kcap, a2,
+            gap_ha, Gap(h_rupt, *gap_parts(h_rupt, a2)),
+            Mover(ks_i, frac_j * w_s, frac_j, m_i, -fn_i),
+            Mover(ks_j, frac_i * w_s, frac_i, m_j, fn_j), p_s, bridge,
         )
         if flags == 1:
             path |= codes.P_SEP_I
@@ -581,33 +589,26 @@ def paper_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, 
 
 
 @njit(parallel=True, cache=CACHE)
-def _run_paper_batch(
-    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path, det
-):
-    n = e_w.shape[0]
-    for k in prange(n):
-        ew, st, pa = paper_kernel(
-            m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k], gamma[k], cos_t[k], theta[k],
-            w[k], fn_i[k], fn_j[k], e[k], det[k],
-        )
+def _run_paper_batch(ins, e_w, stage, path, det):
+    for k in prange(e_w.shape[0]):
+        ew, st, pa = paper_kernel(pair_at(ins, k), ins.w[k], det[k])
         e_w[k] = ew
         stage[k] = st
         path[k] = pa
 
 
-def run_paper(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, details=False):
-    """Evaluate :func:`paper_kernel` over 1-D float64 arrays of equal length.
+def run_paper(ins: TierInputs, *, details=False):
+    """Evaluate :func:`paper_kernel` over the 1-D float64 arrays of equal length ``ins`` (a
+    :class:`~.records.TierInputs`, or the same arrays in its order).
 
     Returns ``(e_w, stage, path, det)``; ``det`` has shape ``(n, len(DETAIL_NAMES))`` when
     ``details`` is true, else ``(n, 0)``.
     """
-    n = w.shape[0]
+    ins = tier_inputs(ins)
+    n = ins.w.shape[0]
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     det = np.empty((n, codes.N_DETAILS if details else 0))
-    parallel_launch(
-        _run_paper_batch,
-        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path, det
-    )
+    parallel_launch(_run_paper_batch, ins, e_w, stage, path, det)
     return e_w, stage, path, det

@@ -53,6 +53,7 @@ from .bridge import (
     rupture_distance,
 )
 from .paper import _viscous_loss
+from .records import TierInputs, WorkScale, pair_at, tier_inputs
 
 __all__ = [
     "relative_kernel",
@@ -95,9 +96,10 @@ def relative_body_force(m_i, m_j, fn_i, fn_j):
 
 
 @njit(cache=CACHE)
-def term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2):
+def term_work_fractions(scale, h_rupt):
     """Bounds of the work of two optional terms, as fractions of the initial relative kinetic
-    energy ``k0`` [J]: ``(body, volume correction)``.
+    energy ``scale.k0`` [J]: ``(body, volume correction)``; ``scale`` a
+    :class:`~.records.WorkScale`, ``h_rupt`` the rupture gap [m].
 
     - body forces: ``|F_b| (H0 - Ha + h_rupt - Ha)``, the most they can do over the bridge;
     - the bridge-volume correction ``X_v``: the change it makes to the capillary work and to
@@ -106,6 +108,7 @@ def term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2):
 
     ``h_rupt`` NaN (the pair stuck before contact) counts the approach only.
     """
+    k0, w, c, kcap, f_b, H0, Ha, a2 = scale
     sep = h_rupt > Ha
     d_body = (H0 - Ha) + ((h_rupt - Ha) if sep else 0.0)
     body = abs(f_b) * d_body / k0
@@ -136,27 +139,27 @@ def _stage_energy(k, v, m_r, c_delta, l_cap, l_bdw):
 
 
 @njit(cache=CACHE, inline="always")
-def _work_details(det, pair, h_rupt):
-    """The detail columns of the body and volume-correction work fractions; ``pair`` is
-    ``(k0, w, c, kcap, f_b, H0, Ha, a2)`` (:func:`relative_kernel`'s names)."""
-    k0, w, c, kcap, f_b, H0, Ha, a2 = pair
-    body, vol = term_work_fractions(k0, w, c, kcap, f_b, H0, Ha, h_rupt, a2)
+def _work_details(det, scale, h_rupt):
+    """The detail columns of the body and volume-correction work fractions; ``scale`` a
+    :class:`~.records.WorkScale`."""
+    body, vol = term_work_fractions(scale, h_rupt)
     det[codes.W_BODY] = body
     det[codes.W_VOLCORR] = vol
 
 
 @njit(cache=CACHE, inline="always")
-def _stuck(stage, path, det, want, pair, h_rupt):
+def _stuck(stage, path, det, want, scale, h_rupt):
     """:func:`relative_kernel`'s answer where the pair sticks at ``stage``, the work
-    fractions written first (with details; ``pair`` as in :func:`_work_details`)."""
+    fractions written first (with details; ``scale`` as in :func:`_work_details`)."""
     if want:
-        _work_details(det, pair, h_rupt)
+        _work_details(det, scale, h_rupt)
     return 0.0, stage, path, 0.0
 
 
 @njit(cache=CACHE)
-def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, det):
-    """One collision by the paper's closed forms on the relative motion.
+def relative_kernel(pair, w, det):
+    """One collision (``pair`` a :class:`~.records.Pair`, relative normal impact speed
+    ``w`` [m/s]) by the paper's closed forms on the relative motion.
 
     Returns ``(e_w, stage, path, k_fin)``: ``k_fin`` is the kinetic energy of the relative
     motion left at rupture over the initial one [-] (0 when the pair sticks; used by mode
@@ -164,6 +167,7 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
     columns hold the CM-frame split of the relative energies (``frac_j`` to i, ``frac_i``
     to j, which is exact for kinetic energies).
     """
+    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e = pair
     nan = math.nan
     want = det.shape[0] > 0
     if want:
@@ -182,7 +186,7 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
     kcap = 2.0 * math.pi * gamma * r * cos_t
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
     k0 = 0.5 * m_r * w * w
-    pair = (k0, w, c, kcap, f_b, H0, Ha, a2)
+    scale = WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2)
     if want:
         det[codes.K_INI_I] = frac_j * k0
         det[codes.K_INI_J] = frac_i * k0
@@ -202,7 +206,7 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
         det[codes.L_BDW_APP_J] = frac_i * l_bdw
         det[codes.L_VIS_APP] = l_vis
     if code:
-        return _stuck(codes.APP_VIS if code == 1 else codes.APP_EN, 0, det, want, pair,
+        return _stuck(codes.APP_VIS if code == 1 else codes.APP_EN, 0, det, want, scale,
                       math.nan)
 
     # ---- contact
@@ -214,7 +218,7 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
         det[codes.W_CONTACT] = w_c
         det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
     if not w_s > 0.0:
-        return _stuck(codes.CONTACT, 0, det, want, pair, math.nan)
+        return _stuck(codes.CONTACT, 0, det, want, scale, math.nan)
 
     # ---- separation, Ha -> h_rupt
     k_s = 0.5 * m_r * w_s * w_s
@@ -241,13 +245,13 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
             det[codes.L_BDW_SEP_J] = frac_i * l_bdw
             det[codes.L_VIS_SEP] = l_vis
         if code:
-            return _stuck(codes.SEP_VIS if code == 1 else codes.SEP_EN, path, det, want, pair,
+            return _stuck(codes.SEP_VIS if code == 1 else codes.SEP_EN, path, det, want, scale,
                           h_rupt)
     k_fin = k_end / k0
     if want:
         det[codes.K_FIN_I] = frac_j * k_end
         det[codes.K_FIN_J] = frac_i * k_end
-        _work_details(det, pair, h_rupt)
+        _work_details(det, scale, h_rupt)
     e_w = math.sqrt(k_fin)
     if not e_w > 0.0:  # the energy left underflowed: a stick, as in the paper kernel
         return 0.0, codes.SEP_EN, path, 0.0
@@ -255,46 +259,34 @@ def relative_kernel(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_
 
 
 @njit(parallel=True, cache=CACHE)
-def _run_relative_batch(
-    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path, k_fin,
-    det,
-):
+def _run_relative_batch(ins, e_w, stage, path, k_fin, det):
     for k in prange(e_w.shape[0]):
-        ew, st, pa, kf = relative_kernel(
-            m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k], gamma[k], cos_t[k], theta[k],
-            w[k], fn_i[k], fn_j[k], e[k], det[k],
-        )
+        ew, st, pa, kf = relative_kernel(pair_at(ins, k), ins.w[k], det[k])
         e_w[k] = ew
         stage[k] = st
         path[k] = pa
         k_fin[k] = kf
 
 
-def relative_batch(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-                   details=False):
+def relative_batch(ins: TierInputs, *, details=False):
     """:func:`run_relative` that also returns ``k_fin`` (final over initial relative kinetic
     energy [-]) as a fifth array."""
-    n = w.shape[0]
+    ins = tier_inputs(ins)
+    n = ins.w.shape[0]
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8)
     path = np.empty(n, dtype=np.int8)
     k_fin = np.empty(n)
     det = np.empty((n, codes.N_DETAILS if details else 0))
-    parallel_launch(
-        _run_relative_batch,
-        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, e_w, stage, path,
-        k_fin, det,
-    )
+    parallel_launch(_run_relative_batch, ins, e_w, stage, path, k_fin, det)
     return e_w, stage, path, det, k_fin
 
 
-def run_relative(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-                 details=False):
-    """Evaluate :func:`relative_kernel` over 1-D float64 arrays of equal length.
+def run_relative(ins: TierInputs, *, details=False):
+    """Evaluate :func:`relative_kernel` over the 1-D float64 arrays of equal length ``ins``
+    (a :class:`~.records.TierInputs`, or the same arrays in its order).
 
     Returns ``(e_w, stage, path, det)`` like :func:`agglomtool.collision.paper.run_paper`.
     """
-    e_w, stage, path, det, _ = relative_batch(
-        m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, details=details
-    )
+    e_w, stage, path, det, _ = relative_batch(ins, details=details)
     return e_w, stage, path, det
