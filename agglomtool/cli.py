@@ -119,7 +119,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     sizes = " x ".join(f"{k} {v}" for k, v in ds["propensity"].sizes.items())
     print(f"wrote {out} ({sizes}; {out.stat().st_size / 1e6:.3g} MB)")
     if robust:
-        und = float(ds["undecided"].mean())
+        und = float((ds["undecided"] == 1).mean())  # 2: no impact speed, not undecided
         print(f"robust map: {ds.attrs['robust_samples']} draws per point; the answer is not "
               f"decided at {100 * und:.0f} % of the points (0.1 < P(propensity > "
               f"{ds.attrs['robust_threshold']:g}) < 0.9)")

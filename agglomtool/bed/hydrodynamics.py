@@ -32,6 +32,7 @@ __all__ = [
     "granular_temperature_bubble_wake", "granular_temperature_bubbles",
     "radial_distribution_carnahan_starling",
     "granular_temperature_collisional_balance", "SLUGGING_RATIO", "MORI_WEN_RANGE",
+    "bubble_domain",
 ]
 
 #: A bubble wider than this fraction of the column diameter fills it: the bed slugs, and the
@@ -593,6 +594,28 @@ def _bubble_chain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - com
     if not delta < 1.0:
         return -1.0
     return _wake_one(delta, u_b, f_w)
+
+
+@vectorize(cache=CACHE)
+def bubble_domain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """Where the bubbling-bed chain of :func:`granular_temperature_bubbles` has an answer,
+    per element: 0 where it has; 2 where Kunii and Levenspiel's bubble fraction is 1 or
+    more (:func:`bubble_fraction_kunii_levenspiel` refuses); 3 where bubbles and their
+    wakes leave no emulsion (:func:`solids_downflow_kunii_levenspiel` refuses); 4 for any
+    other input the chain refuses. ``excess`` is ``U - Umf`` (> 0), ``d_b`` the bubble
+    size. The same compiled operations as the chain, so the same verdict."""
+    if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0
+            and 0.0 < excess < math.inf and 0.0 < f_w < math.inf):
+        return 4
+    u_b = excess + _rise_one(d_b, D_t)
+    if not 0.0 < u_b < math.inf:
+        return 4
+    delta = _fraction_one(excess, Umf, u_b, eps_mf)
+    if not delta < 1.0:
+        return 2
+    if not 1.0 - delta - f_w * delta > 0.0:
+        return 3
+    return 0
 
 
 def granular_temperature_bubbles(U, Umf, d_b, D_t, eps_mf, wake_fraction):
