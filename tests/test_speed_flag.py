@@ -153,3 +153,28 @@ def test_a_robust_map_partly_outside(tmp_path):
     meanings = dict(zip(np.atleast_1d(und.attrs["flag_values"]).tolist(),
                         und.attrs["flag_meanings"].split(), strict=True))
     assert {meanings[int(v)] for v in und.values[bad]} == {"no_impact_speed"}
+
+
+def test_a_bed_map_partly_outside():
+    """bed_sweep: the operating points where the bed's speed model has no answer are
+    flagged and NaN, the others are the single bed's answers; one bed point raises."""
+    from agglomtool.bed import Component, bed_propensity, bed_sweep
+
+    comps = [Component("silica-sand", 1.0, d=[0.9e-3, 1.1e-3])]
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        ds = bed_sweep(SAND, comps, directions=2, U_Umf=U_UMF[[0, 6, 13]])
+    flag = ds.speed_flag.values
+    assert list(flag != 0) == [False, False, True]
+    assert REASON[int(flag[2])] in _point_error(SAND.replace(U_Umf=float(U_UMF[13])))
+    assert np.isnan(ds.propensity.values[2]) and np.isfinite(ds.propensity.values[:2]).all()
+    assert np.isnan(ds.propensity_by_class.values[2]).all()
+    said = [w for w in rec if issubclass(w.category, NoImpactSpeedWarning)]
+    assert len(said) == 1 and "1 of 3 points" in str(said[0].message)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", at.PlausibilityWarning)
+        one = bed_propensity(SAND.replace(U_Umf=float(U_UMF[6])), comps, directions=2)
+        assert float(one.propensity) == pytest.approx(float(ds.propensity.values[1]),
+                                                      rel=1e-12)
+        with pytest.raises(ValueError, match=REASON[int(flag[2])]):
+            bed_propensity(SAND.replace(U_Umf=float(U_UMF[13])), comps, directions=2)
