@@ -291,9 +291,9 @@ def _cmd_collide(args: argparse.Namespace) -> int:
 def _assumed_lines(scene) -> list[str]:
     """The database values the report used that are assumptions, with their plausible
     laws (``agglomtool compare`` and ``uncertain="assumed"`` draw from them)."""
-    from .uncertainty.assumed import assumed_draws
+    from .uncertainty.assumed import assumed_draws, chosen_fields
 
-    inputs, not_drawn = assumed_draws(scene.values())
+    inputs, not_drawn = assumed_draws(scene.values(), chosen=chosen_fields(scene))
     if not inputs and not not_drawn:
         return []
     scale = {"asperity_height": (1e6, "um"), "restitution_dry": (1.0, ""),

@@ -106,7 +106,8 @@ class Scene:
         ``"bubble-mori-wen"``, ``"collisional-balance"``: see
         :mod:`agglomtool.bed.speed_models` and :func:`impact_speed_methods`). ``None`` picks
         ``"fixed"`` when ``u0`` is given, ``"maxwellian"`` when ``granular_temperature``
-        is, and otherwise the default estimate ``"excess-gas"``.
+        is, and otherwise the default estimate ``"excess-gas"``. A model named here is
+        given: ``uncertain="assumed"`` draws the model only where ``speed`` is ``None``.
     sigma_ln : float
         Shape (standard deviation of ``ln u0``) of the lognormal [-].
     granular_temperature : float, optional
@@ -198,6 +199,9 @@ class Scene:
                     raise ValueError(f"{exc}; to evaluate several values, sweep them: "
                                      f"at.sweep(scene, {name}=[...])") from None
                 raise
+        # whether the user named the speed law or model: a model named is given, one
+        # derived from the default is an assumption (uncertain="assumed" may draw it)
+        object.__setattr__(self, "_speed_given", self.speed is not None)
         if self.speed is None:
             if self.u0 is not None:
                 chosen = "fixed"
@@ -218,7 +222,10 @@ class Scene:
         unknown = sorted(set(changes) - {f.name for f in dataclasses.fields(self)})
         if unknown:
             raise ValueError(f"{unknown[0]!r} is not a Scene field; fields: {field_names()}")
-        return dataclasses.replace(self, **changes)
+        new = dataclasses.replace(self, **changes)
+        if "speed" not in changes:  # the speed as this scene has it: named or derived
+            object.__setattr__(new, "_speed_given", getattr(self, "_speed_given", True))
+        return new
 
     def evaluate(self, *, nodes: int = 16) -> dict:
         """Derived numbers of this scene (see :func:`evaluate`), as 0-d arrays."""

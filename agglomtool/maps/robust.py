@@ -57,6 +57,7 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     (in order), with the propensity's spread under ``uncertain`` at every point (see
     :func:`agglomtool.sweep`, which calls this, for the parameters)."""
     from ..uncertainty._sampling import resolve_seed
+    from ..uncertainty.assumed import chosen_fields
     from ..uncertainty.scene_mc import SceneDraws, split_uncertain
 
     check_robust_options(samples, threshold)
@@ -71,6 +72,9 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     gv = {k: nominal[k].values for k in grid}
     entropy, chosen = resolve_seed(seed)
     base = scene.values()
+    # a speed model named by the scene or swept by the map is given, not drawn
+    named = tuple(dict.fromkeys(chosen_fields(scene) + (("speed",) if "speed" in gv
+                                                        else ())))
     cats = [k for k in gv if k in CATEGORICAL_FIELDS]
     nums = [k for k in gv if k not in CATEGORICAL_FIELDS]
     num_shape = tuple(len(gv[k]) for k in nums)
@@ -88,7 +92,8 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
         values = {**base, **{k: str(gv[k][i]) for k, i in zip(cats, idx, strict=True)}}
         where = ("the scene at " + ", ".join(f"{k} = {values[k]}" for k in cats)
                  if cats else "this scene")
-        sd = SceneDraws(values, uncertain, int(samples), entropy, int(samples), where=where)
+        sd = SceneDraws(values, uncertain, int(samples), entropy, int(samples), where=where,
+                        chosen=named)
         assumed = sd.assumed
         not_drawn_all += [t for t in sd.not_drawn if t not in not_drawn_all]
         draws, laws = sd.draws, sd.draws.dists
