@@ -187,7 +187,9 @@ def _grid_values(scene: Scene, grid: dict, *, plausibility: bool = True) -> dict
     except ValueError as exc:
         raise GridError(str(exc), _blamed(str(exc), out)) from None
     if plausibility:
-        before = set(scene_findings(base))  # the Scene warned of these already
+        # the Scene warned of these already, but for those about its defaults, which it
+        # leaves to where they are used: said here where the map uses them
+        before = set(scene_findings(base)) - set(getattr(scene, "_deferred_findings", ()))
         warn_findings([f for f in grid_findings(base, out) if f not in before], stacklevel=4)
     speed = base["speed"]
     needs = {"u0": ("fixed", "lognormal"), "sigma_ln": ("lognormal",),

@@ -168,7 +168,9 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
     sd = SceneDraws(base, uncertain, n, entropy, chunk, chosen=chosen_fields(scene))
     fields, assumed, not_drawn, draws = sd.fields, sd.assumed, sd.not_drawn, sd.draws
     resampled, dists = draws.resampled, draws.dists
-    before = set(scene_findings(base))
+    # the Scene's own findings were said when it was made, but for those about its
+    # defaults: said below where the draws use them (not where a draw replaces them)
+    before = set(scene_findings(base)) - set(getattr(scene, "_deferred_findings", ()))
 
     # Memory as on the core path: the outputs of every sample, the samples only when kept.
     e_w, propensity, u_star = np.empty(n), np.empty(n), np.empty(n)
