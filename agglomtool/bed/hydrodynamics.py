@@ -287,18 +287,29 @@ def bubble_diameter_mori_wen(U, Umf, h, D_t, A0=0.0, *, d_p=None):
             out = float(mn) if out_lo else float(mx)
             _warn(f"bubble_diameter_mori_wen: {name} = {out:g} {unit} is outside the data "
                   f"of Mori and Wen (1975), {lo:g}-{hi:g} {unit}", stacklevel=3)
-    return _mori_wen(excess, A_t, A0, h, D_t)
+    # the growth factor exp(-0.3 h / D_t) over the broadcast of h and D_t alone (on a map
+    # a few values, not one per element: its exp was a third of the law's time), by the
+    # same compiled exp, so the same numbers
+    return _mori_wen(excess, A_t, A0, _mori_wen_growth(h, D_t))
 
 
 @vectorize(cache=CACHE)
-def _mori_wen(excess, A_t, A0, h, D_t):  # pragma: no cover - compiled
-    """Mori and Wen's ``d_b`` of one element (compiled: one pass, no temporaries)."""
+def _mori_wen_growth(h, D_t):  # pragma: no cover - compiled
+    """``exp(-0.3 h / D_t)``: how far bubbles at height ``h`` are from Mori and Wen's
+    initial size towards their maximum (compiled)."""
+    return math.exp(-0.3 * h / D_t)
+
+
+@vectorize(cache=CACHE)
+def _mori_wen(excess, A_t, A0, growth):  # pragma: no cover - compiled
+    """Mori and Wen's ``d_b`` of one element, ``growth`` its :func:`_mori_wen_growth`
+    (compiled: one pass, no temporaries)."""
     d_bm = _MW_MAX * (A_t * excess) ** 0.4
     if A0 > 0.0:
         d_b0 = _MW_PERFORATED * (A0 * excess) ** 0.4
     else:
         d_b0 = _MW_POROUS * (excess * excess)
-    return d_bm - (d_bm - d_b0) * math.exp(-0.3 * h / D_t)
+    return d_bm - (d_bm - d_b0) * growth
 
 
 def bubble_rise_velocity_davidson_harrison(d_b, D_t=None):
