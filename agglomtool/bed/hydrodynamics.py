@@ -290,7 +290,36 @@ def bubble_diameter_mori_wen(U, Umf, h, D_t, A0=0.0, *, d_p=None):
     # the growth factor exp(-0.3 h / D_t) over the broadcast of h and D_t alone (on a map
     # a few values, not one per element: its exp was a third of the law's time), by the
     # same compiled exp, so the same numbers
-    return _mori_wen(excess, A_t, A0, _mori_wen_growth(h, D_t))
+    growth = _mori_wen_growth(h, D_t)
+    if np.ndim(excess) == 0:
+        return _mori_wen(excess, A_t, A0, growth)
+    return _mori_wen_arrays(excess, A_t, A0, growth)
+
+
+def _mori_wen_arrays(excess, A_t, A0, growth):
+    """:func:`_mori_wen` on a map's arrays, in numpy: the same operations in the same
+    order, the powers by numpy's vectorized ``pow`` (SIMD where the processor has it; it
+    may differ from the C library's by 1 ulp, 2.2e-16 relative) rather than one C library
+    call per element (two thirds of the correlation's time); in place where it can."""
+    d_bm = np.multiply(A_t, excess)
+    np.power(d_bm, 0.4, out=d_bm)
+    d_bm *= _MW_MAX
+    if np.ndim(A0) == 0:  # one distributor (a map's usual case): one form
+        if A0 > 0.0:
+            d_b0 = np.multiply(A0, excess)
+            np.power(d_b0, 0.4, out=d_b0)
+            d_b0 *= _MW_PERFORATED
+        else:
+            d_b0 = np.multiply(excess, excess)
+            d_b0 *= _MW_POROUS
+    else:
+        d_b0 = np.where(A0 > 0.0, _MW_PERFORATED * np.power(A0 * excess, 0.4),
+                        _MW_POROUS * (excess * excess))
+    shape = np.broadcast_shapes(d_bm.shape, d_b0.shape, np.shape(growth))
+    out = np.subtract(d_bm, d_b0)
+    here = out if out.shape == shape else None
+    out = np.multiply(out, growth, out=here)
+    return np.subtract(d_bm, out, out=out)
 
 
 @vectorize(cache=CACHE)
