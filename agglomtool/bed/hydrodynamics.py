@@ -316,7 +316,7 @@ def _mori_wen_arrays(excess, A_t, A0, growth):
         d_b0 = np.where(A0 > 0.0, _MW_PERFORATED * np.power(A0 * excess, 0.4),
                         _MW_POROUS * (excess * excess))
     shape = np.broadcast_shapes(d_bm.shape, d_b0.shape, np.shape(growth))
-    out = np.subtract(d_bm, d_b0)
+    out = np.subtract(d_bm, d_b0, out=d_b0 if d_b0.shape == shape else None)  # d_b0's own
     here = out if out.shape == shape else None
     out = np.multiply(out, growth, out=here)
     return np.subtract(d_bm, out, out=out)
