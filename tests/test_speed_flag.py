@@ -178,3 +178,20 @@ def test_a_bed_map_partly_outside():
                                                       rel=1e-12)
         with pytest.raises(ValueError, match=REASON[int(flag[2])]):
             bed_propensity(SAND.replace(U_Umf=float(U_UMF[13])), comps, directions=2)
+
+
+@pytest.mark.parametrize("speed", ["collisional-balance", "excess-gas"])
+def test_a_bed_map_below_u_mf(speed):
+    """Below U_mf no model has an answer: flagged and NaN in a bed map, whether the
+    model's temperature is the bed's mean particle's (the collisional balance) or each
+    pair's."""
+    from agglomtool.bed import Component, bed_sweep
+
+    scene = at.Scene(liquid="water", T=298.15, h0=5e-6, d_i=300e-6, speed=speed)
+    comps = [Component("silica-sand", 1.0, d=[250e-6, 350e-6])]
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        ds = bed_sweep(scene, comps, directions=2, U_Umf=[0.8, 2.0])
+    np.testing.assert_array_equal(ds.speed_flag.values, [1, 0])
+    assert np.isnan(ds.propensity.values[0]) and np.isfinite(ds.propensity.values[1])
+    assert [w for w in rec if issubclass(w.category, NoImpactSpeedWarning)]

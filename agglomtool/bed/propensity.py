@@ -381,6 +381,8 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
                 bad = np.broadcast_to(flag, shape)
                 p = np.where(bad != 0, np.nan, p)
                 speed_flag[g] = np.maximum(speed_flag[g], bad.max(axis=1))
+            elif partial and speed_flag[g].any():  # the bed-mean temperature has none
+                p = np.where((speed_flag[g] != 0)[:, None], np.nan, p)
             pm[:, first[m]] = p
             pm[:, mirror[m]] = p
             if um is not None:
