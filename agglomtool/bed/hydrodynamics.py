@@ -638,7 +638,7 @@ def _bubble_chain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - com
 
 @vectorize(cache=CACHE)
 def bubble_domain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
-    """Where the bubbling-bed chain of :func:`granular_temperature_bubbles` has an answer,
+    """Where the bubbling-bed chain of ``granular_temperature_bubbles`` has an answer,
     per element: 0 where it has; 2 where Kunii and Levenspiel's bubble fraction is 1 or
     more (:func:`bubble_fraction_kunii_levenspiel` refuses); 3 where bubbles and their
     wakes leave no emulsion (:func:`solids_downflow_kunii_levenspiel` refuses); 4 for any

@@ -214,9 +214,9 @@ def speed_law_partial(name: str, inputs: dict) -> tuple[SpeedModel, np.ndarray |
 
 def partial_law(names, inputs_of) -> tuple[SpeedModel, np.ndarray | None]:
     """:func:`speed_law_partial` of model ``names`` (a name, or an array of names per
-    element as :func:`mixed_law` takes them; ``inputs_of(name)`` the model's inputs):
+    element as ``mixed_law`` takes them; ``inputs_of(name)`` the model's inputs):
     ``(law, flag or None)``. Where every element answers, the law is :func:`speed_law`'s
-    or :func:`mixed_law`'s, bitwise."""
+    or ``mixed_law``'s, bitwise."""
     if isinstance(names, str):
         return speed_law_partial(names, inputs_of(names))
     names = np.asarray(names)

@@ -95,7 +95,7 @@ def cf_units(units: str | None) -> str | None:
 def variable_attrs(name: str) -> dict:
     """``units``, ``long_name``, ``description``, for coded outputs ``flag_values`` (int8,
     the outputs' type) and ``flag_meanings``, and for the outputs made of the impact speed
-    ``ancillary_variables`` (:data:`ANCILLARY`) of output variable ``name``."""
+    ``ancillary_variables`` (``ANCILLARY``) of output variable ``name``."""
     units, long_name, desc = VARIABLE_META[name]
     attrs: dict[str, str | np.ndarray] = {"units": units, "long_name": long_name,
                                           "description": desc}

@@ -48,7 +48,7 @@ def _preset_speeds(r: Resolved) -> np.ndarray | None:
 
 
 def flagged_collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
-    """:func:`agglomtool.scene.collision_outputs` of a map's block with ``speed_flag``:
+    """``agglomtool.scene.collision_outputs`` of a map's block with ``speed_flag``:
     where the block's impact-speed model has no answer, the flag names why and the
     outputs made of the speed are NaN (see the module's description). A block where
     every point answers is computed as before, bitwise."""

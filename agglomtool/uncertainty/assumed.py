@@ -187,7 +187,7 @@ def assumed_draws(values: dict, given=(), chosen=()) -> tuple[dict[str, AssumedI
         replace are not drawn.
     chosen : iterable of str
         Scene fields the user chose where the Scene would derive them
-        (:func:`chosen_fields`): a ``speed`` model chosen is given, not drawn (its own
+        (``chosen_fields``): a ``speed`` model chosen is given, not drawn (its own
         coefficients still are, where left at their defaults), and ``not_drawn`` says so.
         Without it (a plain dict of values) the model is drawn where the values hold the
         default estimate.
