@@ -125,8 +125,9 @@ def warn_scene_findings(scene: Scene, source: str, swept: list, stacklevel: int 
     (``swept``: the findings of the scene over its grid), naming the file and the table;
     the others are the sweep's to say. ``stacklevel`` counts from the caller, as for
     ``warnings.warn``."""
+    deferred = getattr(scene, "_deferred_findings", ())  # about defaults: the sweep's
     for finding in scene_findings(scene.values()):
-        if finding in swept:
+        if finding in swept and finding not in deferred:
             warnings.warn(f"{source}: [scene]: {finding[1]}", PlausibilityWarning,
                           stacklevel=stacklevel + 1)
 

@@ -119,7 +119,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     sizes = " x ".join(f"{k} {v}" for k, v in ds["propensity"].sizes.items())
     print(f"wrote {out} ({sizes}; {out.stat().st_size / 1e6:.3g} MB)")
     if robust:
-        und = float(ds["undecided"].mean())
+        und = float((ds["undecided"] == 1).mean())  # 2: no impact speed, not undecided
         print(f"robust map: {ds.attrs['robust_samples']} draws per point; the answer is not "
               f"decided at {100 * und:.0f} % of the points (0.1 < P(propensity > "
               f"{ds.attrs['robust_threshold']:g}) < 0.9)")
@@ -291,9 +291,9 @@ def _cmd_collide(args: argparse.Namespace) -> int:
 def _assumed_lines(scene) -> list[str]:
     """The database values the report used that are assumptions, with their plausible
     laws (``agglomtool compare`` and ``uncertain="assumed"`` draw from them)."""
-    from .uncertainty.assumed import assumed_draws
+    from .uncertainty.assumed import assumed_draws, chosen_fields
 
-    inputs, not_drawn = assumed_draws(scene.values())
+    inputs, not_drawn = assumed_draws(scene.values(), chosen=chosen_fields(scene))
     if not inputs and not not_drawn:
         return []
     scale = {"asperity_height": (1e6, "um"), "restitution_dry": (1.0, ""),

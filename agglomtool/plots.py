@@ -41,6 +41,26 @@ _DISPLAY = {
 }
 #: Categorical output variables (besides those with ``flag_values``).
 _BOOLEAN_LABELS = {"agglomerated": {0: "rebounds", 1: "sticks"}}
+#: Hatch of the cells where the impact-speed model has no answer (``speed_flag`` != 0).
+_NO_SPEED_HATCH = "\\\\"
+
+
+def _speed_flag_of(ds, var: str) -> bool:
+    """Whether ``var`` is made of the impact speed, so that its points with a nonzero
+    ``speed_flag`` have no value (a map's outputs that name the flag as ancillary, and a
+    robust map's summaries of the propensity)."""
+    return "speed_flag" in ds and var != "speed_flag" and (
+        ds[var].attrs.get("ancillary_variables") == "speed_flag"
+        or var.startswith("propensity") or var in ("p_unsafe", "undecided"))
+
+
+def _no_speed_label(ds, codes) -> str:
+    """The legend's words for the points with no impact speed, with their reasons."""
+    names = dict(zip(np.atleast_1d(ds["speed_flag"].attrs.get("flag_values", [])).tolist(),
+                     str(ds["speed_flag"].attrs.get("flag_meanings", "")).split(),
+                     strict=False))
+    return "no impact speed (speed model: " + ", ".join(
+        names.get(int(c), str(int(c))).replace("_", " ") for c in codes) + ")"
 
 
 @dataclass
@@ -723,6 +743,16 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                 pu = pu.isel({d: 0})
         pu_all = np.asarray(pu.transpose(*order).values, dtype=float)
     robust_drawn = set()
+    # where the impact-speed model has no answer (speed_flag): marked, with the reason
+    sf_all = None
+    if _speed_flag_of(sub, var):
+        sf = sub["speed_flag"].broadcast_like(sub[var])
+        for d in sf.dims:
+            if d not in placed:
+                sf = sf.isel({d: 0})
+        sf_all = np.asarray(sf.transpose(*order).values)
+        if not sf_all.any():
+            sf_all = None
 
     # colours: categories present, or the shown data's own range (none if one value)
     norm: Any = None
@@ -773,6 +803,14 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                     ax.set_yticks([0.5] if one.size else [],
                                   labels=[f"{one[0]:.4g}"] if one.size else [])
                 ax.plot(xa.pos, zz, marker="o", ms=3, color="k", lw=1.0, clip_on=False)
+                if sf_all is not None:  # no impact speed: marked at the panel's bottom
+                    flagged = sf_all[idx][xa.order] != 0
+                    if flagged.any():
+                        ax.plot(xa.pos[flagged], np.zeros(flagged.sum()), ls="none",
+                                marker="x", ms=6, color="0.35", clip_on=False,
+                                transform=ax.get_xaxis_transform())
+                        edge_marks["x"] = _no_speed_label(
+                            sub, np.unique(sf_all[sf_all != 0]))
                 if note is None:
                     ax.margins(y=0.06)
                 if cats is not None:
@@ -807,6 +845,12 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                             hatches[hatch] = label
                     if contours:
                         contoured |= _contours(ax, xa, ya, u)
+                if sf_all is not None:
+                    flagged = sf_all[idx][np.ix_(ya.order, xa.order)] != 0
+                    if flagged.any():
+                        _hatch_cells(ax, xa, ya, flagged, _NO_SPEED_HATCH)
+                        hatches[_NO_SPEED_HATCH] = _no_speed_label(
+                            sub, np.unique(sf_all[sf_all != 0]))
                 if pu_all is not None:
                     robust_drawn |= _robust_band(ax, xa, ya,
                                                  pu_all[idx][np.ix_(ya.order, xa.order)])

@@ -106,7 +106,8 @@ class Scene:
         ``"bubble-mori-wen"``, ``"collisional-balance"``: see
         :mod:`agglomtool.bed.speed_models` and :func:`impact_speed_methods`). ``None`` picks
         ``"fixed"`` when ``u0`` is given, ``"maxwellian"`` when ``granular_temperature``
-        is, and otherwise the default estimate ``"excess-gas"``.
+        is, and otherwise the default estimate ``"excess-gas"``. A model named here is
+        given: ``uncertain="assumed"`` draws the model only where ``speed`` is ``None``.
     sigma_ln : float
         Shape (standard deviation of ``ln u0``) of the lognormal [-].
     granular_temperature : float, optional
@@ -198,6 +199,9 @@ class Scene:
                     raise ValueError(f"{exc}; to evaluate several values, sweep them: "
                                      f"at.sweep(scene, {name}=[...])") from None
                 raise
+        # whether the user named the speed law or model: a model named is given, one
+        # derived from the default is an assumption (uncertain="assumed" may draw it)
+        object.__setattr__(self, "_speed_given", self.speed is not None)
         if self.speed is None:
             if self.u0 is not None:
                 chosen = "fixed"
@@ -207,7 +211,13 @@ class Scene:
                 chosen = "excess-gas"
             object.__setattr__(self, "speed", chosen)
         validate(self.values())
-        warn_findings(scene_findings(self.values()), stacklevel=3)
+        # a finding about a value the user never typed (a field at its default) is said
+        # where the value is used (collide, evaluate, a map or Monte Carlo that does not
+        # sweep or draw it), not here: a map sweeping that field never uses it
+        found = scene_findings(self.values())
+        deferred = tuple(f for f in found if _about_default(f[0], self.values()))
+        object.__setattr__(self, "_deferred_findings", deferred)
+        warn_findings([f for f in found if f not in deferred], stacklevel=3)
 
     def values(self) -> dict:
         """The fields as a plain dict (the form :func:`evaluate` and sweeps take)."""
@@ -218,10 +228,14 @@ class Scene:
         unknown = sorted(set(changes) - {f.name for f in dataclasses.fields(self)})
         if unknown:
             raise ValueError(f"{unknown[0]!r} is not a Scene field; fields: {field_names()}")
-        return dataclasses.replace(self, **changes)
+        new = dataclasses.replace(self, **changes)
+        if "speed" not in changes:  # the speed as this scene has it: named or derived
+            object.__setattr__(new, "_speed_given", getattr(self, "_speed_given", True))
+        return new
 
     def evaluate(self, *, nodes: int = 16) -> dict:
         """Derived numbers of this scene (see :func:`evaluate`), as 0-d arrays."""
+        warn_findings(deferred_findings(self), stacklevel=3)
         return evaluate(self.values(), nodes=nodes)
 
     def provenance(self) -> dict:
@@ -246,6 +260,7 @@ class Scene:
 
     def collide(self, u0=None, *, details: bool = True):
         """:func:`agglomtool.collide` at this scene; ``u0=None`` = the typical speed."""
+        warn_findings(deferred_findings(self), stacklevel=3)
         r = Resolved(self.values())
         return r.collide(r.u_typical if u0 is None else u0, details=details)
 
@@ -254,6 +269,33 @@ class Scene:
 #: reach :class:`Resolved`: set by the Monte Carlo over a melt's assumed composition
 #: (:mod:`agglomtool.uncertainty.assumed`), not a Scene field.
 COMPOSITION_KEY = "_composition_wt"
+
+
+#: A derived field (None) takes its value from this field (see the Scene's docstring).
+_DERIVED_FROM = {"d_j": "d_i", "h0_j": "h0"}
+
+
+def _about_default(field_name: str, values: dict) -> bool:
+    """Whether a plausibility finding that blames ``field_name`` is about a value the
+    user left at the Scene's default (a derived field: the one it follows)."""
+    if values.get(field_name) is None and field_name in _DERIVED_FROM:
+        field_name = _DERIVED_FROM[field_name]
+    value = values.get(field_name)
+    default: Any = dict(DEFAULTS).get(field_name)
+    return (field_name in NUMERIC_FIELDS and value is not None
+            and isinstance(default, int | float) and not isinstance(default, bool)
+            and np.ndim(value) == 0 and float(value) == float(default))
+
+
+def deferred_findings(scene: Scene, used=None) -> list:
+    """The plausibility findings of ``scene`` about values left at their defaults, which it
+    did not say when it was made (:class:`Scene`): those that hold where the scene is used
+    with ``used`` (``{field: values}`` that a map sweeps or a Monte Carlo draws, replacing
+    the scene's; None: the scene's own values)."""
+    deferred = getattr(scene, "_deferred_findings", ())
+    if not deferred or not used:
+        return list(deferred)
+    return [f for f in scene_findings({**scene.values(), **used}) if f in deferred]
 
 
 def field_names() -> list[str]:

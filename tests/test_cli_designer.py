@@ -62,7 +62,7 @@ def test_interrupted_map_says_how_to_resume_and_the_rerun_finishes(tmp_path, cap
                                                                    monkeypatch):
     text = COMPARE + "[options]\nchunks = 1\n"
     cfg, out = _write(tmp_path, text), tmp_path / "m.nc"
-    real = grid_module.collision_outputs
+    real = grid_module.flagged_collision_outputs
     calls = {"n": 0}
 
     def flaky(*args, **kwargs):
@@ -71,12 +71,12 @@ def test_interrupted_map_says_how_to_resume_and_the_rerun_finishes(tmp_path, cap
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(grid_module, "collision_outputs", flaky)
+    monkeypatch.setattr(grid_module, "flagged_collision_outputs", flaky)
     assert main(["map", str(cfg), "-o", str(out), "-q"]) == 130
     err = capsys.readouterr().err
     assert "interrupted" in err and "run the same command again" in err
     assert "Traceback" not in err and not out.exists()
-    monkeypatch.setattr(grid_module, "collision_outputs", real)
+    monkeypatch.setattr(grid_module, "flagged_collision_outputs", real)
     assert main(["map", str(cfg), "-o", str(out), "-q"]) == 0  # resumes, never refuses
     fresh = tmp_path / "fresh.nc"
     assert main(["map", str(cfg), "-o", str(fresh), "-q", "--store",

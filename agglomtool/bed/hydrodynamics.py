@@ -32,6 +32,7 @@ __all__ = [
     "granular_temperature_bubble_wake", "granular_temperature_bubbles",
     "radial_distribution_carnahan_starling",
     "granular_temperature_collisional_balance", "SLUGGING_RATIO", "MORI_WEN_RANGE",
+    "bubble_domain",
 ]
 
 #: A bubble wider than this fraction of the column diameter fills it: the bed slugs, and the
@@ -286,18 +287,58 @@ def bubble_diameter_mori_wen(U, Umf, h, D_t, A0=0.0, *, d_p=None):
             out = float(mn) if out_lo else float(mx)
             _warn(f"bubble_diameter_mori_wen: {name} = {out:g} {unit} is outside the data "
                   f"of Mori and Wen (1975), {lo:g}-{hi:g} {unit}", stacklevel=3)
-    return _mori_wen(excess, A_t, A0, h, D_t)
+    # the growth factor exp(-0.3 h / D_t) over the broadcast of h and D_t alone (on a map
+    # a few values, not one per element: its exp was a third of the law's time), by the
+    # same compiled exp, so the same numbers
+    growth = _mori_wen_growth(h, D_t)
+    if np.ndim(excess) == 0:
+        return _mori_wen(excess, A_t, A0, growth)
+    return _mori_wen_arrays(excess, A_t, A0, growth)
+
+
+def _mori_wen_arrays(excess, A_t, A0, growth):
+    """:func:`_mori_wen` on a map's arrays, in numpy: the same operations in the same
+    order, the powers by numpy's vectorized ``pow`` (SIMD where the processor has it; it
+    may differ from the C library's by 1 ulp, 2.2e-16 relative) rather than one C library
+    call per element (two thirds of the correlation's time); in place where it can."""
+    d_bm = np.multiply(A_t, excess)
+    np.power(d_bm, 0.4, out=d_bm)
+    d_bm *= _MW_MAX
+    if np.ndim(A0) == 0:  # one distributor (a map's usual case): one form
+        if A0 > 0.0:
+            d_b0 = np.multiply(A0, excess)
+            np.power(d_b0, 0.4, out=d_b0)
+            d_b0 *= _MW_PERFORATED
+        else:
+            d_b0 = np.multiply(excess, excess)
+            d_b0 *= _MW_POROUS
+    else:
+        d_b0 = np.where(A0 > 0.0, _MW_PERFORATED * np.power(A0 * excess, 0.4),
+                        _MW_POROUS * (excess * excess))
+    shape = np.broadcast_shapes(d_bm.shape, d_b0.shape, np.shape(growth))
+    out = np.subtract(d_bm, d_b0, out=d_b0 if d_b0.shape == shape else None)  # d_b0's own
+    here = out if out.shape == shape else None
+    out = np.multiply(out, growth, out=here)
+    return np.subtract(d_bm, out, out=out)
 
 
 @vectorize(cache=CACHE)
-def _mori_wen(excess, A_t, A0, h, D_t):  # pragma: no cover - compiled
-    """Mori and Wen's ``d_b`` of one element (compiled: one pass, no temporaries)."""
+def _mori_wen_growth(h, D_t):  # pragma: no cover - compiled
+    """``exp(-0.3 h / D_t)``: how far bubbles at height ``h`` are from Mori and Wen's
+    initial size towards their maximum (compiled)."""
+    return math.exp(-0.3 * h / D_t)
+
+
+@vectorize(cache=CACHE)
+def _mori_wen(excess, A_t, A0, growth):  # pragma: no cover - compiled
+    """Mori and Wen's ``d_b`` of one element, ``growth`` its :func:`_mori_wen_growth`
+    (compiled: one pass, no temporaries)."""
     d_bm = _MW_MAX * (A_t * excess) ** 0.4
     if A0 > 0.0:
         d_b0 = _MW_PERFORATED * (A0 * excess) ** 0.4
     else:
         d_b0 = _MW_POROUS * (excess * excess)
-    return d_bm - (d_bm - d_b0) * math.exp(-0.3 * h / D_t)
+    return d_bm - (d_bm - d_b0) * growth
 
 
 def bubble_rise_velocity_davidson_harrison(d_b, D_t=None):
@@ -593,6 +634,28 @@ def _bubble_chain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - com
     if not delta < 1.0:
         return -1.0
     return _wake_one(delta, u_b, f_w)
+
+
+@vectorize(cache=CACHE)
+def bubble_domain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """Where the bubbling-bed chain of ``granular_temperature_bubbles`` has an answer,
+    per element: 0 where it has; 2 where Kunii and Levenspiel's bubble fraction is 1 or
+    more (:func:`bubble_fraction_kunii_levenspiel` refuses); 3 where bubbles and their
+    wakes leave no emulsion (:func:`solids_downflow_kunii_levenspiel` refuses); 4 for any
+    other input the chain refuses. ``excess`` is ``U - Umf`` (> 0), ``d_b`` the bubble
+    size. The same compiled operations as the chain, so the same verdict."""
+    if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0
+            and 0.0 < excess < math.inf and 0.0 < f_w < math.inf):
+        return 4
+    u_b = excess + _rise_one(d_b, D_t)
+    if not 0.0 < u_b < math.inf:
+        return 4
+    delta = _fraction_one(excess, Umf, u_b, eps_mf)
+    if not delta < 1.0:
+        return 2
+    if not 1.0 - delta - f_w * delta > 0.0:
+        return 3
+    return 0
 
 
 def granular_temperature_bubbles(U, Umf, d_b, D_t, eps_mf, wake_fraction):

@@ -55,6 +55,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import warnings
 
 import numpy as np
 import xarray as xr
@@ -79,7 +80,7 @@ from ..scene import (
 )
 from ..units import to_si_array
 from .mixture import Component
-from .speed_models import IMPACT_SPEED_MODELS
+from .speed_models import IMPACT_SPEED_MODELS, SPEED_FLAGS, NoImpactSpeedWarning
 from .speeds import sticking_probability
 
 __all__ = ["bed_propensity", "bed_sweep", "direction_nodes", "BED_GRID_FIELDS",
@@ -284,7 +285,7 @@ def _one_snapshot(what: str):
 
 
 def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions: int,
-              progress: bool = False, pairs: bool = True):
+              progress: bool = False, pairs: bool = True, partial: bool = False):
     """The bed at ``G`` operating points: the coalescence efficiency ``E`` (G, K, K), the
     rate weights ``W`` (G, K, K), ``U_mf``, ``U`` (G,) and the class table; with ``pairs``
     also ``u_star`` and the sticking probability ``prob`` per direction (G, K, K, D).
@@ -292,8 +293,14 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
 
     Every distinct collision of a block of points (:func:`_pair_table`) goes through one
     u0* pass and one :func:`~agglomtool.bed.speeds.sticking_probability` call; each element
-    is the arithmetic of a Scene evaluation of that pair (the same inputs, broadcast)."""
+    is the arithmetic of a Scene evaluation of that pair (the same inputs, broadcast).
+
+    ``partial`` (a map of the bed): where the impact-speed model has no answer at a point,
+    its sticking probabilities are NaN and ``speed_flag`` (G,) says why
+    (:mod:`agglomtool.maps.speed_flag`); else (one operating point) the model's
+    ``ValueError`` is raised."""
     from ..maps.progress import SweepBar
+    from ..maps.speed_flag import _preset_speeds
 
     base = scene.values()
     G = frac_cg.shape[0]
@@ -325,7 +332,9 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
     W = n[:, :, None] * n[:, None, :] * (D_wet[:, :, None] + D_wet[:, None, :]) ** 2
     W = W / W.sum(axis=(1, 2), keepdims=True)
     # one granular temperature for every pair where the model reads the particle
-    speed_fields = _bed_speed(fvals, r0, comps, cidx, n, d, rho_s, W, Umf)
+    speed_flag = np.zeros(G, dtype=np.int8)
+    speed_fields = _bed_speed(fvals, r0, comps, cidx, n, d, rho_s, W, Umf,
+                              speed_flag if partial else None)
     # The distinct collisions and each class's database values.
     ii, jj, kk, first, mirror = _pair_table(K, cidx, D,
                                                   bool(speed_fields) or _symmetric_law(base))
@@ -374,9 +383,16 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
                            gas_arrays=(at_points(mu_g, g), at_points(rho_g, g)),
                            gas_source=r0._gas_source)
             shape = (gn, m.stop - m.start)
+            flag = _preset_speeds(r) if partial else None  # None: every point answers
             us = np.broadcast_to(critical_outputs(r)["u_star"], shape)
             p = sticking_probability(r.speeds, us, r.collide, nodes=nodes, shape=shape,
                                      collide_on=r.collide_on, pair=r.sticking_pair)
+            if flag is not None:
+                bad = np.broadcast_to(flag, shape)
+                p = np.where(bad != 0, np.nan, p)
+                speed_flag[g] = np.maximum(speed_flag[g], bad.max(axis=1))
+            elif partial and speed_flag[g].any():  # the bed-mean temperature has none
+                p = np.where((speed_flag[g] != 0)[:, None], np.nan, p)
             pm[:, first[m]] = p
             pm[:, mirror[m]] = p
             if um is not None:
@@ -391,20 +407,23 @@ def _evaluate(scene: Scene, comps, points: dict, frac_cg, nodes: int, directions
     bar.close()
     out = dict(E=E, W=W, Umf=Umf, U=U, n=n, w_bed=w_bed, cidx=cidx, d=d, lo=lo, hi=hi,
                D_wet=D_wet, h0_c=h0_c, s=s, beta=beta, wdir=wdir, d32=d32,
-               rho_mean=rho_mean, names=[m.name for m in solids], resolved=r0)
+               rho_mean=rho_mean, names=[m.name for m in solids], resolved=r0,
+               speed_flag=speed_flag)
     if pairs:
         out.update(u_star=u_star, prob=prob)
     return out
 
 
-def _bed_speed(fvals, r0, comps, cidx, n, d, rho_s, W, Umf) -> dict:
+def _bed_speed(fvals, r0, comps, cidx, n, d, rho_s, W, Umf, flag=None) -> dict:
     """Scene fields that give every pair of classes one granular temperature where the
     scene's speed model depends on the particle (:data:`.speed_models.PER_PARTICLE`): the
     model's Maxwellian for the bed's mean particle (:func:`.speed_models.bed_mean_particle`)
     at each operating point, ``{"speed": "maxwellian", "granular_temperature": (G,)}``;
-    else nothing."""
+    else nothing. With ``flag`` (an int8 array (G,), a map's), the points where the model
+    has no answer are written there and get a stand-in temperature (their results are
+    NaN), instead of the model's ``ValueError``."""
     from .. import materials
-    from .speed_models import PER_PARTICLE, bed_mean_particle, speed_law
+    from .speed_models import PER_PARTICLE, bed_mean_particle, speed_law, speed_law_partial
 
     if fvals["speed"] not in PER_PARTICLE:
         return {}
@@ -413,11 +432,19 @@ def _bed_speed(fvals, r0, comps, cidx, n, d, rho_s, W, Umf) -> dict:
               else 0.5 * (e_c[:, None] + e_c[None, :])[None])
     d_p, rho_p, e = bed_mean_particle(n, d, rho_s, e_pair, W)
     r = Resolved(dict(fvals), Umf=Umf)
-    law = speed_law(fvals["speed"], {"U": r.U, "Umf": Umf, "d_p": d_p, "rho_p": rho_p,
-                                    "rho_g": r0.rho_g, "eps": r0.num("eps"), "e": e})
+    inputs = {"U": r.U, "Umf": Umf, "d_p": d_p, "rho_p": rho_p, "rho_g": r0.rho_g,
+              "eps": r0.num("eps"), "e": e}
     G = Umf.shape[0]
+    if flag is None:
+        theta = speed_law(fvals["speed"], inputs).theta
+    else:
+        law, bad = speed_law_partial(fvals["speed"], inputs)
+        theta = law.theta
+        if bad is not None:
+            flag[...] = np.broadcast_to(bad, (G,))
+            theta = np.where(flag != 0, 1.0, theta)  # a stand-in: the results are NaN
     return {"speed": np.full(G, "maxwellian"),
-            "granular_temperature": np.broadcast_to(law.theta, (G,))}
+            "granular_temperature": np.broadcast_to(theta, (G,))}
 
 
 def _attrs(units, long_name, description=None):
@@ -660,7 +687,10 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     xarray.Dataset
         Over the grid's dimensions (in the order given): ``propensity``,
         ``propensity_by_component`` (+ ``component``), ``propensity_by_class`` (+ ``cls``),
-        ``Umf``, ``U`` and, with ``matrix``, ``efficiency`` (+ ``cls_i``, ``cls_j``); a
+        ``Umf``, ``U``, ``speed_flag`` (where nonzero the impact-speed model has no
+        answer at the point, the propensities are NaN and a warning says how many points:
+        :mod:`agglomtool.maps.speed_flag`) and, with ``matrix``, ``efficiency`` (+
+        ``cls_i``, ``cls_j``); a
         long_name on every variable and coordinate, CF units on every number; global
         attributes as :func:`bed_propensity`'s. Where ``U`` is swept, ``ds["U"]`` is its
         coordinate (no output repeats it).
@@ -689,8 +719,10 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     frac = points.pop("fraction", None)
     fr = _fractions(comps, frac, mix_i)
     fr = np.broadcast_to(fr, (G, len(comps)))
-    ev = _evaluate(scene, comps, points, fr, nodes, directions, progress, pairs=False)
+    ev = _evaluate(scene, comps, points, fr, nodes, directions, progress, pairs=False,
+                   partial=True)
     E, by_class, by_comp, total = _contributions(ev)
+    flag = ev["speed_flag"]  # where nonzero, E and so the propensities are NaN
     coords = {}
     for k in names:
         if k == "fraction":
@@ -715,7 +747,13 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
         "Umf": (dims, ev["Umf"].reshape(shape), _attrs(
             "m/s", "minimum fluidization velocity of the bed")),
         "U": (dims, ev["U"].reshape(shape), _attrs("m/s", "superficial gas velocity")),
+        "speed_flag": (dims, flag.reshape(shape), {
+            **_attrs("1", "whether the impact-speed model has an answer at this point"),
+            "flag_values": np.array(sorted(SPEED_FLAGS), dtype=np.int8),
+            "flag_meanings": " ".join(v[0] for _, v in sorted(SPEED_FLAGS.items()))}),
     }
+    for k in ("propensity", "propensity_by_component", "propensity_by_class"):
+        data[k][2]["ancillary_variables"] = "speed_flag"
     if "U" in coords:  # swept: the coordinate is the superficial gas velocity
         del data["U"]
     if matrix:
@@ -732,4 +770,9 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
         directions=directions, matrix=bool(matrix)), grid=axes, names=ev["names"]))
     if mix_i is not None:
         ds.attrs["mix"] = ev["names"][mix_i]
+    from ..maps.speed_flag import flag_text
+
+    text = flag_text(flag, "the bed map")
+    if text:
+        warnings.warn(text, NoImpactSpeedWarning, stacklevel=2)
     return ds

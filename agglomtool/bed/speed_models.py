@@ -24,16 +24,20 @@ at a scene.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._validate import PlausibilityWarning
 from . import hydrodynamics as hd
 from .speeds import SpeedModel
 
 __all__ = ["ImpactSpeedModel", "IMPACT_SPEED_MODELS", "speed_law", "bubble_state",
-           "MECHANISMS", "choice_weights", "mixed_law", "PER_PARTICLE", "bed_mean_particle"]
+           "MECHANISMS", "choice_weights", "mixed_law", "PER_PARTICLE", "bed_mean_particle",
+           "SPEED_FLAGS", "NoImpactSpeedWarning", "speed_domain", "speed_law_partial",
+           "partial_law"]
 
 
 @dataclass(frozen=True)
@@ -136,6 +140,96 @@ IMPACT_SPEED_MODELS = {
         "Fluidization, ch. 9; Carnahan and Starling (1969)",
         ("U", "Umf", "d_p", "rho_p", "rho_g", "eps", "e"), _collisional),
 }
+
+
+#: Values of a map's ``speed_flag`` output: why the impact-speed model has no answer at a
+#: point (0: it has one). ``{code: (CF flag meaning, sentence)}``.
+SPEED_FLAGS = {
+    0: ("computed", "the impact-speed model has an answer"),
+    1: ("not_fluidized", "U does not exceed U_mf: the model needs a fluidized bed"),
+    2: ("bubbles_too_slow", "bubble fraction >= 1: bubbles rising this slowly cannot carry "
+                            "U - U_mf, outside the bubbling-bed model"),
+    3: ("no_emulsion", "bubbles and their wakes fill the bed: no emulsion is left for the "
+                       "solids' downflow (U - U_mf beyond a bubbling bed)"),
+    4: ("outside_model", "an input outside the model's domain (e.g. a restitution of 1 "
+                         "for the collisional balance)"),
+}
+
+
+class NoImpactSpeedWarning(UserWarning):
+    """Points of a map where the impact-speed model has no answer: their ``speed_flag``
+    says why and their propensity is NaN; the rest of the map is computed."""
+
+
+def speed_domain(name: str, inputs: dict) -> np.ndarray:
+    """Where model ``name`` has an answer, per element of its inputs' broadcast: an int8
+    array of :data:`SPEED_FLAGS` codes (0 where :func:`speed_law` answers). The same
+    checks as the model's own (the bubble models' in one compiled pass,
+    :func:`.hydrodynamics.bubble_domain`); plausibility warnings are not given here."""
+    model = IMPACT_SPEED_MODELS[name]
+    arrays = {k: np.asarray(inputs[k], dtype=float) for k in model.needs}
+    shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    with np.errstate(invalid="ignore"):
+        excess = np.broadcast_to(arrays["U"] - arrays["Umf"], shape)
+        flag = np.where(excess > 0.0, 0, 1).astype(np.int8)
+    ok = flag == 0
+    if name.startswith("bubble-") and ok.any():
+        sub = {k: np.broadcast_to(a, shape)[ok] for k, a in arrays.items()}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            d_b = _bubble_diameter(sub, name[len("bubble-"):])
+        flag[ok] = hd.bubble_domain(sub["U"] - sub["Umf"], sub["Umf"], d_b,
+                                    sub["column_diameter"], sub["eps"], sub["wake_fraction"])
+    elif name == "collisional-balance":
+        flag[ok & (np.broadcast_to(arrays["e"], shape) >= 1.0)] = 4
+    return flag
+
+
+def speed_law_partial(name: str, inputs: dict) -> tuple[SpeedModel, np.ndarray | None]:
+    """:func:`speed_law` for a map: ``(law, flag)``, the law where the model answers and
+    NaN where it has none, ``flag`` the :func:`speed_domain` codes there, or None where
+    every element answers (the law is then :func:`speed_law`'s, unchanged).
+
+    An error that no element's domain explains (a bad input of the whole map) is raised.
+    Where some elements have no answer, the plausibility warnings the first attempt gave
+    stand (they are about the map's inputs) and the law is computed again on the
+    answering elements alone, without repeating them."""
+    try:
+        return speed_law(name, inputs), None
+    except ValueError:
+        flag = speed_domain(name, inputs)
+        if not flag.any():
+            raise
+    ok = flag == 0
+    theta = np.full(flag.shape, np.nan)
+    if ok.any():
+        sub = {k: (np.broadcast_to(np.asarray(v, dtype=float), flag.shape)[ok]
+                   if np.ndim(v) else v) for k, v in inputs.items()}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            law = speed_law(name, sub)
+        theta[ok] = law.theta
+    return SpeedModel("maxwellian", granular_temperature=theta), flag
+
+
+def partial_law(names, inputs_of) -> tuple[SpeedModel, np.ndarray | None]:
+    """:func:`speed_law_partial` of model ``names`` (a name, or an array of names per
+    element as ``mixed_law`` takes them; ``inputs_of(name)`` the model's inputs):
+    ``(law, flag or None)``. Where every element answers, the law is :func:`speed_law`'s
+    or ``mixed_law``'s, bitwise."""
+    if isinstance(names, str):
+        return speed_law_partial(names, inputs_of(names))
+    names = np.asarray(names)
+    theta = flag = None
+    for name in dict.fromkeys(names.ravel().tolist()):
+        law, f = speed_law_partial(name, inputs_of(name))
+        t = np.asarray(law.theta, dtype=float)
+        sel = names == name
+        theta = np.where(sel, t, np.nan if theta is None else theta)
+        if f is not None or flag is not None:
+            f = np.zeros((), np.int8) if f is None else f
+            flag = np.where(sel, f, np.int8(0) if flag is None else flag).astype(np.int8)
+    return SpeedModel("maxwellian", granular_temperature=theta), flag
 
 
 def speed_law(name: str, inputs: dict) -> SpeedModel:

@@ -104,9 +104,13 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
         Data variables (see :data:`agglomtool.maps.meta.VARIABLE_META`), each with
         ``units`` and ``long_name``: gas and liquid properties, ``Umf``, ``U``, ``U_e``,
         ``u_star``, ``Ca_star``, ``regime``, ``u_typical``, ``St``, ``e_w``,
-        ``agglomerated``, ``stage``, ``propensity`` and ``margin``, each over the grid
-        dimensions it depends on; coded outputs (``stage``, ``regime``, ``u_star_flag``,
-        ``agglomerated``) carry CF ``flag_values`` and ``flag_meanings``. ``ds["U"]`` is
+        ``agglomerated``, ``stage``, ``propensity``, ``margin`` and ``speed_flag``, each
+        over the grid dimensions it depends on; coded outputs (``stage``, ``regime``,
+        ``u_star_flag``, ``speed_flag``, ``agglomerated``) carry CF ``flag_values`` and
+        ``flag_meanings``. Where the impact-speed model has no answer (a bubble model
+        beyond a bubbling bed, a bed below U_mf) ``speed_flag`` says why, the outputs made
+        of the speed are NaN and the sweep warns how many points
+        (:mod:`agglomtool.maps.speed_flag`); a single point raises instead. ``ds["U"]`` is
         always the superficial gas velocity: the output ``U_Umf * Umf`` where ``U`` is not
         swept, and the coordinate ``U`` where it is (the output would repeat it). Attributes
         (CF-1.8, see :mod:`agglomtool.maps.meta`) record the call (``source``), the agglomtool
@@ -231,6 +235,9 @@ def _sweep(scene: Scene, *, chunks, nodes, store, progress, compute, overwrite, 
             ds = _dataset(plan, _compute_plan(plan, client, progress))
         else:
             ds = _dataset(plan, _compute_here(plan, progress, announce))
+    from .speed_flag import warn_flagged
+
+    warn_flagged(ds, stacklevel=4)  # the points the speed model has no answer at, if any
     return _with_regime(ds)
 
 

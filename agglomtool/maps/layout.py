@@ -24,7 +24,6 @@ from ..scene import (
     Resolved,
     Scene,
     assumed_inputs,
-    collision_outputs,
     critical_outputs,
     provenance,
     validate,
@@ -36,6 +35,7 @@ from .meta import (
     global_attrs,
     provenance_attr,
 )
+from .speed_flag import flagged_collision_outputs
 
 __all__ = ["GROUPS", "DEFAULT_BLOCK", "SPEED_FIELDS", "GridError", "grid_findings"]
 
@@ -61,8 +61,8 @@ GROUPS = {
                  ("u_star", "u_star_flag", "Ca_star", "regime"),
                  (float, np.int8, float, np.int8)),
     "collision": (_ALL, ("u_typical", "U", "e_w", "agglomerated", "stage", "St",
-                         "propensity", "margin"),
-                  (float, float, float, bool, np.int8, float, float, float)),
+                         "propensity", "margin", "speed_flag"),
+                  (float, float, float, bool, np.int8, float, float, float, np.int8)),
 }
 
 
@@ -187,7 +187,9 @@ def _grid_values(scene: Scene, grid: dict, *, plausibility: bool = True) -> dict
     except ValueError as exc:
         raise GridError(str(exc), _blamed(str(exc), out)) from None
     if plausibility:
-        before = set(scene_findings(base))  # the Scene warned of these already
+        # the Scene warned of these already, but for those about its defaults, which it
+        # leaves to where they are used: said here where the map uses them
+        before = set(scene_findings(base)) - set(getattr(scene, "_deferred_findings", ()))
         warn_findings([f for f in grid_findings(base, out) if f not in before], stacklevel=4)
     speed = base["speed"]
     needs = {"u0": ("fixed", "lognormal"), "sigma_ln": ("lognormal",),
@@ -268,7 +270,7 @@ def _block_function(scene_values: dict, names: tuple, group: str, nodes: int, ou
             c = critical_outputs(r)
             out = tuple(c[k] for k in GROUPS["critical"][1])
         else:
-            c = collision_outputs(r, arrays[-1], nodes, None if into is None else {
+            c = flagged_collision_outputs(r, arrays[-1], nodes, None if into is None else {
                 k: t for k, t in zip(GROUPS["collision"][1], into, strict=True)
                 if t is not None})
             out = tuple(c[k] for k in GROUPS["collision"][1])

@@ -17,12 +17,13 @@ import json
 import numpy as np
 
 from .._version import __version__
+from ..bed.speed_models import SPEED_FLAGS
 from ..collision.outcome import Stage
 from ..scene import CA_VISCOUS, FIELD_META, U_STAR_FLAGS
 
-__all__ = ["VARIABLE_META", "FIELD_META", "FLAGS", "CONVENTIONS", "REFERENCES", "variable_attrs",
-           "field_attrs", "cf_units", "global_attrs", "provenance_attr", "call_text",
-           "history_line"]
+__all__ = ["VARIABLE_META", "ANCILLARY", "FIELD_META", "FLAGS", "CONVENTIONS", "REFERENCES",
+           "variable_attrs", "field_attrs", "cf_units", "global_attrs", "provenance_attr",
+           "call_text", "history_line"]
 
 #: The metadata conventions the files follow.
 CONVENTIONS = "CF-1.8"
@@ -62,13 +63,24 @@ VARIABLE_META = {
                    "probability that a collision sticks over the impact-speed distribution"),
     "margin": ("1", "speed margin u_typical / u0*",
                "< 1: typical collisions are slower than the critical speed"),
+    "speed_flag": ("1", "whether the impact-speed model has an answer at this point",
+                   "; ".join(f"{k}: {v[1]}" for k, v in SPEED_FLAGS.items())
+                   + "; where nonzero, every output made of the impact speed is NaN, "
+                   "stage is -1 and agglomerated is false"),
 }
+
+#: The outputs made of the impact speed: their ``ancillary_variables`` (CF section 3.4)
+#: name the flag that says where they have no value and why.
+ANCILLARY = {name: "speed_flag" for name in ("u_typical", "St", "e_w", "agglomerated",
+                                               "stage", "propensity", "margin")}
 
 #: Coded outputs: name -> (values, blank-separated meanings). ``agglomerated`` is a boolean
 #: in memory; in a file it is a byte (0 false, 1 true) that xarray reads back as a boolean.
 FLAGS = {
-    "stage": ([s.value for s in Stage], " ".join(s.name.lower() for s in Stage)),
+    "stage": ([-1] + [s.value for s in Stage],
+              " ".join(["no_impact_speed"] + [s.name.lower() for s in Stage])),
     "u_star_flag": (list(U_STAR_FLAGS), " ".join(v[0] for v in U_STAR_FLAGS.values())),
+    "speed_flag": (list(SPEED_FLAGS), " ".join(v[0] for v in SPEED_FLAGS.values())),
     "regime": ([0, 1], "capillary_limited viscous_limited"),
     "agglomerated": ([0, 1], "rebounds sticks"),
 }
@@ -81,8 +93,9 @@ def cf_units(units: str | None) -> str | None:
 
 
 def variable_attrs(name: str) -> dict:
-    """``units``, ``long_name``, ``description`` and, for coded outputs, ``flag_values``
-    (int8, the outputs' type) and ``flag_meanings`` of output variable ``name``."""
+    """``units``, ``long_name``, ``description``, for coded outputs ``flag_values`` (int8,
+    the outputs' type) and ``flag_meanings``, and for the outputs made of the impact speed
+    ``ancillary_variables`` (``ANCILLARY``) of output variable ``name``."""
     units, long_name, desc = VARIABLE_META[name]
     attrs: dict[str, str | np.ndarray] = {"units": units, "long_name": long_name,
                                           "description": desc}
@@ -90,6 +103,8 @@ def variable_attrs(name: str) -> dict:
         values, meanings = FLAGS[name]
         attrs["flag_values"] = np.array(values, dtype=np.int8)
         attrs["flag_meanings"] = meanings
+    if name in ANCILLARY:
+        attrs["ancillary_variables"] = ANCILLARY[name]
     return attrs
 
 

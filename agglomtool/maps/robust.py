@@ -25,7 +25,8 @@ import xarray as xr
 
 from .._fields import CATEGORICAL_FIELDS, FIELD_META
 from ..plausibility import scene_findings, warn_findings
-from ..scene import Resolved, Scene, collision_outputs, critical_outputs
+from ..scene import Resolved, Scene, critical_outputs
+from .speed_flag import flagged_collision_outputs
 
 __all__ = ["robust_sweep", "UNDECIDED", "ROBUST_BLOCK"]
 
@@ -56,6 +57,7 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     (in order), with the propensity's spread under ``uncertain`` at every point (see
     :func:`agglomtool.sweep`, which calls this, for the parameters)."""
     from ..uncertainty._sampling import resolve_seed
+    from ..uncertainty.assumed import chosen_fields
     from ..uncertainty.scene_mc import SceneDraws, split_uncertain
 
     check_robust_options(samples, threshold)
@@ -70,6 +72,9 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     gv = {k: nominal[k].values for k in grid}
     entropy, chosen = resolve_seed(seed)
     base = scene.values()
+    # a speed model named by the scene or swept by the map is given, not drawn
+    named = tuple(dict.fromkeys(chosen_fields(scene) + (("speed",) if "speed" in gv
+                                                        else ())))
     cats = [k for k in gv if k in CATEGORICAL_FIELDS]
     nums = [k for k in gv if k not in CATEGORICAL_FIELDS]
     num_shape = tuple(len(gv[k]) for k in nums)
@@ -87,7 +92,8 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
         values = {**base, **{k: str(gv[k][i]) for k, i in zip(cats, idx, strict=True)}}
         where = ("the scene at " + ", ".join(f"{k} = {values[k]}" for k in cats)
                  if cats else "this scene")
-        sd = SceneDraws(values, uncertain, int(samples), entropy, int(samples), where=where)
+        sd = SceneDraws(values, uncertain, int(samples), entropy, int(samples), where=where,
+                        chosen=named)
         assumed = sd.assumed
         not_drawn_all += [t for t in sd.not_drawn if t not in not_drawn_all]
         draws, laws = sd.draws, sd.draws.dists
@@ -114,12 +120,28 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
                            else v[None, :])
             r = Resolved(vals)
             crit = critical_outputs(r)
-            out = collision_outputs(r, crit["u_star"], nodes)
+            # where the speed model has no answer (a draw's or the point's), NaN
+            out = flagged_collision_outputs(r, crit["u_star"], nodes)
             prop[sl] = np.broadcast_to(out["propensity"], (sl.stop - sl.start, int(samples)))
         mean[idx] = prop.mean(axis=1).reshape(num_shape)
         quant[idx] = np.quantile(prop, q, axis=1).T.reshape(num_shape + (q.size,))
-        p_unsafe[idx] = np.mean(prop > threshold, axis=1).reshape(num_shape)
+        # a point where some draw has no impact speed has no summary: NaN, as its mean
+        p_unsafe[idx] = np.where(np.isnan(prop).any(axis=1), np.nan,
+                                 np.mean(prop > threshold, axis=1)).reshape(num_shape)
     warn_findings(findings, stacklevel=4)
+    nominal_flag = (nominal["speed_flag"].transpose(*cats, *nums).values != 0
+                    if "speed_flag" in nominal else False)
+    drawn_only = int(np.sum(np.isnan(mean) & ~np.broadcast_to(nominal_flag, mean.shape)))
+    if drawn_only:
+        import warnings
+
+        from ..bed.speed_models import NoImpactSpeedWarning
+
+        warnings.warn(f"{drawn_only} of {mean.size} points of the robust map have draws at "
+                      "which the impact-speed model has no answer (their nominal point has "
+                      "one): their propensity_mean, propensity_quantile and p_unsafe are "
+                      "NaN and undecided is 2 (no_impact_speed)", NoImpactSpeedWarning,
+                      stacklevel=4)
     dims = cats + nums
     ds = nominal.copy()
     ds = ds.assign_coords(quantile=("quantile", q, {"units": "1",
@@ -132,10 +154,11 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
         "units": "1", "long_name": f"probability that the propensity exceeds {threshold:g}",
         "threshold": float(threshold)})
     lo, hi = UNDECIDED
-    ds["undecided"] = (dims, ((p_unsafe > lo) & (p_unsafe < hi)).astype(np.int8), {
+    undecided = np.where(np.isnan(p_unsafe), 2, (p_unsafe > lo) & (p_unsafe < hi))
+    ds["undecided"] = (dims, undecided.astype(np.int8), {
         "units": "1", "long_name": f"undecided: probability of being unsafe in ({lo:g}, "
-        f"{hi:g})", "flag_values": np.array([0, 1], dtype=np.int8),
-        "flag_meanings": "decided undecided"})
+        f"{hi:g})", "flag_values": np.array([0, 1, 2], dtype=np.int8),
+        "flag_meanings": "decided undecided no_impact_speed"})
     ds.attrs.update(
         robust_samples=int(samples),
         robust_seed=entropy,

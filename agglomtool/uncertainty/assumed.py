@@ -22,7 +22,8 @@ laws become uncertain inputs of a Scene:
   ``excess-gas`` model, ``SPEED_COEFFICIENT``) is drawn too where the scene leaves it at
   its default: the stream ``"model excess-gas fluctuation_ratio"``;
 - so is the impact-speed model itself where the scene leaves the speed estimate at its
-  default (``SPEED_MODEL``): one of the models valid at the scene
+  default (``speed`` not given, ``SPEED_MODEL``; a model the user names is given, not
+  drawn, and said so among the values not drawn): one of the models valid at the scene
   (:func:`agglomtool.impact_speed_methods`) per draw, with the weights of
   ``agglomtool.bed.speed_models.choice_weights``; the stream ``"model speed choice"``
   draws a uniform number that picks the model;
@@ -55,7 +56,7 @@ from .distributions import Distribution, LogNormal, Uniform
 
 __all__ = ["AssumedInput", "assumed_draws", "law_distribution", "scene_fields", "ASSUMED",
            "SPEED_COEFFICIENT", "SPEED_MODEL", "WAKE_FRACTION", "speed_model_weights",
-           "COMPOSITION_KEY", "drawn_composition"]
+           "COMPOSITION_KEY", "drawn_composition", "chosen_fields"]
 
 #: The word that asks for every assumed value of the database.
 ASSUMED = "assumed"
@@ -105,6 +106,14 @@ def speed_model_weights(values: dict) -> dict[str, float]:
     from ..scene import Scene, impact_speed_methods
 
     return choice_weights(impact_speed_methods(Scene(**values)))
+
+
+def chosen_fields(scene) -> tuple[str, ...]:
+    """The fields of ``scene`` (a :class:`~agglomtool.Scene`) whose value the user chose
+    although the Scene would otherwise derive it: ``("speed",)`` where the user named the
+    impact-speed law or model (``speed=None`` derives it: an assumption). What
+    :func:`assumed_draws` takes as ``chosen``."""
+    return ("speed",) if getattr(scene, "_speed_given", True) else ()
 
 
 #: database field -> the Scene field it sets, per side (None: the field has no Scene field).
@@ -165,7 +174,8 @@ def _uses(values: dict):
     return si, sj, materials.liquid_entry(str(values["liquid"]))
 
 
-def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list[str]]:
+def assumed_draws(values: dict, given=(), chosen=()) -> tuple[dict[str, AssumedInput],
+                                                               list[str]]:
     """The assumed values a scene uses, as uncertain inputs.
 
     Parameters
@@ -175,6 +185,12 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
     given : iterable of str
         Scene fields the caller already makes uncertain: the database values they would
         replace are not drawn.
+    chosen : iterable of str
+        Scene fields the user chose where the Scene would derive them
+        (``chosen_fields``): a ``speed`` model chosen is given, not drawn (its own
+        coefficients still are, where left at their defaults), and ``not_drawn`` says so.
+        Without it (a plain dict of values) the model is drawn where the values hold the
+        default estimate.
 
     Returns
     -------
@@ -243,7 +259,14 @@ def assumed_draws(values: dict, given=()) -> tuple[dict[str, AssumedInput], list
 
     if values.get("speed") == "excess-gas":
         add_model(_COEFFICIENT_KEY, "excess-gas", SPEED_COEFFICIENT)
-    if _COEFFICIENT_KEY in inputs:  # the default estimate, left at its default: the model too
+    speed = values.get("speed")
+    if "speed" in chosen and isinstance(speed, str):
+        from ..bed.speed_models import IMPACT_SPEED_MODELS
+
+        if speed in IMPACT_SPEED_MODELS:
+            not_drawn.append(f"impact-speed model speed = {speed!r} (chosen by the user: "
+                             "given, not drawn)")
+    elif _COEFFICIENT_KEY in inputs:  # the default estimate, left at its default: the model
         key = _SPEED_MODEL_KEY
         inputs[key] = AssumedInput(key, "model", "speed", "speed", SPEED_MODEL,
                                    law_distribution(SPEED_MODEL), (0.0, 1.0, False, True),

@@ -33,7 +33,7 @@ from ..scene import (
     provenance,
 )
 from ._sampling import _SAMPLING, _attrs, _ChunkedDraws, _summary, resolve_seed
-from .assumed import ASSUMED, assumed_draws, scene_fields
+from .assumed import ASSUMED, assumed_draws, chosen_fields, scene_fields
 from .distributions import Distribution, to_si
 
 __all__ = ["scene_monte_carlo", "scene_e_w", "field_law", "check_fields", "SCENE_TO_CORE",
@@ -111,13 +111,15 @@ class SceneDraws:
 
     Attributes: ``fields`` (Scene field -> law), ``assumed`` (stream key ->
     :class:`.assumed.AssumedInput`), ``not_drawn`` (assumed values with no law), ``draws``.
-    ``where`` names the scene in the error raised when there is nothing to draw.
+    ``where`` names the scene in the error raised when there is nothing to draw;
+    ``chosen`` the fields the user chose (:func:`.assumed.chosen_fields`: a speed model
+    named is given, not drawn).
     """
 
     def __init__(self, base: dict, uncertain, n: int, entropy: int, chunk: int,
-                 where: str = "this scene"):
+                 where: str = "this scene", chosen=()):
         self.fields, with_assumed = split_uncertain(uncertain)
-        self.assumed, self.not_drawn = (assumed_draws(base, given=self.fields)
+        self.assumed, self.not_drawn = (assumed_draws(base, given=self.fields, chosen=chosen)
                                         if with_assumed else ({}, []))
         if not self.fields and not self.assumed:
             raise ValueError(
@@ -163,10 +165,12 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
     base = scene.values()
     entropy, chosen = resolve_seed(seed)
     chunk = int(min(chunk_size, n))
-    sd = SceneDraws(base, uncertain, n, entropy, chunk)
+    sd = SceneDraws(base, uncertain, n, entropy, chunk, chosen=chosen_fields(scene))
     fields, assumed, not_drawn, draws = sd.fields, sd.assumed, sd.not_drawn, sd.draws
     resampled, dists = draws.resampled, draws.dists
-    before = set(scene_findings(base))
+    # the Scene's own findings were said when it was made, but for those about its
+    # defaults: said below where the draws use them (not where a draw replaces them)
+    before = set(scene_findings(base)) - set(getattr(scene, "_deferred_findings", ()))
 
     # Memory as on the core path: the outputs of every sample, the samples only when kept.
     e_w, propensity, u_star = np.empty(n), np.empty(n), np.empty(n)
