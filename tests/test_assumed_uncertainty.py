@@ -297,3 +297,19 @@ def test_the_docs_table_of_assumed_laws_is_the_database():
 def test_sobol_refuses_assumed_with_the_way_out():
     with pytest.raises(ValueError, match="'assumed' is for monte_carlo, compare"):
         at.sobol_indices(GLASS, uncertain="assumed", n_base=8)
+
+
+def test_a_field_left_at_its_default_and_drawn_takes_its_laws_nominal():
+    """A water scene whose T the user never set (the Scene's 1073.15 K default, outside
+    water's range) with T drawn: every draw is a water temperature, and the nominal answer
+    is the map's value at the law's nominal T, not at the default (which raised)."""
+    scene = at.Scene(liquid="water", h0=5e-6, d_i=300e-6, U_Umf=2.0)
+    ds = at.monte_carlo(scene, uncertain={"T": at.Normal(320.0, 5.0)}, n=400, seed=3)
+    m = at.sweep(scene.replace(T=320.0), h0=[5e-6])
+    assert float(ds.propensity_nominal) == float(m.propensity.values.ravel()[0])
+    assert float(ds.u_star_nominal) == float(m.u_star.values.ravel()[0])
+    # a T the user set stays the nominal, whatever the law's centre
+    set_t = at.monte_carlo(scene.replace(T=330.0), uncertain={"T": at.Normal(320.0, 5.0)},
+                           n=400, seed=3)
+    m330 = at.sweep(scene.replace(T=330.0), h0=[5e-6])
+    assert float(set_t.u_star_nominal) == float(m330.u_star.values.ravel()[0])

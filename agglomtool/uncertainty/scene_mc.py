@@ -28,6 +28,7 @@ from ..scene import (
     FIELD_RANGES,
     Resolved,
     Scene,
+    _about_default,
     collision_outputs,
     critical_outputs,
     provenance,
@@ -199,7 +200,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
                 scene_values.setdefault("speed", np.empty(n, dtype="U32"))[sl] = drawn["speed"]
         e_max = max(e_max, float(np.max(out["e"])))
     warn_findings(findings, stacklevel=3)
-    nominal = _map_outputs(base, {}, nodes)
+    nominal = _map_outputs(base, _nominal_values(base, sd.fields, dists), nodes)
     e_w_nominal = float(nominal["e_w"][0])
     edges = (np.linspace(0.0, max(e_max, float(e_w.max())), int(bins) + 1)
              if np.ndim(bins) == 0 else np.asarray(bins, dtype=float))
@@ -292,6 +293,14 @@ def _map_outputs(base: dict, drawn: dict, nodes: int) -> dict:
            for k in ("e_w", "stage", "propensity", "u_star")}
     res["e"] = np.atleast_1d(r.e)
     return res
+
+
+def _nominal_values(base: dict, fields, dists) -> dict:
+    """The nominal inputs where they differ from the scene's values: a field the user drew
+    but left at the Scene's default (a water scene's 1073.15 K T, drawn around 320 K) takes
+    its law's nominal value; a field the user set keeps it (the map's value at the scene)."""
+    return {k: np.array([dists[k].nominal]) for k in fields
+            if k in dists and _about_default(k, base)}
 
 
 def _map_summary(ds: xr.Dataset, propensity, u_star, q, nominal) -> None:
