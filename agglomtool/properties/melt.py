@@ -7,7 +7,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from ..inputs import Liquid
-from .slag_composition import is_array_composition, normalise_wt
+from .slag_composition import NormalisedWt, is_array_composition, normalise_wt
 from .slag_surface import density_mills_keene, surface_tension_mills
 from .slag_viscosity import (
     viscosity_giordano_russell_dingwell,
@@ -93,7 +93,7 @@ def melt_liquid(
     if not is_array_composition(wt):
         chosen = str(_rule(wt)) if viscosity_model == "auto" else viscosity_model
         func, cite = VISCOSITY_MODELS[chosen]
-        mu = func(composition, T)
+        mu = func(wt, T)
         how = "chosen by rule" if viscosity_model == "auto" else "requested"
         used = f"{chosen} ({how}), {cite}"
     else:
@@ -125,7 +125,7 @@ def _viscosity_per_element(wt: Mapping, T, viscosity_model: str):
         n = int(np.count_nonzero(here))
         if n == 0:
             continue
-        mu[here] = func({k: v[here] for k, v in wt_b.items()}, T_b[here])
+        mu[here] = func(NormalisedWt({k: v[here] for k, v in wt_b.items()}), T_b[here])
         share = "" if n == here.size else f" for {n} of {here.size} compositions"
         used.append(f"{model}{share}, {cite}")
     how = "chosen by rule" if viscosity_model == "auto" else "requested"

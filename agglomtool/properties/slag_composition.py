@@ -35,6 +35,12 @@ def molar_mass(oxide: str) -> float:
     return molecular_weight(simple_formula_parser(oxide_info(oxide))) / 1000.0
 
 
+class NormalisedWt(dict):
+    """A composition :func:`normalise_wt` has checked and scaled to 100 wt %: normalising
+    it again returns a copy as it is (the models of a melt each normalise what they are
+    given; a melt's properties normalise once and pass this on)."""
+
+
 def normalise_wt(composition: Mapping[str, float], *, tol: float = 2.0) -> dict:
     """Validate a composition in wt % and scale it to sum to exactly 100.
 
@@ -47,6 +53,8 @@ def normalise_wt(composition: Mapping[str, float], *, tol: float = 2.0) -> dict:
     broadcast shape. With scalar values the result holds floats, and an oxide at 0 wt %
     is dropped.
     """
+    if isinstance(composition, NormalisedWt):
+        return NormalisedWt(composition)  # a copy: models may edit theirs (Fe2O3 -> FeO)
     if not isinstance(composition, Mapping) or not composition:
         raise ValueError(f"composition must be a non-empty dict of oxide -> wt %, got "
                          f"{composition!r}")
@@ -61,7 +69,7 @@ def normalise_wt(composition: Mapping[str, float], *, tol: float = 2.0) -> dict:
             raise ValueError(f"composition sums to {total:g} wt %; expected 100 +- {tol:g}")
         if abs(total - 100.0) > 1e-6:
             warnings.warn(f"composition sums to {total:g} wt %; rescaled to 100", stacklevel=3)
-        return {k: 100.0 * v / total for k, v in scalar.items() if v > 0.0}
+        return NormalisedWt({k: 100.0 * v / total for k, v in scalar.items() if v > 0.0})
     try:
         shape = np.broadcast_shapes(*(v.shape for v in wt.values()))
     except ValueError:
@@ -77,7 +85,7 @@ def normalise_wt(composition: Mapping[str, float], *, tol: float = 2.0) -> dict:
         warnings.warn("composition sums to "
                       f"{float(np.min(total_a)):g}-{float(np.max(total_a)):g} wt %; rescaled "
                       "to 100", stacklevel=3)
-    return {k: np.broadcast_to(100.0 * v / total_a, shape) for k, v in wt.items()}
+    return NormalisedWt({k: np.broadcast_to(100.0 * v / total_a, shape) for k, v in wt.items()})
 
 
 def is_array_composition(wt: Mapping) -> bool:
