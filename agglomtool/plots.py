@@ -334,6 +334,14 @@ class _Axis:
         if self.ticks is not None:
             axis.set_ticks(self.ticks[0], labels=self.ticks[1])
             axis.set_minor_locator(NullLocator())
+        elif self.log and self.edges[-1] < 1e3 * self.edges[0]:
+            # under three decades Matplotlib labels minor ticks too ("3x10^-1" beside
+            # "4x10^-1", overlapping): label 1, 2 and 5 of each decade, as plain numbers
+            from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+            axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+            axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+            axis.set_minor_formatter(NullFormatter())
 
 
 def _field_unit(name: str):

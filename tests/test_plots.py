@@ -386,3 +386,24 @@ def test_a_map_without_finite_u_star_says_what_decides_it():
                                     h0=[0.05e-6, 0.5e-6, 1e-6]))
     texts = " ".join(t.get_text() for t in fig.texts).replace("\n", " ")
     assert "what decides is whether a bridge forms" in texts
+
+
+def test_a_log_axis_under_three_decades_labels_1_2_5_as_numbers_without_overlap():
+    """0.12-2 um on a log axis: Matplotlib's default labels minor ticks too there, and
+    "3x10^-1" overlapped "4x10^-1"; the labels are 0.2, 0.5, 1, 2, apart."""
+    s = at.Scene(liquid="hypothetical-slag", T=1173.15, d_i=1000e-6)
+    ds = at.sweep(s, U_Umf=[2.0, 3.0, 4.0], h0=np.geomspace(0.12e-6, 2e-6, 12))
+    fig = operating_window(ds)
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    (ax,) = _panels(fig)
+    axis = ax.xaxis if ax.get_xscale() == "log" else ax.yaxis
+    shown = [t for t in axis.get_ticklabels() + axis.get_ticklabels(minor=True)
+             if t.get_text() and t.get_visible()]
+    lo, hi = (ax.get_xlim() if axis is ax.xaxis else ax.get_ylim())
+    inside = [t for t in shown if lo <= (t.get_position()[0] if axis is ax.xaxis
+                                         else t.get_position()[1]) <= hi]
+    assert [t.get_text() for t in inside] == ["0.2", "0.5", "1", "2"]
+    boxes = sorted((t.get_window_extent(r) for t in inside), key=lambda b: b.x0)
+    assert all(not _overlap(a, b) for a, b in zip(boxes[:-1], boxes[1:], strict=True))
+    plt.close(fig)
