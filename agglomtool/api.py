@@ -499,8 +499,8 @@ def critical_impact_speed(
 def _critical_vectorised(p_i, p_j, liquid, gas, bed, beta_deg, e, mode, body_forces,
                          drag_slip, rtol, tol, ceiling):
     """u0* by :func:`~.collision.critical.first_rebound_speed` over the numpy preparation,
-    every step on the whole batch: the tiers without a compiled solver, and the reference
-    the compiled solver is tested against."""
+    every step on the elements still searching, each to its own convergence: the tiers
+    without a compiled solver, and the reference the compiled solver is tested against."""
     state = prepare_pair(p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip)
     shape = state.shape
     flat = flatten(state)
@@ -523,8 +523,9 @@ def _critical_vectorised(p_i, p_j, liquid, gas, bed, beta_deg, e, mode, body_for
         e_w, _, _, _, _ = _evaluate(sub, w_rel, mode, False, tol)
         return e_w == 0.0
 
-    w_star = first_rebound_speed(flat, sticks, rtol)
-    u_star = w_star.reshape(shape) / np.broadcast_to(state.w_per_u0, shape)
+    w_per_u0 = np.broadcast_to(state.w_per_u0, shape)
+    w_star = first_rebound_speed(flat, sticks, rtol, w_max=ceiling * w_per_u0.ravel())
+    u_star = w_star.reshape(shape) / w_per_u0
     return np.where(u_star > ceiling, math.inf, u_star)[()]
 
 
