@@ -440,9 +440,9 @@ def critical_impact_speed(
         Tolerance in ``e_w`` [-] of ``mode="auto"``, as in :func:`collide`.
     u_max : float, optional
         A ceiling on the answer [m/s]. Where ``u0*`` exceeds it the result is ``inf``,
-        exactly as if the full answer had been cut there; in modes ``"paper"`` and
-        ``"relative"`` the search stops as soon as every speed up to ``u_max`` is known to
-        stick, so pairs that rebound only at high speed (or never) cost a few evaluations.
+        exactly as if the full answer had been cut there; the search stops as soon as
+        every speed up to ``u_max`` is known to stick, so pairs that rebound only at high
+        speed (or never) cost a few evaluations.
 
     Returns
     -------
@@ -467,10 +467,10 @@ def critical_impact_speed(
     search therefore starts below the smallest speed that can possibly rebound (the viscous
     bound of the approach, ``m_r w = c Delta_app``), doubles the speed until a rebound,
     scans the last doubling on 16 geometric points, and bisects between the last sticking
-    and the first rebounding point to ``rtol`` (in modes ``"paper"`` and ``"relative"``
-    compiled and run per collision, each to its own convergence; the other modes bisect the
-    whole batch until every element has converged, so there an element may be narrowed
-    further than ``rtol``). The result is the first rebound found this way: a rebound window
+    and the first rebounding point to ``rtol`` (compiled and run per collision in modes
+    ``"paper"`` and ``"relative"``, stepped over the whole batch in the other modes; either
+    way each collision converges on its own, so its ``u0*`` does not depend on the rest of
+    the batch). The result is the first rebound found this way: a rebound window
     narrower than a factor ``2^(1/16)`` (4.4 %) below it can be missed. Above ``u0*`` the
     pair may stick again in a narrow window; :func:`collide` on a grid shows it.
     """

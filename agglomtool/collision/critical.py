@@ -250,40 +250,75 @@ def _store(rec, s):
 
 
 @njit(cache=CACHE)
-def _pending(states, idx):
-    """The elements among ``idx`` whose search goes on, and their next speeds [m/s]."""
-    keep = np.empty(idx.size, dtype=np.int64)
+def _trials(s, lim, out, at):
+    """The speeds [m/s] that search ``s`` tries next, written to ``out[at:]``; returns how
+    many. One speed; in the scan, the rest of the scan as far as the pair keeps sticking
+    (the machine itself, fed "sticks", gives them): a batch then tries a whole scan in one
+    kernel call."""
     n = 0
+    t = s
+    while True:
+        out[at + n] = t.w
+        n += 1
+        if t.phase != SCAN:
+            return n
+        t = search_update(t, True, lim)
+        if t.phase != SCAN:
+            return n
+
+
+@njit(cache=CACHE)
+def _batch_trials(states, idx, w_vis, w_max, rtol):
+    """The elements among ``idx`` still searching (``keep``), where the speeds of each
+    begin in the flat arrays (``starts``, one more than ``keep``), the element of each speed
+    (``which``) and the speeds [m/s] (``w``): :func:`_trials`."""
+    keep = np.empty(idx.size, dtype=np.int64)
+    starts = np.empty(idx.size + 1, dtype=np.int64)
+    w = np.empty(idx.size * FINE_POINTS)
+    n = 0
+    m = 0
     for q in idx:
-        if states[q].phase != DONE:
-            keep[n] = q
-            n += 1
-    keep = keep[:n]
-    w = np.empty(n)
+        s = _load(states[q])
+        if s.phase == DONE:
+            continue
+        keep[n] = q
+        starts[n] = m
+        m += _trials(s, SearchLimits(w_vis=w_vis[q], w_max=w_max[q], rtol=rtol), w, m)
+        n += 1
+    starts[n] = m
+    which = np.empty(m, dtype=np.int64)
     for a in range(n):
-        w[a] = states[keep[a]].w
-    return keep, w
+        which[starts[a]:starts[a + 1]] = keep[a]
+    return keep[:n], starts[:n + 1], which, w[:m]
 
 
 @njit(cache=CACHE)
 def _batch_start(states, w_vis, w_max, rtol):
     """Start every search of a batch from its viscous bound ``w_vis`` [m/s] (ceilings
-    ``w_max`` [m/s]); returns :func:`_pending`."""
+    ``w_max`` [m/s]); returns :func:`_batch_trials` of all."""
     for q in range(states.size):
         _store(states[q], search_from_bound(SearchLimits(w_vis=w_vis[q], w_max=w_max[q],
                                                          rtol=rtol)))
-    return _pending(states, np.arange(states.size))
+    return _batch_trials(states, np.arange(states.size), w_vis, w_max, rtol)
 
 
 @njit(cache=CACHE)
-def _batch_step(states, idx, sticks, w_vis, w_max, rtol):
-    """:func:`search_update` of the elements ``idx`` of a batch, which stuck where
-    ``sticks``; returns :func:`_pending` of them."""
-    for a in range(idx.size):
-        q = idx[a]
+def _batch_step(states, trials, sticks, w_vis, w_max, rtol):
+    """:func:`search_update` of the elements of ``trials`` (:func:`_batch_trials`), which
+    stuck where ``sticks``: each element's results fed in order for as long as the speed is
+    the one its search asks for (the rest of a scan after a rebound is dropped); returns
+    :func:`_batch_trials` of them."""
+    keep, starts, _, w = trials
+    for a in range(keep.size):
+        q = keep[a]
         lim = SearchLimits(w_vis=w_vis[q], w_max=w_max[q], rtol=rtol)
-        _store(states[q], search_update(_load(states[q]), sticks[a], lim))
-    return _pending(states, idx)
+        s = _load(states[q])
+        for j in range(starts[a], starts[a + 1]):
+            if s.phase == DONE or s.w != w[j]:
+                break
+            s = search_update(s, sticks[j], lim)
+        _store(states[q], s)
+    return _batch_trials(states, keep, w_vis, w_max, rtol)
 
 
 @njit(cache=CACHE)
@@ -297,9 +332,10 @@ def _viscous_bounds(m_i, m_j, r, H0, Ha, mu_l):
 
 def first_rebound_speed(state, sticks, rtol, w_max=math.inf):
     """Smallest relative speed ``w`` [m/s] at which ``sticks(w, idx)`` turns false, by the
-    search of :func:`search_from_bound` run over the batch: every step tries the speeds of
-    all elements still searching in one call of ``sticks``, each element to its own
-    convergence (its answer does not depend on the rest of the batch).
+    search of :func:`search_from_bound` run over the batch: every step tries the next speed
+    of each element still searching (the rest of its scan, where it scans) in one call of
+    ``sticks``, each element to its own convergence (its answer does not depend on the rest
+    of the batch, and equals the compiled solver's for the same verdicts).
 
     ``state`` carries flat arrays ``m_i, m_j, r, H0, Ha, mu_l, e``; ``sticks(w, idx)``
     evaluates the elements ``idx`` (an index array) at speeds ``w`` and returns a boolean
@@ -325,10 +361,11 @@ def first_rebound_speed(state, sticks, rtol, w_max=math.inf):
     w_top = f(np.broadcast_to(np.asarray(w_max, dtype=float), (n,))[active])
     states = np.empty(active.size, dtype=_STATE_DTYPE)
     rtol = float(rtol)
-    idx, w = _batch_start(states, w_vis, w_top, rtol)
-    while idx.size:
-        stuck = f(sticks(w, active[idx]), dtype=np.bool_)
-        idx, w = _batch_step(states, idx, stuck, w_vis, w_top, rtol)
+    trials = _batch_start(states, w_vis, w_top, rtol)
+    while trials[0].size:
+        _, _, which, w = trials
+        stuck = f(sticks(w, active[which]), dtype=np.bool_)
+        trials = _batch_step(states, trials, stuck, w_vis, w_top, rtol)
     out[active] = states["w"]
     return out
 
