@@ -489,8 +489,9 @@ def critical_impact_speed(
     if mode in _FUSED:
         shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, None,
                                              None, speeds=False)
-        u_star = critical_speeds(ins, steps, n, _FUSED[mode], body_forces,
-                                 drag_slip == "particle", rtol, ceiling)
+        u_star = critical_speeds(ins, steps, n, _FUSED[mode], body=body_forces,
+                                 particle_slip=drag_slip == "particle", rtol=rtol,
+                                 u_max=ceiling)
         return u_star.reshape(shape)[()]
     return _critical_vectorised(p_i, p_j, liquid, gas, bed, beta_deg, e, mode, body_forces,
                                 drag_slip, rtol, tol, ceiling)

@@ -121,8 +121,9 @@ def test_batch_driver_equals_the_compiled_solver(mode, rtol):
                 batch = _critical_vectorised(kw["p_i"], kw["p_j"], kw["liquid"], kw["gas"],
                                              kw["bed"], kw["beta_deg"], kw["e"], mode, body,
                                              slip, rtol, None, ceiling)
-                one = critical_speeds(ins, steps, n, _FUSED[mode], body, slip == "particle",
-                                      rtol, ceiling, closed_form=False)
+                one = critical_speeds(ins, steps, n, _FUSED[mode], body=body,
+                                      particle_slip=slip == "particle", rtol=rtol,
+                                      u_max=ceiling, closed_form=False)
                 np.testing.assert_array_equal(batch, one)
                 finite += int(np.isfinite(one).sum())
     assert finite > 1500  # of 3200: the ceiling of 0.2 m/s cuts some

@@ -414,30 +414,41 @@ def _prep(raw, u, body, particle_slip):
     )
 
 
+#: The compiled solver's options (:func:`critical_speeds`), one record for a batch:
+#: ``body`` (weight, buoyancy and drag on), ``particle_slip`` (the drag's slip is the
+#: particle's own speed, so the body forces are re-evaluated at every trial speed),
+#: ``rtol`` [-] (the answer's relative tolerance), ``u_max`` [m/s] (the ceiling),
+#: ``closed`` (start from the near-closed form), ``max_iter`` (its Newton steps at most).
+SolveOptions = namedtuple("SolveOptions",
+                          ["body", "particle_slip", "rtol", "u_max", "closed", "max_iter"])
+
+
 @njit(cache=CACHE)
-def _run(s, lim, vals, raw, tier, body, particle_slip, empty):
+def _run(s, lim, vals, raw, tier, opts, empty):
     """The search ``s`` of one collision driven to its end, each speed tried with the
     ``tier``'s kernel (:func:`_sticks`)."""
+    body, particle_slip = opts.body, opts.particle_slip
     while s.phase != DONE:
         s = search_update(s, _sticks(vals, raw, s.w, tier, body, particle_slip, empty), lim)
     return s
 
 
 @njit(cache=CACHE)
-def _solve_one(raw, tier, body, particle_slip, rtol, u_max, closed, max_iter, empty):
-    """``(u0*, how)`` of one collision [m/s] (``raw``: its inputs, :func:`_raw`); ``inf``
-    where it exceeds ``u_max`` [m/s].
+def _solve_one(raw, tier, opts, empty):
+    """``(u0*, how)`` of one collision [m/s] (``raw``: its inputs, :func:`_raw`; ``opts``:
+    :class:`SolveOptions`); ``inf`` where it exceeds ``opts.u_max`` [m/s].
 
-    ``closed``: start from the near-closed form of mode "relative"
+    ``opts.closed``: start from the near-closed form of mode "relative"
     (:func:`.critical_relative.relative_threshold`) and verify it with the kernel
     (:func:`_from_candidate`); where that fails, mode "paper" brackets the candidate
     (:func:`search_from_candidate`) and mode "relative" searches from the viscous bound
     (:func:`search_from_bound`), as does every collision without ``closed``. ``empty``: a
     length-0 array (the kernels' "no details").
     """
-    vals = _prep(raw, 0.0, body, particle_slip)
+    vals = _prep(raw, 0.0, opts.body, opts.particle_slip)
     H0, Ha = vals[3], vals[4]
     w_per_u0 = vals[10]
+    u_max = opts.u_max
     e = raw[17]
     if not H0 > Ha:
         return (0.0 if e > 0.0 else math.inf), HOW_TRIVIAL
@@ -445,16 +456,15 @@ def _solve_one(raw, tier, body, particle_slip, rtol, u_max, closed, max_iter, em
         return math.inf, HOW_TRIVIAL
     start = _SEARCH
     w = math.nan
-    if closed:
-        w, start = _from_candidate(vals, raw, tier, body, particle_slip, rtol, max_iter,
-                                   empty)
+    if opts.closed:
+        w, start = _from_candidate(vals, raw, tier, opts, empty)
         if start == _FOUND:
             u_star = w / w_per_u0
             return (u_star if u_star <= u_max else math.inf), HOW_CLOSED
     lim = SearchLimits(w_vis=_viscous_bound(vals[0], vals[1], vals[2], H0, Ha, raw[8]),
-                       w_max=u_max * w_per_u0, rtol=rtol)
+                       w_max=u_max * w_per_u0, rtol=opts.rtol)
     s = search_from_candidate(w) if start == _BRACKET else search_from_bound(lim)
-    s = _run(s, lim, vals, raw, tier, body, particle_slip, empty)
+    s = _run(s, lim, vals, raw, tier, opts, empty)
     u_star = s.w / w_per_u0
     return (u_star if u_star <= u_max else math.inf), s.origin
 
@@ -465,7 +475,7 @@ _FOUND, _BRACKET, _SEARCH = 0, 1, 2
 
 
 @njit(cache=CACHE, inline="always")
-def _relative_candidate(kc, vals, raw, body, particle_slip, max_iter):
+def _relative_candidate(kc, vals, raw, opts):
     """``(w*, ok)``: the near-closed-form threshold of mode "relative" [m/s] from the
     collision's kernel constants ``kc`` at zero speed. Where the drag depends on the
     particles' own speed (``drag_slip="particle"``) the body forces are re-evaluated at the
@@ -475,6 +485,7 @@ def _relative_candidate(kc, vals, raw, body, particle_slip, max_iter):
     mu_l = raw[8]
     gamma = raw[9]
     e = raw[17]
+    body, particle_slip, max_iter = opts.body, opts.particle_slip, opts.max_iter
     slip = body and particle_slip
     early = SLIP_EARLY_RTOL if slip else EARLY_RTOL
     w, status = threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early)
@@ -495,18 +506,18 @@ def _relative_candidate(kc, vals, raw, body, particle_slip, max_iter):
 
 
 @njit(cache=CACHE, inline="always")
-def _check_sticks(own, kc, vals, raw, w_rel, tier, body, particle_slip, empty):
+def _check_sticks(own, kc, vals, raw, w_rel, tier, opts, empty):
     """:func:`_sticks` at ``w_rel`` [m/s]; with ``own`` (mode "relative", body forces that
     do not depend on the speed) from the kernel's speed-independent numbers ``kc``
     (:func:`.critical_relative.kernel_e_w`, bitwise the kernel's ``e_w``)."""
     if own:
         return kernel_e_w(kc, vals[3], vals[4], raw[8], raw[9], vals[6], raw[17],
                           w_rel) == 0.0
-    return _sticks(vals, raw, w_rel, tier, body, particle_slip, empty)
+    return _sticks(vals, raw, w_rel, tier, opts.body, opts.particle_slip, empty)
 
 
 @njit(cache=CACHE)
-def _from_candidate(vals, raw, tier, body, particle_slip, rtol, max_iter, empty):
+def _from_candidate(vals, raw, tier, opts, empty):
     """``(w*, status)`` from the relative tier's near-closed form, checked with the
     ``tier``'s own kernel; status ``_FOUND``, ``_BRACKET`` (mode "paper": no verified
     answer, bracket the candidate ``w*``) or ``_SEARCH`` (no verified answer: search from
@@ -532,16 +543,17 @@ def _from_candidate(vals, raw, tier, body, particle_slip, rtol, max_iter, empty)
         return math.nan, _SEARCH
     kc = kernel_constants(vals[0], vals[1], vals[2], vals[3], vals[4], raw[8], raw[9],
                           vals[5], vals[6], vals[7], vals[8])
-    w, ok = _relative_candidate(kc, vals, raw, body, particle_slip, max_iter)
+    w, ok = _relative_candidate(kc, vals, raw, opts)
     if not ok or not w > 0.0 or math.isinf(w):
         return math.nan, _SEARCH
-    own = tier != TIER_PAPER and not (body and particle_slip)
+    own = tier != TIER_PAPER and not (opts.body and opts.particle_slip)
+    rtol = opts.rtol
     delta = NUDGE * rtol
     for _ in range(2):
         hi = w * (1.0 + delta)
-        if not _check_sticks(own, kc, vals, raw, hi, tier, body, particle_slip, empty):
+        if not _check_sticks(own, kc, vals, raw, hi, tier, opts, empty):
             lo = hi * (1.0 - rtol)
-            if _check_sticks(own, kc, vals, raw, lo, tier, body, particle_slip, empty):
+            if _check_sticks(own, kc, vals, raw, lo, tier, opts, empty):
                 return hi, _FOUND
             break
         if tier == TIER_PAPER:
@@ -551,52 +563,41 @@ def _from_candidate(vals, raw, tier, body, particle_slip, rtol, max_iter, empty)
 
 
 @njit(parallel=True, cache=CACHE)
-def _solve_parallel(ins, st, tier, body, particle_slip, rtol, u_max, closed, max_iter, out,
-                    how):
+def _solve_parallel(ins, st, tier, opts, out, how):
     empty = np.empty(0)
     for q in prange(out.shape[0]):
-        out[q], how[q] = _solve_one(_raw(ins, st, q), tier, body, particle_slip, rtol,
-                                    u_max, closed, max_iter, empty)
+        out[q], how[q] = _solve_one(_raw(ins, st, q), tier, opts, empty)
 
 
 @njit(cache=CACHE)
-def _solve_serial(ins, st, tier, body, particle_slip, rtol, u_max, closed, max_iter, out,
-                  how):
+def _solve_serial(ins, st, tier, opts, out, how):
     empty = np.empty(0)
     for q in range(out.shape[0]):
-        out[q], how[q] = _solve_one(_raw(ins, st, q), tier, body, particle_slip, rtol,
-                                    u_max, closed, max_iter, empty)
+        out[q], how[q] = _solve_one(_raw(ins, st, q), tier, opts, empty)
 
 
 # One pair of entry points per tier, the tier a compile-time constant: only that tier's
-# kernel and search are compiled (fused.tier_kernel, _bracket_if_paper).
+# kernel is compiled (fused.tier_kernel).
 
 
 @njit(cache=CACHE)
-def _solve_serial_paper(ins, st, body, particle_slip, rtol, u_max, closed, max_iter, out, how):
-    _solve_serial(ins, st, TIER_PAPER, body, particle_slip, rtol, u_max, closed, max_iter, out,
-                  how)
+def _solve_serial_paper(ins, st, opts, out, how):
+    _solve_serial(ins, st, TIER_PAPER, opts, out, how)
 
 
 @njit(cache=CACHE)
-def _solve_serial_relative(ins, st, body, particle_slip, rtol, u_max, closed, max_iter, out,
-                           how):
-    _solve_serial(ins, st, TIER_RELATIVE, body, particle_slip, rtol, u_max, closed, max_iter,
-                  out, how)
+def _solve_serial_relative(ins, st, opts, out, how):
+    _solve_serial(ins, st, TIER_RELATIVE, opts, out, how)
 
 
 @njit(cache=CACHE)
-def _solve_parallel_paper(ins, st, body, particle_slip, rtol, u_max, closed, max_iter, out,
-                          how):
-    _solve_parallel(ins, st, TIER_PAPER, body, particle_slip, rtol, u_max, closed, max_iter,
-                    out, how)
+def _solve_parallel_paper(ins, st, opts, out, how):
+    _solve_parallel(ins, st, TIER_PAPER, opts, out, how)
 
 
 @njit(cache=CACHE)
-def _solve_parallel_relative(ins, st, body, particle_slip, rtol, u_max, closed, max_iter, out,
-                             how):
-    _solve_parallel(ins, st, TIER_RELATIVE, body, particle_slip, rtol, u_max, closed, max_iter,
-                    out, how)
+def _solve_parallel_relative(ins, st, opts, out, how):
+    _solve_parallel(ins, st, TIER_RELATIVE, opts, out, how)
 
 
 #: (tier, parallel) -> the solver's entry point.
@@ -606,7 +607,7 @@ _SOLVE_ENTRY = {(TIER_PAPER, False): _solve_serial_paper,
                 (TIER_RELATIVE, True): _solve_parallel_relative}
 
 
-def critical_speeds(ins, steps, n, tier, body, particle_slip, rtol, u_max=math.inf,
+def critical_speeds(ins, steps, n, tier, *, body, particle_slip, rtol, u_max=math.inf,
                     closed_form=True, max_iter=MAX_ITER, return_how=False):
     """Head-on u0* [m/s] of ``n`` collisions given as the fused kernels' inputs
     (:mod:`.fused`), for ``tier`` ``fused.TIER_PAPER`` or ``fused.TIER_RELATIVE``.
@@ -619,19 +620,21 @@ def critical_speeds(ins, steps, n, tier, body, particle_slip, rtol, u_max=math.i
       tier's kernel: it must rebound at the answer ``hi`` and stick at ``hi (1 - rtol)``.
       Mode "paper" takes it only without body forces (the tiers then agree), with a bracket
       around it should the check fail (:func:`_from_candidate`);
-    - otherwise, and wherever the candidate fails, the search of
-      :func:`first_rebound_speed` (doubling from the viscous bound, a 16-point geometric
+    - otherwise, and wherever the candidate fails, the search
+      (:func:`search_from_bound`: doubling from the viscous bound, a 16-point geometric
       scan of the last doubling, bisection in ``ln w`` to ``rtol``).
 
     Either way the answer ``hi`` rebounds and ``hi (1 - rtol)`` sticks. ``inf`` where u0*
-    exceeds ``u_max`` [m/s]. ``return_how``: also return an int8 array of
-    :data:`HOW_TRIVIAL`, :data:`HOW_CLOSED`, :data:`HOW_BRACKET` or :data:`HOW_SEARCH` per
-    collision.
+    exceeds ``u_max`` [m/s]. ``body``: weight, buoyancy and drag on; ``particle_slip``: the
+    drag's slip is the particle's own speed (``drag_slip="particle"``). ``return_how``: also
+    return an int8 array of :data:`HOW_TRIVIAL`, :data:`HOW_CLOSED`, :data:`HOW_BRACKET` or
+    :data:`HOW_SEARCH` per collision.
     """
     out = np.empty(n)
     how = np.empty(n, dtype=np.int8)
-    args = (ins, steps, bool(body), bool(particle_slip), float(rtol), float(u_max),
-            bool(closed_form), int(max_iter), out, how)
+    opts = SolveOptions(body=bool(body), particle_slip=bool(particle_slip), rtol=float(rtol),
+                        u_max=float(u_max), closed=bool(closed_form), max_iter=int(max_iter))
+    args = (ins, steps, opts, out, how)
     if n < SERIAL_BELOW // 4:
         _SOLVE_ENTRY[int(tier), False](*args)
     else:
