@@ -30,6 +30,7 @@ from .critical_relative import (
     EARLY_RTOL,
     MAX_ITER,
     OK,
+    NewtonOptions,
     kernel_constants,
     kernel_e_w,
     threshold_from,
@@ -488,15 +489,15 @@ def _relative_candidate(kc, vals, raw, opts):
     body, particle_slip, max_iter = opts.body, opts.particle_slip, opts.max_iter
     slip = body and particle_slip
     early = SLIP_EARLY_RTOL if slip else EARLY_RTOL
-    w, status = threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early)
+    newton = NewtonOptions(max_iter=max_iter, early_rtol=early)
+    w, status = threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, newton)
     if not slip or status != OK:
         return w, status == OK
     for _ in range(SLIP_ITER):
         pre = _prep(raw, w / w_per_u0, body, particle_slip)
         kc_w = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, pre[7],
                                 pre[8])
-        w_new, status = threshold_from(kc_w, H0, Ha, mu_l, gamma, theta, e, max_iter,
-                                       early)
+        w_new, status = threshold_from(kc_w, H0, Ha, mu_l, gamma, theta, e, newton)
         if status != OK:
             return math.nan, False
         if abs(w_new - w) <= SLIP_RTOL * w_new:
