@@ -19,7 +19,7 @@ doubling, bisection in ``ln w``), written once as a compiled state machine per c
 from __future__ import annotations
 
 import math
-from collections import namedtuple
+from typing import NamedTuple, get_type_hints
 
 import numpy as np
 from numba import njit, prange
@@ -83,23 +83,43 @@ DOUBLE, SCAN, BISECT, CANDIDATE, WIDEN_UP, WIDEN_DOWN, DONE = 0, 1, 2, 3, 4, 5, 
 #: Halvings allowed to the bisection after the scan, and after the bracket of mode "paper".
 SEARCH_BISECTIONS, BRACKET_BISECTIONS = 64, 200
 
-#: The state of one collision's search (relative speeds [m/s]). ``phase``: one of
-#: :data:`DOUBLE` ... :data:`DONE`; ``lo``, ``hi``: the ends known to stick and to rebound
-#: (while doubling and scanning, ``hi`` is the doubling's last speed); ``w``: the speed to
-#: try next, or, once ``DONE``, the answer (``inf``: every speed up to ``w_max`` sticks, or
-#: none rebounds at all); ``k``: steps taken in the phase; ``g``: the bracket's widening
-#: factor; ``origin``: :data:`HOW_SEARCH` or :data:`HOW_BRACKET`.
-Search = namedtuple("Search", ["phase", "lo", "hi", "w", "k", "g", "origin"])
-#: What bounds one collision's search, fixed while it runs: ``w_vis`` [m/s], the viscous
-#: bound (:func:`_viscous_bound`: every speed up to it sticks in every tier); ``w_max``
-#: [m/s], the ceiling (the search ends with ``inf`` as soon as every speed up to it is known
-#: to stick); ``rtol``, the bisection's relative tolerance.
-SearchLimits = namedtuple("SearchLimits", ["w_vis", "w_max", "rtol"])
+class Search(NamedTuple):
+    """The state of one collision's search (relative speeds)."""
+
+    #: one of :data:`DOUBLE` ... :data:`DONE`
+    phase: int
+    #: the speed known to stick [m/s]
+    lo: float
+    #: the speed known to rebound [m/s] (while doubling and scanning: the doubling's last)
+    hi: float
+    #: the speed to try next [m/s]; once ``DONE``, the answer (``inf``: every speed up to
+    #: ``w_max`` sticks, or none rebounds at all)
+    w: float
+    #: steps taken in the phase (doublings, scan points, halvings, widenings)
+    k: int
+    #: the bracket's widening factor [-] (mode "paper")
+    g: float
+    #: how it started: :data:`HOW_SEARCH` or :data:`HOW_BRACKET`
+    origin: int
+
+
+class SearchLimits(NamedTuple):
+    """What bounds one collision's search, fixed while it runs."""
+
+    #: the viscous bound [m/s] (:func:`_viscous_bound`: every speed up to it sticks in
+    #: every tier)
+    w_vis: float
+    #: the ceiling [m/s]: the search ends with ``inf`` as soon as every speed up to it is
+    #: known to stick
+    w_max: float
+    #: the bisection's relative tolerance [-]
+    rtol: float
+
 
 #: A batch of searches as a record array (:func:`first_rebound_speed`): one field per
 #: field of :class:`Search`.
-_STATE_DTYPE = np.dtype([(name, np.int64 if name in ("phase", "k", "origin") else np.float64)
-                         for name in Search._fields])
+_STATE_DTYPE = np.dtype([(name, {int: np.int64, float: np.float64}[kind])
+                         for name, kind in get_type_hints(Search).items()])
 
 
 @njit(cache=CACHE, inline="always")
@@ -415,13 +435,21 @@ def _prep(raw, u, body, particle_slip):
     )
 
 
-#: The compiled solver's options (:func:`critical_speeds`), one record for a batch:
-#: ``body`` (weight, buoyancy and drag on), ``particle_slip`` (the drag's slip is the
-#: particle's own speed, so the body forces are re-evaluated at every trial speed),
-#: ``rtol`` [-] (the answer's relative tolerance), ``u_max`` [m/s] (the ceiling),
-#: ``closed`` (start from the near-closed form), ``max_iter`` (its Newton steps at most).
-SolveOptions = namedtuple("SolveOptions",
-                          ["body", "particle_slip", "rtol", "u_max", "closed", "max_iter"])
+class SolveOptions(NamedTuple):
+    """The compiled solver's options (:func:`critical_speeds`), one record for a batch."""
+
+    #: weight, buoyancy and drag on
+    body: bool
+    #: the drag's slip is the particle's own speed (re-evaluated at every trial speed)
+    particle_slip: bool
+    #: the answer's relative tolerance [-]
+    rtol: float
+    #: the ceiling [m/s]
+    u_max: float
+    #: start from the near-closed form of mode "relative"
+    closed: bool
+    #: its Newton evaluations at most
+    max_iter: int
 
 
 @njit(cache=CACHE)
