@@ -440,9 +440,9 @@ def critical_impact_speed(
         Tolerance in ``e_w`` [-] of ``mode="auto"``, as in :func:`collide`.
     u_max : float, optional
         A ceiling on the answer [m/s]. Where ``u0*`` exceeds it the result is ``inf``,
-        exactly as if the full answer had been cut there; in modes ``"paper"`` and
-        ``"relative"`` the search stops as soon as every speed up to ``u_max`` is known to
-        stick, so pairs that rebound only at high speed (or never) cost a few evaluations.
+        exactly as if the full answer had been cut there; the search stops as soon as
+        every speed up to ``u_max`` is known to stick, so pairs that rebound only at high
+        speed (or never) cost a few evaluations.
 
     Returns
     -------
@@ -467,10 +467,10 @@ def critical_impact_speed(
     search therefore starts below the smallest speed that can possibly rebound (the viscous
     bound of the approach, ``m_r w = c Delta_app``), doubles the speed until a rebound,
     scans the last doubling on 16 geometric points, and bisects between the last sticking
-    and the first rebounding point to ``rtol`` (in modes ``"paper"`` and ``"relative"``
-    compiled and run per collision, each to its own convergence; the other modes bisect the
-    whole batch until every element has converged, so there an element may be narrowed
-    further than ``rtol``). The result is the first rebound found this way: a rebound window
+    and the first rebounding point to ``rtol`` (compiled and run per collision in modes
+    ``"paper"`` and ``"relative"``, stepped over the whole batch in the other modes; either
+    way each collision converges on its own, so its ``u0*`` does not depend on the rest of
+    the batch). The result is the first rebound found this way: a rebound window
     narrower than a factor ``2^(1/16)`` (4.4 %) below it can be missed. Above ``u0*`` the
     pair may stick again in a narrow window; :func:`collide` on a grid shows it.
     """
@@ -489,8 +489,9 @@ def critical_impact_speed(
     if mode in _FUSED:
         shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, None,
                                              None, speeds=False)
-        u_star = critical_speeds(ins, steps, n, _FUSED[mode], body_forces,
-                                 drag_slip == "particle", rtol, ceiling)
+        u_star = critical_speeds(ins, steps, n, _FUSED[mode], body=body_forces,
+                                 particle_slip=drag_slip == "particle", rtol=rtol,
+                                 u_max=ceiling)
         return u_star.reshape(shape)[()]
     return _critical_vectorised(p_i, p_j, liquid, gas, bed, beta_deg, e, mode, body_forces,
                                 drag_slip, rtol, tol, ceiling)
@@ -499,8 +500,8 @@ def critical_impact_speed(
 def _critical_vectorised(p_i, p_j, liquid, gas, bed, beta_deg, e, mode, body_forces,
                          drag_slip, rtol, tol, ceiling):
     """u0* by :func:`~.collision.critical.first_rebound_speed` over the numpy preparation,
-    every step on the whole batch: the tiers without a compiled solver, and the reference
-    the compiled solver is tested against."""
+    every step on the elements still searching, each to its own convergence: the tiers
+    without a compiled solver, and the reference the compiled solver is tested against."""
     state = prepare_pair(p_i, p_j, liquid, gas, bed, beta_deg, e, body_forces, drag_slip)
     shape = state.shape
     flat = flatten(state)
@@ -523,8 +524,9 @@ def _critical_vectorised(p_i, p_j, liquid, gas, bed, beta_deg, e, mode, body_for
         e_w, _, _, _, _ = _evaluate(sub, w_rel, mode, False, tol)
         return e_w == 0.0
 
-    w_star = first_rebound_speed(flat, sticks, rtol)
-    u_star = w_star.reshape(shape) / np.broadcast_to(state.w_per_u0, shape)
+    w_per_u0 = np.broadcast_to(state.w_per_u0, shape)
+    w_star = first_rebound_speed(flat, sticks, rtol, w_max=ceiling * w_per_u0.ravel())
+    u_star = w_star.reshape(shape) / w_per_u0
     return np.where(u_star > ceiling, math.inf, u_star)[()]
 
 

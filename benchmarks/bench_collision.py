@@ -192,7 +192,8 @@ def main(n=1_000_000, n_pool=20_000, n_crit=10_000):
             line(f"critical_impact_speed 1e4, {label}, {mode}", n_crit / med, "solves/s", best,
                  med, goal="goal < 100 ms")
             best, med = timings(lambda m=mode, a=c_ins, b=c_steps: critical_speeds(
-                a, b, n_crit, _FUSED[m], True, False, 1e-6, closed_form=False), 5)
+                a, b, n_crit, _FUSED[m], body=True, particle_slip=False, rtol=1e-6,
+                closed_form=False), 5)
             line(f"  the same by the plain search, {mode}", n_crit / med, "solves/s", best,
                  med)
     print(f"load average at end {os.getloadavg()}")

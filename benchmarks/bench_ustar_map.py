@@ -87,8 +87,8 @@ def main(n=1_000_000, n_side=100):
         return at.critical_impact_speed(**kw)
 
     def critical_search():
-        return critical_speeds(ins, steps, n, _FUSED["relative"], True, False, 1e-6,
-                               closed_form=False)
+        return critical_speeds(ins, steps, n, _FUSED["relative"], body=True,
+                               particle_slip=False, rtol=1e-6, closed_form=False)
 
     ds = build(SCENE, **map_grid(n_side))
     crit = ds[["u_star", "u_star_flag", "Ca_star", "regime"]]
@@ -112,8 +112,8 @@ def main(n=1_000_000, n_side=100):
               f"{n / med / 1e6:6.2f} M/s  ratio to collide {ratio:5.2f}{goal}")
 
     # How the 1e6 mixed u0* were found, and the plain search for the record.
-    u_cf, how = critical_speeds(ins, steps, n, _FUSED["relative"], True, False, 1e-6,
-                                return_how=True)
+    u_cf, how = critical_speeds(ins, steps, n, _FUSED["relative"], body=True,
+                                particle_slip=False, rtol=1e-6, return_how=True)
     counts = {name: int(np.count_nonzero(how == code)) for name, code in
               (("closed form", HOW_CLOSED), ("bracket", HOW_BRACKET), ("search", HOW_SEARCH))}
     print(f"    (mixed {n:.0e}: {counts}; finite {np.isfinite(u_cf).mean():.1%})")

@@ -44,7 +44,8 @@ def _solve(kw, mode="relative", slip=False, body=True, rtol=RTOL, u_max=math.inf
     shape, ins, steps, n = _fused_inputs(kw["p_i"], kw["p_j"], kw["liquid"], kw["gas"],
                                          kw["bed"], kw["beta_deg"], kw["e"], None, None,
                                          speeds=False)
-    return critical_speeds(ins, steps, n, _FUSED[mode], body, slip, rtol, u_max, **opts)
+    return critical_speeds(ins, steps, n, _FUSED[mode], body=body, particle_slip=slip,
+                           rtol=rtol, u_max=u_max, **opts)
 
 
 def _agree(a, b, rtol=RTOL):

@@ -100,6 +100,7 @@ where viscosity dominates); the caller verifies the candidate against the kernel
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from numba import njit
 
@@ -108,7 +109,8 @@ from .bridge import _LN4, bridge_volume, g_diff, ln_f_parts
 from .relative import _viscous_loss, reduced_mass, relative_body_force
 
 __all__ = ["relative_threshold", "threshold_from", "kernel_constants", "kernel_e_w",
-           "NEWTON_RTOL", "EARLY_RTOL", "QUAD_RATIO", "MAX_ITER", "OK", "FAILED", "NEVER"]
+           "Separation", "NewtonOptions", "NEWTON_RTOL", "EARLY_RTOL", "QUAD_RATIO",
+           "MAX_ITER", "OK", "FAILED", "NEVER"]
 
 #: Newton stops when a step changes ``t = sqrt(Ca)`` by at most this fraction of ``t``.
 NEWTON_RTOL = 1e-10
@@ -126,14 +128,53 @@ EARLY_RTOL = 1e-10
 OK, FAILED, NEVER = 0, 1, 2
 
 
+class Separation(NamedTuple):
+    """The numbers of the separation's ``F(t)`` that do not depend on ``t = sqrt(Ca)``
+    (module docstring), for one collision: what :func:`_sep` evaluates ``F`` from."""
+
+    #: ``mu_l / gamma`` [s/m]
+    kappa: float
+    #: rupture distance at ``Ca = 0``, ``(1 + theta/2) V_b^(1/3)`` [m]
+    hb: float
+    #: gap at solid contact (the asperities) [m]
+    Ha: float
+    #: ``H0^2 - Ha^2`` [m^2]
+    a2: float
+    #: ``c / m_r``: the viscous loss's speed per unit ``Delta`` [m/s]
+    c_m: float
+    #: ``2 pi gamma r cos(theta)`` [N]
+    kcap: float
+    #: relative body force, positive pushing the pair together [N]
+    f_b: float
+    #: reduced mass [kg]
+    m_r: float
+    #: :func:`.bridge.ln_f_parts` of ``Ha``: the power of 4 [-] ...
+    k_ha: int
+    #: ... and the logarithm [-]
+    v_ha: float
+    #: ``sqrt(Ha^2 + a^2)`` [m]
+    s_ha: float
+
+
+class NewtonOptions(NamedTuple):
+    """How far the Newton iterations of :func:`threshold_from` may go."""
+
+    #: evaluations allowed before the closed form gives up (:data:`MAX_ITER`)
+    max_iter: int
+    #: the largest distance [-, of ``t``] the iteration may stop at one evaluation early
+    #: (:data:`EARLY_RTOL`; 0: never early)
+    early_rtol: float
+
+
 @njit(cache=CACHE)
-def _sep(t, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha):
-    """``(F, dF/dt)`` of the separation at ``t = sqrt(Ca)`` (module docstring); ``h(t) > Ha``
-    assumed. ``(k_ha, v_ha) = ln_f_parts(Ha)``, ``s_ha = sqrt(Ha^2 + a^2)``.
+def _sep(t, sp):
+    """``(F, dF/dt)`` of the separation at ``t = sqrt(Ca)`` (module docstring) from its
+    numbers ``sp`` (:class:`Separation`); ``h(t) > Ha`` assumed.
 
     The same forms as :mod:`.bridge` with the square root shared: ``ln f`` as
     :func:`.bridge.ln_f` (``log1p`` where the gap is large), the capillary difference as
     :func:`.bridge.g_diff`."""
+    kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha = sp
     h = hb * (1.0 + t)
     s = math.sqrt(h * h + a2)
     hs = h + s
@@ -158,11 +199,10 @@ def _sep(t, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha):
 
 
 @njit(cache=CACHE)
-def _root_in_piece(a, f_a, df_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha,
-                   s_ha, max_iter, early_rtol):
-    """The crossing of ``F`` in the convex piece ``[a, b]`` (``b`` may be ``inf``), given
-    ``F(a) = f_a <= 0``, ``F'(a) = df_a`` and ``F(b) > 0`` where ``b`` is finite. Returns
-    ``(t*, ok)``.
+def _root_in_piece(a, f_a, df_a, b, sp, newton):
+    """The crossing of ``F`` (:func:`_sep` of ``sp``) in the convex piece ``[a, b]`` (``b``
+    may be ``inf``), given ``F(a) = f_a <= 0``, ``F'(a) = df_a`` and ``F(b) > 0`` where
+    ``b`` is finite; ``newton``: :class:`NewtonOptions`. Returns ``(t*, ok)``.
 
     Start: the quadratic model of ``F`` at ``a``, ``t^2/kappa`` exact and ``G = t^2/kappa - F``
     replaced by its tangent; ``G`` is concave on the piece, so the tangent lies above it and
@@ -175,6 +215,8 @@ def _root_in_piece(a, f_a, df_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha
     kink at ``t_E``, where ``F'`` is unbounded, is no convergence), when the bracket itself
     is that narrow, or (``early_rtol > 0``) one evaluation early by the test in the loop.
     """
+    kappa = sp.kappa
+    max_iter, early_rtol = newton
     lo, hi = a, b
     # d = t - a solves d^2/kappa + F'(a) d + F(a) = 0 (F(a) <= 0: a real root d >= 0),
     # taken in the form without cancellation for either sign of F'(a).
@@ -188,7 +230,7 @@ def _root_in_piece(a, f_a, df_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha
         if not (x > lo and x < hi):
             x = 0.5 * (lo + hi) if hi < math.inf else max(2.0 * lo, 1e-300)
     for _ in range(max_iter):
-        f, df = _sep(x, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        f, df = _sep(x, sp)
         step = math.nan
         if df > 0.0:
             step = f / df
@@ -327,12 +369,14 @@ def relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_
     stop is tested against).
     """
     kc = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j)
-    return threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early_rtol)
+    return threshold_from(kc, H0, Ha, mu_l, gamma, theta, e,
+                          NewtonOptions(max_iter=max_iter, early_rtol=early_rtol))
 
 
 @njit(cache=CACHE)
-def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early_rtol=EARLY_RTOL):
-    """:func:`relative_threshold` from the collision's :func:`kernel_constants` ``kc``."""
+def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, newton):
+    """:func:`relative_threshold` from the collision's :func:`kernel_constants` ``kc``;
+    ``newton``: :class:`NewtonOptions`."""
     m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
     c_m = c / m_r
     # Approach: contact speed w_c = sqrt((w - w_v)^2 - 2 E_a / m_r) for w > w_v.
@@ -348,27 +392,28 @@ def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, max_iter, early_rtol=EARLY
     t_min = math.sqrt(kappa * e * wc_min)
     if hb * (1.0 + t_min) <= Ha:
         return w_app, OK  # the bridge is broken at contact: every contact rebounds
-    f_a, df_a = _sep(t_min, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+    sp = Separation(kappa=kappa, hb=hb, Ha=Ha, a2=a2, c_m=c_m, kcap=kcap, f_b=f_b, m_r=m_r,
+                    k_ha=k_ha, v_ha=v_ha, s_ha=s_ha)
+    f_a, df_a = _sep(t_min, sp)
     if f_a > 0.0:
         return w_app, OK
     # The piece [a, b] of F's convexity holding the first crossing.
     a = t_min
     b = math.inf
     if f_b < 0.0 and kcap * (a2 / (H0 + Ha)) / H0 + f_b > 0.0:
-        h_e, ok = _e_zero(Ha, a2, kcap, f_b, max_iter)
+        h_e, ok = _e_zero(Ha, a2, kcap, f_b, newton.max_iter)
         if not ok:
             return math.inf, FAILED
         t_e = h_e / hb - 1.0
         if t_e > a:
-            f_e, df_e = _sep(t_e, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+            f_e, df_e = _sep(t_e, sp)
             if f_e > 0.0:
                 b = t_e
             else:
                 a = t_e
                 f_a = f_e
                 df_a = df_e
-    t, ok = _root_in_piece(a, f_a, df_a, b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha,
-                           v_ha, s_ha, max_iter, early_rtol)
+    t, ok = _root_in_piece(a, f_a, df_a, b, sp, newton)
     if not ok:
         return math.inf, FAILED
     # Back through contact and the approach.

@@ -51,7 +51,7 @@ from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from .critical import _raw
-from .critical_relative import _e_zero, _sep, kernel_constants
+from .critical_relative import Separation, _e_zero, _sep, kernel_constants
 from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one, tier_kernel
 
 __all__ = ["sticking_windows", "propensity_from_windows", "propensity_exact", "FIXED", "LOGNORMAL",
@@ -104,12 +104,11 @@ def _bisect_t(lo, hi, lo_sticks, args):
     """A crossing of ``F`` between ``lo`` and ``hi`` (``F(lo) <= 0`` where ``lo_sticks``,
     else ``F(hi) <= 0``; the other end ``> 0``), bisected to :data:`T_RTOL`. Returns
     ``(t, ok)``."""
-    kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha = args
     for _ in range(MAX_STEPS):
         if hi - lo <= T_RTOL * hi:
             return 0.5 * (lo + hi), True
         mid = 0.5 * (lo + hi)
-        f, _ = _sep(mid, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        f, _ = _sep(mid, args)
         if (f <= 0.0) == lo_sticks:
             lo = mid
         else:
@@ -120,10 +119,9 @@ def _bisect_t(lo, hi, lo_sticks, args):
 @njit(cache=CACHE)
 def _upper(a, step, args):
     """A ``t > a`` with ``F(t) > 0`` (``F`` grows like ``t^2``): ``a + step`` doubled."""
-    kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha = args
     for _ in range(MAX_STEPS):
         t = a + step
-        f, _ = _sep(t, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        f, _ = _sep(t, args)
         if f > 0.0:
             return t, True
         step *= 2.0
@@ -138,14 +136,13 @@ def _piece(a, a_inner, b, scale, args):
     convex ``F`` there (else ``a`` is the piece's end, where ``F'`` may be unbounded, and
     only ``F(a)`` is used). ``scale``: a step in ``t`` to search upwards from ``a``.
     Returns ``(found, t_a, t_b, ok)``."""
-    kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha = args
     inf = math.inf
-    fa, dfa = _sep(a, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+    fa, dfa = _sep(a, args)
     if not a_inner:
         dfa = -inf
     if fa <= 0.0:  # sticks from a on: the window ends at the crossing
         if b < inf:
-            fb, _ = _sep(b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+            fb, _ = _sep(b, args)
             if fb <= 0.0:
                 return True, a, b, True
             hi, ok = b, True
@@ -160,7 +157,7 @@ def _piece(a, a_inner, b, scale, args):
     lo, flo, dlo = a, fa, dfa
     if b < inf:
         hi = b
-        fhi, _ = _sep(b, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        fhi, _ = _sep(b, args)
         dhi = inf
         if fhi <= 0.0:
             t_a, ok = _bisect_t(a, b, False, args)
@@ -171,7 +168,7 @@ def _piece(a, a_inner, b, scale, args):
         found = False
         for _ in range(MAX_STEPS):
             hi = lo + step
-            fhi, dhi = _sep(hi, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+            fhi, dhi = _sep(hi, args)
             if fhi <= 0.0 or dhi > 0.0:
                 found = True
                 break
@@ -203,7 +200,7 @@ def _piece(a, a_inner, b, scale, args):
             # any, narrower than the bracket (no probability to this accuracy).
             return False, a, a, True
         mid = 0.5 * (lo + hi)
-        fm, dm = _sep(mid, kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+        fm, dm = _sep(mid, args)
         if fm <= 0.0:
             t_a, ok_a = _bisect_t(lo, mid, False, args)
             t_b, ok_b = _bisect_t(mid, hi, True, args)
@@ -260,7 +257,7 @@ def _windows_one(raw, u_star, tier, body, particle_slip, lo, hi, empty):
     kappa = mu_l / gamma
     hb = (1.0 + 0.5 * theta) * v13
     t_min = math.sqrt(kappa * e * wc_min)
-    args = (kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
+    args = Separation(kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
     w_lo = u_star * wpu
     count = 0
     # ---- the approach sticks up to w_app
