@@ -266,8 +266,8 @@ def _threshold(p_i, p_j, liq, e=0.9, fn_i=0.0, fn_j=0.0, max_iter=60):
                                      speeds=False)
     k = prepare_flat(ins, steps, n, False, False)[:, 0]
     m_i, m_j, r, H0, Ha, mu, gamma, cos_t, theta = k[:9]
-    w, status = relative_threshold(m_i, m_j, r, H0, Ha, mu, gamma, cos_t, theta, fn_i, fn_j,
-                                   e, max_iter)
+    w, status = relative_threshold(Pair(m_i, m_j, r, H0, Ha, mu, gamma, cos_t, theta, fn_i,
+                                        fn_j, e), max_iter)
     return w, status, (m_i, m_j, r, H0, Ha, mu, gamma, cos_t, theta)
 
 

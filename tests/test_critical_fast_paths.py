@@ -58,11 +58,10 @@ def _both(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e, w):
     path = np.empty(n, dtype=np.int64)
     empty = np.empty(0)
     for k in range(n):
-        ew, sg, pa, _ = relative_kernel(Pair(m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k],
-                                             gamma[k], cos_t[k], theta[k], fn_i[k], fn_j[k],
-                                             e[k]), w[k], empty)
-        kc = kernel_constants(m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k], gamma[k],
-                              cos_t[k], theta[k], fn_i[k], fn_j[k])
+        p = Pair(m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k], gamma[k], cos_t[k], theta[k],
+                 fn_i[k], fn_j[k], e[k])
+        ew, sg, pa, _ = relative_kernel(p, w[k], empty)
+        kc = kernel_constants(p)
         ref[k] = ew
         got[k] = kernel_e_w(kc, H0[k], Ha[k], mu_l[k], gamma[k], theta[k], e[k], w[k])
         stage[k] = sg
@@ -76,9 +75,9 @@ def _thresholds(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e):
     out = np.full(n, np.nan)
     for k in range(n):
         if e[k] > 0.0:
-            w, status = relative_threshold(m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k],
-                                           gamma[k], cos_t[k], theta[k], fn_i[k], fn_j[k],
-                                           e[k], 60)
+            w, status = relative_threshold(Pair(m_i[k], m_j[k], r[k], H0[k], Ha[k], mu_l[k],
+                                                gamma[k], cos_t[k], theta[k], fn_i[k],
+                                                fn_j[k], e[k]), 60)
             if status == OK:
                 out[k] = w
     return out
@@ -164,10 +163,10 @@ def _thresholds_with(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j,
     status = np.full(n, -1)
     for k in range(n):
         if e[k] > 0.0:
-            w[k], status[k] = relative_threshold(m_i[k], m_j[k], r[k], H0[k], Ha[k],
-                                                 mu_l[k], gamma[k], cos_t[k], theta[k],
-                                                 fn_i[k], fn_j[k], e[k], max_iter,
-                                                 early_rtol)
+            w[k], status[k] = relative_threshold(Pair(m_i[k], m_j[k], r[k], H0[k], Ha[k],
+                                                      mu_l[k], gamma[k], cos_t[k], theta[k],
+                                                      fn_i[k], fn_j[k], e[k]),
+                                                 max_iter, early_rtol)
     return w, status
 
 

@@ -36,6 +36,7 @@ from .critical_relative import (
     threshold_from,
 )
 from .fused import SERIAL_BELOW, TIER_PAPER, TIER_RELATIVE, prepare_one, tier_kernel
+from .records import Pair
 from .relative import reduced_mass
 
 __all__ = ["first_rebound_speed", "critical_speeds", "Search", "SearchLimits",
@@ -523,8 +524,9 @@ def _relative_candidate(kc, vals, raw, opts):
         return w, status == OK
     for _ in range(SLIP_ITER):
         pre = _prep(raw, w / w_per_u0, body, particle_slip)
-        kc_w = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, pre[7],
-                                pre[8])
+        kc_w = kernel_constants(Pair(m_i=m_i, m_j=m_j, r=r, H0=H0, Ha=Ha, mu_l=mu_l,
+                                     gamma=gamma, cos_t=cos_t, theta=theta, fn_i=pre[7],
+                                     fn_j=pre[8], e=e))
         w_new, status = threshold_from(kc_w, H0, Ha, mu_l, gamma, theta, e, newton)
         if status != OK:
             return math.nan, False
@@ -570,8 +572,9 @@ def _from_candidate(vals, raw, tier, opts, empty):
         # 20 on the benchmark's mixed set); a bracket around the relative one was measured
         # 10-15 % slower than the plain search there, so the search runs directly.
         return math.nan, _SEARCH
-    kc = kernel_constants(vals[0], vals[1], vals[2], vals[3], vals[4], raw[8], raw[9],
-                          vals[5], vals[6], vals[7], vals[8])
+    kc = kernel_constants(Pair(m_i=vals[0], m_j=vals[1], r=vals[2], H0=vals[3], Ha=vals[4],
+                               mu_l=raw[8], gamma=raw[9], cos_t=vals[5], theta=vals[6],
+                               fn_i=vals[7], fn_j=vals[8], e=raw[17]))
     w, ok = _relative_candidate(kc, vals, raw, opts)
     if not ok or not w > 0.0 or math.isinf(w):
         return math.nan, _SEARCH

@@ -109,8 +109,8 @@ from .bridge import _LN4, bridge_volume, g_diff, ln_f_parts
 from .relative import _viscous_loss, reduced_mass, relative_body_force
 
 __all__ = ["relative_threshold", "threshold_from", "kernel_constants", "kernel_e_w",
-           "Separation", "NewtonOptions", "NEWTON_RTOL", "EARLY_RTOL", "QUAD_RATIO",
-           "MAX_ITER", "OK", "FAILED", "NEVER"]
+           "KernelConstants", "Separation", "NewtonOptions", "NEWTON_RTOL", "EARLY_RTOL",
+           "QUAD_RATIO", "MAX_ITER", "OK", "FAILED", "NEVER"]
 
 #: Newton stops when a step changes ``t = sqrt(Ca)`` by at most this fraction of ``t``.
 NEWTON_RTOL = 1e-10
@@ -126,6 +126,36 @@ EARLY_RTOL = 1e-10
 
 #: Status codes of :func:`relative_threshold`.
 OK, FAILED, NEVER = 0, 1, 2
+
+
+class KernelConstants(NamedTuple):
+    """The numbers of :func:`.relative.relative_kernel` that do not depend on the speed, for
+    one collision with a bridge (:func:`kernel_constants`): what the threshold
+    (:func:`threshold_from`), the check of its candidate (:func:`kernel_e_w`) and the
+    sticking set (:mod:`.sticking`) share."""
+
+    #: reduced mass [kg]
+    m_r: float
+    #: ``H0^2 - Ha^2`` [m^2]
+    a2: float
+    #: viscous constant ``(3/2) pi mu_l r^2`` [kg m]
+    c: float
+    #: capillary constant ``2 pi gamma r cos(theta)`` [N]
+    kcap: float
+    #: relative body force, positive pushing the pair together [N]
+    f_b: float
+    #: ``-Delta(H0, Ha)``, the approach's change of ``ln f`` [-]
+    d_app: float
+    #: ``g(Ha) - g(H0)``, the approach's capillary difference [m]
+    g_app: float
+    #: ``V_b^(1/3)``, the cube root of the bridge volume [m]
+    v13: float
+    #: :func:`.bridge.ln_f_parts` of ``Ha``: the power of 4 [-] ...
+    k_ha: int
+    #: ... and the logarithm [-]
+    v_ha: float
+    #: ``sqrt(Ha^2 + a^2)`` [m]
+    s_ha: float
 
 
 class Separation(NamedTuple):
@@ -283,13 +313,15 @@ def _e_zero(Ha, a2, kcap, f_b, max_iter):
 
 
 @njit(cache=CACHE)
-def kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j):
+def kernel_constants(p):
     """The numbers of :func:`.relative.relative_kernel` that do not depend on the speed, for
-    one collision with a bridge (``H0 > Ha > 0``), each formed by the same operations as
-    there: ``(m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha)`` with
-    ``d_app = -Delta(H0, Ha)``, ``g_app = g(Ha) - g(H0)``, ``v13 = V_b^(1/3)``,
-    ``(k_ha, v_ha) = ln_f_parts(Ha)`` and ``s_ha = sqrt(Ha^2 + a^2)``. The threshold and
-    the check of its candidate (:func:`kernel_e_w`) share them."""
+    the collision ``p`` (a :class:`.records.Pair` with a bridge, ``H0 > Ha > 0``; its
+    ``e`` is not read), each formed by the same operations as there: a
+    :class:`KernelConstants` with ``d_app = -Delta(H0, Ha)``, ``g_app = g(Ha) - g(H0)``,
+    ``v13 = V_b^(1/3)``, ``(k_ha, v_ha) = ln_f_parts(Ha)`` and ``s_ha = sqrt(Ha^2 + a^2)``.
+    The threshold and the check of its candidate (:func:`kernel_e_w`) share them."""
+    m_i, m_j, r, H0, Ha = p.m_i, p.m_j, p.r, p.H0, p.Ha
+    mu_l, gamma, cos_t, fn_i, fn_j = p.mu_l, p.gamma, p.cos_t, p.fn_i, p.fn_j
     m_r, _, _ = reduced_mass(m_i, m_j)
     a2 = (H0 - Ha) * (H0 + Ha)
     c = 1.5 * math.pi * mu_l * r * r
@@ -301,13 +333,14 @@ def kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j)
     g_app = g_diff(H0, Ha, a2)
     v13 = bridge_volume(r, a2) ** (1.0 / 3.0)
     s_ha = math.sqrt(Ha * Ha + a2)
-    return m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha
+    return KernelConstants(m_r=m_r, a2=a2, c=c, kcap=kcap, f_b=f_b, d_app=d_app,
+                           g_app=g_app, v13=v13, k_ha=k_ha, v_ha=v_ha, s_ha=s_ha)
 
 
 @njit(cache=CACHE, inline="always")
 def kernel_e_w(kc, H0, Ha, mu_l, gamma, theta, e, w):
     """``e_w`` of :func:`.relative.relative_kernel` at relative speed ``w`` [m/s] from its
-    speed-independent numbers ``kc`` (:func:`kernel_constants`): the kernel's own
+    speed-independent numbers ``kc`` (:class:`KernelConstants`): the kernel's own
     operations in its own order (bitwise its ``e_w``; a test holds it to that), without
     the details and with the work that does not depend on ``w`` done once. 0 where the
     pair sticks. The gap ``sqrt(h^2 + a^2)`` at rupture is taken once for the distance
@@ -356,10 +389,10 @@ def kernel_e_w(kc, H0, Ha, mu_l, gamma, theta, e, w):
 
 
 @njit(cache=CACHE)
-def relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e,
-                       max_iter, early_rtol=EARLY_RTOL):
+def relative_threshold(p, max_iter, early_rtol=EARLY_RTOL):
     """Smallest relative impact speed ``w*`` [m/s] above which mode "relative" rebounds
-    (module docstring), for one collision with a bridge (``H0 > Ha > 0``) and ``e > 0``.
+    (module docstring), for the collision ``p`` (a :class:`.records.Pair` with a bridge,
+    ``H0 > Ha > 0``, and ``e > 0``).
 
     Returns ``(w*, status)``: status :data:`OK`; :data:`FAILED` where the iteration did not
     converge (``w*`` meaningless: search instead); :data:`NEVER` where no speed rebounds.
@@ -368,15 +401,14 @@ def relative_threshold(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_
     one evaluation early (:data:`EARLY_RTOL`); 0 never stops early (the reference the early
     stop is tested against).
     """
-    kc = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j)
-    return threshold_from(kc, H0, Ha, mu_l, gamma, theta, e,
+    return threshold_from(kernel_constants(p), p.H0, p.Ha, p.mu_l, p.gamma, p.theta, p.e,
                           NewtonOptions(max_iter=max_iter, early_rtol=early_rtol))
 
 
 @njit(cache=CACHE)
 def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, newton):
-    """:func:`relative_threshold` from the collision's :func:`kernel_constants` ``kc``;
-    ``newton``: :class:`NewtonOptions`."""
+    """:func:`relative_threshold` from the collision's :func:`kernel_constants` ``kc`` (a
+    :class:`KernelConstants`); ``newton``: :class:`NewtonOptions`."""
     m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
     c_m = c / m_r
     # Approach: contact speed w_c = sqrt((w - w_v)^2 - 2 E_a / m_r) for w > w_v.

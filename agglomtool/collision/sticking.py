@@ -53,6 +53,7 @@ from .._jit import CACHE, parallel_launch
 from .critical import _raw
 from .critical_relative import Separation, _e_zero, _sep, kernel_constants
 from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one, tier_kernel
+from .records import Pair
 
 __all__ = ["sticking_windows", "propensity_from_windows", "propensity_exact", "FIXED", "LOGNORMAL",
            "MAXWELLIAN", "EXACT", "FALLBACK", "MAX_WINDOWS", "T_RTOL", "MAX_STEPS"]
@@ -245,7 +246,8 @@ def _windows_one(raw, u_star, tier, body, particle_slip, lo, hi, empty):
         return 0, FALLBACK  # the body forces change with the speed: no fixed balance
     if tier == TIER_PAPER and (fn_i != 0.0 or fn_j != 0.0):
         return 0, FALLBACK  # the paper's own bookkeeping with body forces: no bracket
-    kc = kernel_constants(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j)
+    kc = kernel_constants(Pair(m_i=m_i, m_j=m_j, r=r, H0=H0, Ha=Ha, mu_l=mu_l, gamma=gamma,
+                               cos_t=cos_t, theta=theta, fn_i=fn_i, fn_j=fn_j, e=e))
     m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
     c_m = c / m_r
     w_v = c_m * d_app
