@@ -24,7 +24,8 @@ The cosine of the contact angle and the sine of the collision angle are the dear
 numbers of the preparation (each costs about as much as the rest of it together). The
 loops take them from the previous collision where its angle is the same (:func:`_angles`):
 in a map an angle usually stays fixed over many collisions. The parallel loops run in
-blocks of :data:`BLOCK` collisions, each a serial loop carrying that memo. The values are
+blocks of at most :data:`BLOCK` collisions (:func:`launch_blocks`), each a serial loop
+carrying that memo. The values are
 the same either way (tested bitwise against :func:`prepare_one` on each collision alone).
 
 Inputs
@@ -42,6 +43,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from numba import njit, prange, types
 from numba.extending import overload
@@ -62,6 +64,8 @@ __all__ = [
     "fused_batch",
     "check_speeds",
     "slip_flag",
+    "broadcast_into",
+    "launch_blocks",
 ]
 
 #: The inputs, in the order the fused kernels take them.
@@ -82,6 +86,12 @@ SERIAL_BELOW = 2000
 #: Collisions per block of the parallel loops: each block is a serial loop on one thread,
 #: which carries the angles' memo (:func:`_angles`) from one collision to the next.
 BLOCK = 4096
+
+#: Blocks per thread that a parallel launch aims at, and the fewest collisions per block:
+#: a launch of few blocks per thread (a map's block of 2.4e5 collisions on 16 threads has
+#: 58 blocks of :data:`BLOCK`) runs blocks of fewer collisions (:func:`launch_blocks`).
+BLOCKS_PER_THREAD = 8
+MIN_BLOCK = 256
 
 #: Tier codes of :func:`fused_batch`.
 TIER_PAPER, TIER_RELATIVE = 0, 1
@@ -297,22 +307,47 @@ def _fused_serial(ins, st, body, particle_slip, tier, check, e_w, stage, path, w
                         det, 0, e_w.shape[0])
 
 
+def launch_blocks(n: int, full: int = BLOCK, least: int = MIN_BLOCK) -> tuple[int, int]:
+    """``(block, lanes)`` of a parallel launch over ``n`` items: blocks of at most ``full``
+    items, fewer (at least ``least``) where there would be under
+    :data:`BLOCKS_PER_THREAD` blocks per thread; ``lanes`` the threads' count (at most the
+    blocks'). Lane ``t`` runs blocks ``t, t + lanes, t + 2 lanes, ...``: numba gives each
+    thread a contiguous share of a ``prange``, so each lane's blocks are spread over the
+    whole batch and a region of dear collisions (a map's corner) is shared by all threads.
+    Only the order of the work changes, never a collision's arithmetic."""
+    threads = numba.get_num_threads()
+    block = max(min(least, full), min(full, -(-n // (threads * BLOCKS_PER_THREAD))))
+    return block, max(1, min(threads, -(-n // block)))
+
+
 @njit(parallel=True, cache=CACHE)
-def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det):
+def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det,
+                    block, lanes):
     n = e_w.shape[0]
-    # Each speed rule's first offender as a min-reduction over the blocks (check_speeds'
+    nb = (n + block - 1) // block
+    # Each speed rule's first offender as a min-reduction over the lanes (check_speeds'
     # rules and answer, whatever order the threads take).
     f1 = n
     f2 = n
     f3 = n
     f4 = n
-    for b in prange((n + BLOCK - 1) // BLOCK):
-        g1, g2, g3, g4 = _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage,
-                                      path, w_out, det, b * BLOCK, min(n, (b + 1) * BLOCK))
-        f1 = min(f1, g1)
-        f2 = min(f2, g2)
-        f3 = min(f3, g3)
-        f4 = min(f4, g4)
+    for t in prange(lanes):
+        h1 = n
+        h2 = n
+        h3 = n
+        h4 = n
+        for b in range(t, nb, lanes):
+            g1, g2, g3, g4 = _fused_block(ins, st, body, particle_slip, tier, check, e_w,
+                                          stage, path, w_out, det, b * block,
+                                          min(n, (b + 1) * block))
+            h1 = min(h1, g1)
+            h2 = min(h2, g2)
+            h3 = min(h3, g3)
+            h4 = min(h4, g4)
+        f1 = min(f1, h1)
+        f2 = min(f2, h2)
+        f3 = min(f3, h3)
+        f4 = min(f4, h4)
     return f1, f2, f3, f4
 
 
@@ -334,16 +369,17 @@ def _fused_serial_relative(ins, st, body, particle_slip, check, e_w, stage, path
 
 
 @njit(cache=CACHE)
-def _fused_parallel_paper(ins, st, body, particle_slip, check, e_w, stage, path, w_out, det):
+def _fused_parallel_paper(ins, st, body, particle_slip, check, e_w, stage, path, w_out, det,
+                          block, lanes):
     return _fused_parallel(ins, st, body, particle_slip, TIER_PAPER, check, e_w, stage, path,
-                           w_out, det)
+                           w_out, det, block, lanes)
 
 
 @njit(cache=CACHE)
 def _fused_parallel_relative(ins, st, body, particle_slip, check, e_w, stage, path, w_out,
-                             det):
+                             det, block, lanes):
     return _fused_parallel(ins, st, body, particle_slip, TIER_RELATIVE, check, e_w, stage,
-                           path, w_out, det)
+                           path, w_out, det, block, lanes)
 
 
 #: (tier, parallel) -> the loop's entry point.
@@ -531,16 +567,76 @@ def slip_flag(particle_slip):
     return True if particle_slip else None
 
 
+#: Elements below which :func:`broadcast_into` copies with numpy: a parallel launch costs
+#: more than a copy of this size.
+FILL_BELOW = 1 << 15
+
+#: Elements per block of :func:`_fill_parallel`.
+FILL_BLOCK = 1 << 14
+
+
+@njit(parallel=True, cache=CACHE)
+def _fill_parallel(dst, src, outer, steps, inner, step):
+    """``dst`` (1-D, rows of ``inner`` elements) from ``src`` (1-D): row ``r``, element
+    ``j`` is ``src[offset(r) + j * step]``, ``offset(r)`` the sum over the axes of
+    ``outer`` (sizes) of the row's index along each times its step in ``steps``."""
+    rows = dst.shape[0] // inner
+    per = max(1, FILL_BLOCK // inner)
+    nd = outer.shape[0]
+    for b in prange((rows + per - 1) // per):
+        for r in range(b * per, min(rows, (b + 1) * per)):
+            rem = r
+            off = 0
+            for d in range(nd - 1, -1, -1):
+                off += (rem % outer[d]) * steps[d]
+                rem //= outer[d]
+            base = r * inner
+            for j in range(inner):
+                dst[base + j] = src[off + j * step]
+
+
+def broadcast_into(dst, src) -> None:
+    """``dst[...] = src`` (``src`` broadcasting to ``dst``'s shape): the same elements as
+    ``np.copyto``, copied on every thread (compiled, :func:`_fill_parallel`) where ``dst``
+    is C-contiguous, of ``src``'s dtype and of at least :data:`FILL_BELOW` elements; else by
+    ``np.copyto``. A map's block writes its outputs and the kernels' flat inputs this way:
+    a copy on one thread was a serial remainder of every block."""
+    src = np.asarray(src)
+    if src.ndim:  # a broadcast view: its repeated axes (stride 0) read once
+        src = src[tuple(slice(0, 1) if st == 0 else slice(None) for st in src.strides)]
+    if (dst.size < FILL_BELOW or src.dtype != dst.dtype or not dst.flags.c_contiguous
+            or not dst.flags.writeable or src.dtype.hasobject):
+        np.copyto(dst, src, casting="unsafe")
+        return
+    if not src.flags.c_contiguous:
+        if src.size * 4 > dst.size:  # a copy of its own would cost as much as the fill
+            np.copyto(dst, src)
+            return
+        src = np.ascontiguousarray(src)
+    view = np.broadcast_to(src, dst.shape)  # raises as np.copyto would, where it does not
+    size = src.itemsize
+    strides = np.array(view.strides, dtype=np.int64) // size  # in elements of src.ravel()
+    shape = np.array(dst.shape, dtype=np.int64)
+    flat = src.reshape(-1)
+    if src.dtype == np.bool_:  # one compiled variant for the one-byte types
+        flat, dst = flat.view(np.int8), dst.view(np.int8)
+    parallel_launch(_fill_parallel, dst.reshape(-1), flat, shape[:-1], strides[:-1],
+                    int(shape[-1]), int(strides[-1]))
+
+
 def _flat_input(a, shape, n):
     """``a`` (an array broadcasting to ``shape`` of ``n`` elements) as a writable
-    C-contiguous float64 1-D array of length 1 or ``n``, and its step (0 or 1)."""
+    C-contiguous float64 1-D array of length 1 or ``n``, and its step (0 or 1). An array
+    smaller than ``n`` is broadcast into a new one by :func:`broadcast_into`."""
     if type(a) is not np.ndarray or a.dtype != np.float64:
         a = np.asarray(a, dtype=np.float64)
     if a.size == 1:
         return np.array(a, dtype=np.float64).reshape(1), 0
     if a.size != n:
-        a = np.broadcast_to(a, shape)
-    elif a.flags.c_contiguous and a.flags.writeable:
+        out = np.empty(shape)
+        broadcast_into(out, a)
+        return out.reshape(-1), 1
+    if a.flags.c_contiguous and a.flags.writeable:
         # Already as required (np.require would return ``a`` itself): no copy, and no new
         # view of a 1-D array. Its elements are in the broadcast order: ``a`` has the
         # shape's ``n`` elements, so its axes longer than 1 are the shape's, in order.
@@ -557,11 +653,14 @@ def flat_inputs(values, shape):
     arrays = list(values)
     steps = np.zeros(len(values), dtype=np.int64)
     scalar_at = []
+    done: dict = {}  # id -> (flat, step): one array given twice (h0 and h0_j) flattened once
     for q, v in enumerate(values):
         if type(v) is float or v.ndim == 0:
             scalar_at.append(q)
+        elif id(v) in done:
+            arrays[q], steps[q] = done[id(v)]
         else:
-            arrays[q], steps[q] = _flat_input(v, shape, n)
+            arrays[q], steps[q] = done[id(v)] = _flat_input(v, shape, n)
     if scalar_at:
         # Each scalar is a row of one (k, 1) array: a C-contiguous 1-D array of length 1.
         # (Equal lengths by construction; strict=True would cost a microsecond more, as the
@@ -592,7 +691,7 @@ def fused_batch(ins, steps, n, tier, body, particle_slip, details=False, check=F
     if n < SERIAL_BELOW:
         first = _FUSED_ENTRY[int(tier), False](*args)
     else:
-        first = parallel_launch(_FUSED_ENTRY[int(tier), True], *args)
+        first = parallel_launch(_FUSED_ENTRY[int(tier), True], *args, *launch_blocks(n))
     if not check:
         return e_w, stage, path, w, det
     return e_w, stage, path, w, det, _first_rule(first, n)

@@ -52,7 +52,7 @@ from numba import njit, prange
 from .._jit import CACHE, parallel_launch
 from .critical import _raw
 from .critical_relative import _e_zero, _sep, kernel_constants
-from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one, tier_kernel
+from .fused import SERIAL_BELOW, TIER_PAPER, launch_blocks, prepare_one, tier_kernel
 
 __all__ = ["sticking_windows", "propensity_from_windows", "propensity_exact", "FIXED", "LOGNORMAL",
            "MAXWELLIAN", "EXACT", "FALLBACK", "MAX_WINDOWS", "T_RTOL", "MAX_STEPS"]
@@ -491,13 +491,14 @@ def _propensity_serial(ins, st, u_star, su, tier, body, particle_slip, inner, fa
 
 @njit(parallel=True, cache=CACHE)
 def _propensity_parallel(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1,
-                         h1, p2, h2, out):
+                         h1, p2, h2, out, per, lanes):
+    # blocks of ``per`` collisions, lane t running blocks t, t + lanes, ... (launch_blocks)
     n = out.shape[0] // inner
-    per = max(1, 4096 // inner)  # collisions per block: about 4096 elements, at least one
     nb = (n + per - 1) // per
-    for b in prange(nb):
-        _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1,
-                          h1, p2, h2, out, b * per, min(n, (b + 1) * per))
+    for t in prange(lanes):
+        for b in range(t, nb, lanes):
+            _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family,
+                              p1, h1, p2, h2, out, b * per, min(n, (b + 1) * per))
 
 
 #: How :func:`propensity_exact` reads a law parameter: one value, one per element, one per
@@ -526,5 +527,8 @@ def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, fa
     if n < SERIAL_BELOW // 4 and out.shape[0] < SERIAL_BELOW:
         _propensity_serial(*args)
     else:
-        parallel_launch(_propensity_parallel, *args)
+        # blocks of about 4096 elements (at least one collision), smaller where a launch
+        # would have few blocks per thread; each block's windows are searched afresh
+        per, lanes = launch_blocks(n, max(1, 4096 // int(inner)), 1)
+        parallel_launch(_propensity_parallel, *args, per, lanes)
     return out

@@ -17,6 +17,7 @@ import numpy as np
 
 from .._validate import check_typed
 from .._version import __version__
+from ..collision.fused import broadcast_into
 from ..plausibility import scene_findings, warn_findings
 from ..scene import (
     CATEGORICAL_FIELDS,
@@ -280,8 +281,9 @@ def _block_function(scene_values: dict, names: tuple, group: str, nodes: int, ou
             if target is None:  # not wanted: a view, never copied
                 done.append(np.broadcast_to(o, shape))
                 continue
-            if o is not target:  # as ``a[...] = o`` would
-                np.copyto(target, np.broadcast_to(o, shape), casting="unsafe")
+            if o is not target:  # as ``a[...] = o`` would, on every thread
+                broadcast_into(target, o if target.shape == shape else
+                               np.broadcast_to(o, shape))
             done.append(target)
         return tuple(done)
 

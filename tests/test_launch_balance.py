@@ -1,0 +1,188 @@
+"""The parallel launches of a map's block (issue 26, strong scaling): the broadcast copies on
+every thread (:func:`agglomtool.collision.fused.broadcast_into`), an input given twice
+flattened once, and the loops' blocks spread over the threads
+(:func:`agglomtool.collision.fused.launch_blocks`): the same numbers in every case."""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+import pytest
+
+import agglomtool as at
+from agglomtool.collision import fused
+from agglomtool.collision.fused import (
+    BLOCK,
+    BLOCKS_PER_THREAD,
+    FILL_BELOW,
+    INPUT_NAMES,
+    TIER_PAPER,
+    TIER_RELATIVE,
+    broadcast_into,
+    flat_inputs,
+    launch_blocks,
+)
+
+
+def _bits(a):
+    a = np.ascontiguousarray(a)
+    return a.dtype, a.shape, a.tobytes()
+
+
+def _sources(rng, shape):
+    """Arrays broadcasting to ``shape`` in the layouts a map's block meets: one axis each,
+    the whole shape, Fortran order, a strided view, a broadcast view, size 1."""
+    a, b, c = shape
+    yield rng.uniform(size=(a, 1, 1))
+    yield rng.uniform(size=(1, b, 1))
+    yield rng.uniform(size=(1, 1, c))
+    yield rng.uniform(size=(a, b, 1))
+    yield rng.uniform(size=(b, c))  # fewer dimensions
+    full = rng.uniform(size=shape)
+    yield full
+    yield np.asfortranarray(full)
+    yield np.repeat(full, 2, axis=-1)[..., ::2]
+    yield np.broadcast_to(rng.uniform(size=(a, 1, c)), shape)
+    yield rng.uniform(size=(1, 1, 1))
+    yield np.array(0.5)
+
+
+@pytest.mark.parametrize("shape", [(6, 200, 40), (3, 7, FILL_BELOW // 7 + 5), (50, 3, 1000)])
+def test_broadcast_into_copies_as_numpy_does(shape):
+    rng = np.random.default_rng(7)
+    assert math.prod(shape) >= FILL_BELOW  # the compiled copy, not numpy's
+    for src in _sources(rng, shape):
+        for dtype in (np.float64, np.int8, np.bool_):
+            s = src.astype(dtype) if dtype is not np.float64 else src
+            if dtype is np.int8:
+                s = (s * 100).astype(np.int8) if src.dtype == np.float64 else s
+            if dtype is np.bool_:
+                s = src > 0.5
+            ref = np.empty(shape, dtype=dtype)
+            np.copyto(ref, s)
+            got = np.full(shape, 3, dtype=dtype)
+            broadcast_into(got, s)
+            assert _bits(got) == _bits(ref), (src.shape, src.strides, dtype)
+    # a destination that is not C-contiguous (a block of a larger result): numpy's copy
+    big = np.zeros((shape[0], shape[1], shape[2] + 3))
+    src = rng.uniform(size=(1, shape[1], 1))
+    broadcast_into(big[:, :, 1:-2], src)
+    assert _bits(big[:, :, 1:-2]) == _bits(np.broadcast_to(src, shape))
+    assert not big[:, :, :1].any() and not big[:, :, -2:].any()
+
+
+def test_broadcast_into_refuses_what_numpy_refuses():
+    with pytest.raises(ValueError):
+        broadcast_into(np.empty((4, FILL_BELOW)), np.ones((3, 1)))
+
+
+def test_an_input_given_twice_is_flattened_once():
+    """``h0`` and ``h0_j`` (the same array: a pair of one coating) share one flat copy."""
+    rng = np.random.default_rng(3)
+    shape = (6, 50, 4)
+    h0 = rng.uniform(1e-6, 1e-5, (6, 50, 1))
+    other = rng.uniform(size=(1, 50, 1))
+    values = [0.5] * len(INPUT_NAMES)
+    values[2] = values[6] = h0
+    values[8] = other
+    ins, steps = flat_inputs(tuple(values), shape)
+    assert ins[2] is ins[6]
+    assert steps[2] == steps[6] == steps[8] == 1
+    assert _bits(ins[2]) == _bits(np.broadcast_to(h0, shape).ravel())
+    assert _bits(ins[8]) == _bits(np.broadcast_to(other, shape).ravel())
+
+
+def test_launch_blocks_give_every_thread_several_blocks():
+    threads = numba.get_num_threads()
+    for n in (2000, 4096, 58 * 4096, 240_000, 10**7):
+        block, lanes = launch_blocks(n)
+        nb = -(-n // block)
+        assert 1 <= lanes <= threads and lanes <= nb
+        assert block <= BLOCK
+        assert block >= fused.MIN_BLOCK or block == BLOCK
+        if n >= threads * BLOCKS_PER_THREAD * BLOCK:
+            assert block == BLOCK  # large launches keep the full blocks
+        elif n >= threads * BLOCKS_PER_THREAD * fused.MIN_BLOCK:
+            assert nb >= threads * BLOCKS_PER_THREAD  # several blocks for each thread
+    # the propensity's blocks: of collisions, at most ``full``, at least ``least``
+    for n in (100, 1200, 50_000):
+        block, lanes = launch_blocks(n, 20, 1)
+        assert 1 <= block <= 20 and 1 <= lanes <= min(threads, -(-n // block))
+        if n >= threads * BLOCKS_PER_THREAD * 20:
+            assert block == 20
+
+
+def _batch(rng, n):
+    """``n`` random collisions as the fused kernels take them, some of them not
+    approaching (rule 3 of the speed checks) so that the first offender is tested too."""
+    d = rng.uniform(1e-4, 2e-3, n)
+    u0 = rng.uniform(0.01, 3.0, n)
+    u0_j = np.where(rng.random(n) < 0.002, -u0 - 0.1, np.nan)  # a few not approaching
+    values = (d, 2650.0, rng.uniform(1e-6, 5e-5, n), 1e-6, d[::-1].copy(), 2650.0,
+              rng.uniform(1e-6, 5e-5, n), 1e-6, 10 ** rng.uniform(-3.0, 2.0, n), 0.07,
+              1000.0, rng.uniform(0.0, 80.0, n), 1.8e-5, 1.2, 0.45, np.nan,
+              rng.uniform(0.0, 360.0, n), 0.9, u0, u0_j)
+    return flat_inputs(values, (n,))
+
+
+@pytest.mark.parametrize("tier", [TIER_RELATIVE, TIER_PAPER])
+def test_fused_loop_gives_the_same_numbers_however_its_blocks_are_dealt(tier):
+    rng = np.random.default_rng(26)
+    n = 9000
+    ins, steps = _batch(rng, n)
+
+    def run(parallel, *how):
+        out = (np.empty(n), np.empty(n, dtype=np.int8), np.empty(n, dtype=np.int8),
+               np.empty(n), np.empty((n, 0)))
+        first = fused._FUSED_ENTRY[tier, parallel](ins, steps, True, None, True, *out, *how)
+        return [_bits(o) for o in out], tuple(int(f) for f in first)
+
+    ref = run(False)
+    assert ref[1][2] < n  # some collision breaks rule 3: its first offender is compared
+    for block, lanes in ((4096, 1), (4096, 2), (256, 2), (256, 3), (1000, 7), (1, 5),
+                         launch_blocks(n)):
+        assert run(True, block, lanes) == ref, (block, lanes)
+
+
+def test_map_block_gives_the_same_numbers_at_every_thread_count():
+    """A whole map (u0*, the collisions at the typical speed, the propensity) is bitwise
+    the same on 1 thread and on all, whatever the launches' blocks."""
+    scene = at.Scene(liquid="water", T=298.15, d_i=300e-6)
+    axes = dict(T=np.linspace(283.15, 363.15, 5), h0=np.geomspace(1e-6, 30e-6, 40),
+                U_Umf=np.linspace(1.2, 8.0, 60))
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = at.sweep(scene, **axes)
+        numba.set_num_threads(before)
+        every = at.sweep(scene, **axes)
+    finally:
+        numba.set_num_threads(before)
+    for name in one.data_vars:
+        assert _bits(one[name].values) == _bits(every[name].values), name
+
+
+def test_propensity_loop_gives_the_same_numbers_however_its_blocks_are_dealt():
+    from test_sticking_exact import _random_pairs
+
+    from agglomtool.collision import sticking
+
+    rng = np.random.default_rng(5)
+    pairs = _random_pairs(11, 3, angles=60)
+    for pr in pairs:
+        ins, steps, cshape, tier, body, slip = pr.pair(pr.u_star)
+        n = int(np.prod(cshape))
+        us = np.ascontiguousarray(np.broadcast_to(pr.u_star, cshape)).ravel()
+        inner = 7
+        finite = np.where(np.isfinite(us) & (us > 0.0), us, 1.0)
+        p1 = (finite[:, None] * 10 ** rng.uniform(-0.5, 2.0, (n, inner))).ravel()
+        args = (ins, steps, us, 1 if us.size > 1 else 0, int(tier), bool(body),
+                True if slip else None, inner, 2, p1, 1, np.ones(1), 0)
+        ref = np.empty(n * inner)
+        sticking._propensity_serial(*args, ref)
+        for per, lanes in ((20, 1), (1, 2), (3, 3), (7, 16), launch_blocks(n, 4096 // inner, 1)):
+            got = np.full(n * inner, -1.0)
+            sticking._propensity_parallel(*args, got, per, lanes)
+            assert _bits(got) == _bits(ref), (per, lanes)
