@@ -1,11 +1,9 @@
-"""The parallel launches of a map's block (issue 26, strong scaling): the broadcast copies on
-every thread (:func:`agglomtool.collision.fused.broadcast_into`), an input given twice
-flattened once, and the loops' blocks spread over the threads
-(:func:`agglomtool.collision.fused.launch_blocks`): the same numbers in every case."""
+"""A map's block at the kernel's pace (issue 26, strong scaling): an input given twice
+flattened once, the loops' blocks spread over the threads
+(:func:`agglomtool.collision.fused.launch_blocks`), every group of a block read from one
+resolved scene: the same numbers in every case."""
 
 from __future__ import annotations
-
-import math
 
 import numba
 import numpy as np
@@ -16,11 +14,9 @@ from agglomtool.collision import fused
 from agglomtool.collision.fused import (
     BLOCK,
     BLOCKS_PER_THREAD,
-    FILL_BELOW,
     INPUT_NAMES,
     TIER_PAPER,
     TIER_RELATIVE,
-    broadcast_into,
     flat_inputs,
     launch_blocks,
 )
@@ -29,53 +25,6 @@ from agglomtool.collision.fused import (
 def _bits(a):
     a = np.ascontiguousarray(a)
     return a.dtype, a.shape, a.tobytes()
-
-
-def _sources(rng, shape):
-    """Arrays broadcasting to ``shape`` in the layouts a map's block meets: one axis each,
-    the whole shape, Fortran order, a strided view, a broadcast view, size 1."""
-    a, b, c = shape
-    yield rng.uniform(size=(a, 1, 1))
-    yield rng.uniform(size=(1, b, 1))
-    yield rng.uniform(size=(1, 1, c))
-    yield rng.uniform(size=(a, b, 1))
-    yield rng.uniform(size=(b, c))  # fewer dimensions
-    full = rng.uniform(size=shape)
-    yield full
-    yield np.asfortranarray(full)
-    yield np.repeat(full, 2, axis=-1)[..., ::2]
-    yield np.broadcast_to(rng.uniform(size=(a, 1, c)), shape)
-    yield rng.uniform(size=(1, 1, 1))
-    yield np.array(0.5)
-
-
-@pytest.mark.parametrize("shape", [(6, 200, 40), (3, 7, FILL_BELOW // 7 + 5), (50, 3, 1000)])
-def test_broadcast_into_copies_as_numpy_does(shape):
-    rng = np.random.default_rng(7)
-    assert math.prod(shape) >= FILL_BELOW  # the compiled copy, not numpy's
-    for src in _sources(rng, shape):
-        for dtype in (np.float64, np.int8, np.bool_):
-            s = src.astype(dtype) if dtype is not np.float64 else src
-            if dtype is np.int8:
-                s = (s * 100).astype(np.int8) if src.dtype == np.float64 else s
-            if dtype is np.bool_:
-                s = src > 0.5
-            ref = np.empty(shape, dtype=dtype)
-            np.copyto(ref, s)
-            got = np.full(shape, 3, dtype=dtype)
-            broadcast_into(got, s)
-            assert _bits(got) == _bits(ref), (src.shape, src.strides, dtype)
-    # a destination that is not C-contiguous (a block of a larger result): numpy's copy
-    big = np.zeros((shape[0], shape[1], shape[2] + 3))
-    src = rng.uniform(size=(1, shape[1], 1))
-    broadcast_into(big[:, :, 1:-2], src)
-    assert _bits(big[:, :, 1:-2]) == _bits(np.broadcast_to(src, shape))
-    assert not big[:, :, :1].any() and not big[:, :, -2:].any()
-
-
-def test_broadcast_into_refuses_what_numpy_refuses():
-    with pytest.raises(ValueError):
-        broadcast_into(np.empty((4, FILL_BELOW)), np.ones((3, 1)))
 
 
 def test_an_input_given_twice_is_flattened_once():
@@ -186,3 +135,51 @@ def test_propensity_loop_gives_the_same_numbers_however_its_blocks_are_dealt():
             got = np.full(n * inner, -1.0)
             sticking._propensity_parallel(*args, got, per, lanes)
             assert _bits(got) == _bits(ref), (per, lanes)
+
+
+def _grids():
+    water = at.Scene(liquid="water", T=298.15, d_i=300e-6)
+    yield water, dict(U_Umf=np.linspace(1.5, 6.0, 7), T=np.linspace(290.0, 350.0, 4),
+                      h0=np.geomspace(2e-6, 2e-5, 5))
+    yield water, dict(T=np.linspace(290.0, 350.0, 3), solid_i=["silica-sand", "ilmenite"],
+                      U_Umf=np.linspace(1.5, 6.0, 4))
+    slag = at.Scene(liquid="hypothetical-slag", h0=0.15e-6, d_i=1000e-6, speed="lognormal",
+                    u0=0.1, sigma_ln=0.5)
+    yield slag, dict(h0=np.geomspace(0.12e-6, 2e-6, 5), u0=np.geomspace(0.01, 2.0, 6),
+                     T=np.linspace(900.0, 1300.0, 3))
+
+
+@pytest.mark.parametrize("case", range(3))
+def test_a_block_resolves_its_scene_once_for_all_groups(case, monkeypatch):
+    """Every group of a block read from one resolved scene: the same numbers as each group
+    evaluated on its own (the block function over the group's dimensions), bitwise, with
+    the grid's axes in any order and a swept name; the gas properties evaluated once per
+    block, not once per group that needs them."""
+    from agglomtool import scene as scene_module
+    from agglomtool.maps.layout import GROUPS, _block_function
+    from agglomtool.maps.plan import _compat, _plan
+
+    sc, grid = list(_grids())[case]
+    plan = _plan(sc, "auto", 16, grid)
+    calls = []
+    real = scene_module.gas_properties
+    monkeypatch.setattr(scene_module, "gas_properties",
+                        lambda *a, **k: calls.append(1) or real(*a, **k))
+    for idx, sl in plan.blocks():
+        before = len(calls)
+        got = plan.evaluate(sl, plan.lazy_names)
+        assert len(calls) - before == 1, idx
+        ref = {}
+        for group, (_, outs, _) in GROUPS.items():
+            dims = plan.group_dims[group]
+            if not dims:
+                continue
+            args = [_compat(plan.grid[d][sl[d]], (d,), dims) for d in dims]
+            if group == "collision":
+                args.append(_compat(np.asarray(ref["u_star"]), plan.group_dims["critical"],
+                                    dims))
+            ref.update(zip(outs, _block_function(plan.base, dims, group, 16)(*args),
+                           strict=True))
+        for name in plan.lazy_names:
+            assert _bits(got[name]) == _bits(ref[name]), (idx, name)
+        plan._memo.last = None  # the next block's u0* computed again, counted again

@@ -64,7 +64,6 @@ __all__ = [
     "fused_batch",
     "check_speeds",
     "slip_flag",
-    "broadcast_into",
     "launch_blocks",
 ]
 
@@ -567,76 +566,16 @@ def slip_flag(particle_slip):
     return True if particle_slip else None
 
 
-#: Elements below which :func:`broadcast_into` copies with numpy: a parallel launch costs
-#: more than a copy of this size.
-FILL_BELOW = 1 << 15
-
-#: Elements per block of :func:`_fill_parallel`.
-FILL_BLOCK = 1 << 14
-
-
-@njit(parallel=True, cache=CACHE)
-def _fill_parallel(dst, src, outer, steps, inner, step):
-    """``dst`` (1-D, rows of ``inner`` elements) from ``src`` (1-D): row ``r``, element
-    ``j`` is ``src[offset(r) + j * step]``, ``offset(r)`` the sum over the axes of
-    ``outer`` (sizes) of the row's index along each times its step in ``steps``."""
-    rows = dst.shape[0] // inner
-    per = max(1, FILL_BLOCK // inner)
-    nd = outer.shape[0]
-    for b in prange((rows + per - 1) // per):
-        for r in range(b * per, min(rows, (b + 1) * per)):
-            rem = r
-            off = 0
-            for d in range(nd - 1, -1, -1):
-                off += (rem % outer[d]) * steps[d]
-                rem //= outer[d]
-            base = r * inner
-            for j in range(inner):
-                dst[base + j] = src[off + j * step]
-
-
-def broadcast_into(dst, src) -> None:
-    """``dst[...] = src`` (``src`` broadcasting to ``dst``'s shape): the same elements as
-    ``np.copyto``, copied on every thread (compiled, :func:`_fill_parallel`) where ``dst``
-    is C-contiguous, of ``src``'s dtype and of at least :data:`FILL_BELOW` elements; else by
-    ``np.copyto``. A map's block writes its outputs and the kernels' flat inputs this way:
-    a copy on one thread was a serial remainder of every block."""
-    src = np.asarray(src)
-    if src.ndim:  # a broadcast view: its repeated axes (stride 0) read once
-        src = src[tuple(slice(0, 1) if st == 0 else slice(None) for st in src.strides)]
-    if (dst.size < FILL_BELOW or src.dtype != dst.dtype or not dst.flags.c_contiguous
-            or not dst.flags.writeable or src.dtype.hasobject):
-        np.copyto(dst, src, casting="unsafe")
-        return
-    if not src.flags.c_contiguous:
-        if src.size * 4 > dst.size:  # a copy of its own would cost as much as the fill
-            np.copyto(dst, src)
-            return
-        src = np.ascontiguousarray(src)
-    view = np.broadcast_to(src, dst.shape)  # raises as np.copyto would, where it does not
-    size = src.itemsize
-    strides = np.array(view.strides, dtype=np.int64) // size  # in elements of src.ravel()
-    shape = np.array(dst.shape, dtype=np.int64)
-    flat = src.reshape(-1)
-    if src.dtype == np.bool_:  # one compiled variant for the one-byte types
-        flat, dst = flat.view(np.int8), dst.view(np.int8)
-    parallel_launch(_fill_parallel, dst.reshape(-1), flat, shape[:-1], strides[:-1],
-                    int(shape[-1]), int(strides[-1]))
-
-
 def _flat_input(a, shape, n):
     """``a`` (an array broadcasting to ``shape`` of ``n`` elements) as a writable
-    C-contiguous float64 1-D array of length 1 or ``n``, and its step (0 or 1). An array
-    smaller than ``n`` is broadcast into a new one by :func:`broadcast_into`."""
+    C-contiguous float64 1-D array of length 1 or ``n``, and its step (0 or 1)."""
     if type(a) is not np.ndarray or a.dtype != np.float64:
         a = np.asarray(a, dtype=np.float64)
     if a.size == 1:
         return np.array(a, dtype=np.float64).reshape(1), 0
     if a.size != n:
-        out = np.empty(shape)
-        broadcast_into(out, a)
-        return out.reshape(-1), 1
-    if a.flags.c_contiguous and a.flags.writeable:
+        a = np.broadcast_to(a, shape)
+    elif a.flags.c_contiguous and a.flags.writeable:
         # Already as required (np.require would return ``a`` itself): no copy, and no new
         # view of a 1-D array. Its elements are in the broadcast order: ``a`` has the
         # shape's ``n`` elements, so its axes longer than 1 are the shape's, in order.
