@@ -23,6 +23,7 @@ from functools import cached_property
 from typing import Any
 
 import numpy as np
+from numba import vectorize
 
 from . import materials
 from ._fields import (
@@ -34,6 +35,7 @@ from ._fields import (
     U_CEILING,
     short_unit,
 )
+from ._jit import CACHE
 from ._validate import check_range, check_typed
 from .api import _FUSED, MODES, _fused_inputs, collide, critical_impact_speed
 from .bed.speed_models import IMPACT_SPEED_MODELS, mixed_law, speed_law
@@ -786,7 +788,25 @@ class Resolved:
         m_j = wet_mass(p_j, self.liquid.rho)
         m_r = m_i * m_j / (m_i + m_j)
         r = 2.0 / (2.0 / p_i.d + 2.0 / p_j.d)
-        return m_r * 2.0 * u0 / (1.5 * math.pi * self.liquid.mu * r * r)
+        # the formula's operations in its order, the speed's array read once
+        return _stokes_of(m_r * 2.0, u0, 1.5 * math.pi * self.liquid.mu * r * r)
+
+
+@vectorize(cache=CACHE)
+def _stokes_of(m2, u0, den):  # pragma: no cover - compiled
+    """``m2 u0 / den`` of one element (:meth:`Resolved.stokes`: ``m2 = 2 m_r``, ``den =
+    1.5 pi mu_l r^2``), one pass over the speeds instead of two."""
+    return m2 * u0 / den
+
+
+@vectorize(cache=CACHE)
+def _margin_of(u_typ, u_star):  # pragma: no cover - compiled
+    """The margin ``u_typ / u0*`` of one element, 0 where ``u0*`` is infinite (no
+    collision sticks there): ``np.where(np.isinf(u_star), 0.0, u_typ / u_star)`` in one
+    pass, written where the caller says (``out``)."""
+    if math.isinf(u_star):
+        return 0.0
+    return u_typ / u_star
 
 
 def capillary_number(mu_l, gamma, u_star):
@@ -857,15 +877,14 @@ def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
                                 collide_on=r.collide_on, pair=r.sticking_pair)
     b = np.broadcast_to
     target = None if out is None else out.get("margin")
+    u_typ_f, u_star_f = np.asarray(u_typ, dtype=float), np.asarray(u_star, dtype=float)
     with np.errstate(divide="ignore"):
         if (target is not None and target.shape == tuple(shape)
                 and target.dtype == np.float64):
-            # the same numbers as the np.where below, written once into the result
-            np.divide(u_typ, u_star, out=target)
-            np.copyto(target, 0.0, where=np.isinf(u_star))
-            margin = target
+            margin = target  # written once into the result
+            _margin_of(u_typ_f, u_star_f, out=target)
         else:
-            margin = b(np.where(np.isinf(u_star), 0.0, u_typ / u_star), shape)
+            margin = b(_margin_of(u_typ_f, u_star_f), shape)
     return {
         "u_typical": b(u_typ, shape), "U": b(r.U, shape), "e_w": b(res.e_w, shape),
         "agglomerated": b(res.agglomerated, shape), "stage": b(res.stage, shape),

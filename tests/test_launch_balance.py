@@ -5,6 +5,8 @@ resolved scene: the same numbers in every case."""
 
 from __future__ import annotations
 
+import warnings
+
 import numba
 import numpy as np
 import pytest
@@ -183,3 +185,44 @@ def test_a_block_resolves_its_scene_once_for_all_groups(case, monkeypatch):
         for name in plan.lazy_names:
             assert _bits(got[name]) == _bits(ref[name]), (idx, name)
         plan._memo.last = None  # the next block's u0* computed again, counted again
+
+
+def test_compiled_passes_give_numpys_numbers():
+    """The one-pass forms of the excess-gas law, the Maxwellian median, the Stokes number
+    and the margin give bitwise numpy's formulas, broadcasting as they do, with the
+    edge values (an infinite or zero u0*, NaN, a negative excess refused as before)."""
+    from agglomtool.bed.speed_models import IMPACT_SPEED_MODELS
+    from agglomtool.bed.speeds import SpeedModel
+    from agglomtool.scene import _margin_of, _stokes_of
+
+    rng = np.random.default_rng(11)
+    U = rng.uniform(0.2, 3.0, (5, 1, 7))
+    Umf = rng.uniform(0.01, 0.15, (1, 4, 1))
+    ratio = rng.uniform(0.05, 0.5, (1, 4, 7))
+    law = IMPACT_SPEED_MODELS["excess-gas"].law
+    theta = law({"U": U, "Umf": Umf, "fluctuation_ratio": ratio}).theta
+    assert _bits(theta) == _bits((ratio * (U - Umf)) ** 2)
+    with_nan = U.copy()
+    with_nan[2, 0, 3] = np.nan  # numpy's formula lets NaN through; so does the pass
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nor a warning that numpy does not give
+        theta = law({"U": with_nan, "Umf": Umf, "fluctuation_ratio": 0.3}).theta
+    assert _bits(theta) == _bits((np.asarray(0.3) * (with_nan - Umf)) ** 2)
+    low = U.copy()
+    low[1, 0, 2] = 0.005  # below every U_mf: refused, naming the value
+    with pytest.raises(ValueError, match="U = 0.005 m/s does not exceed U_mf"):
+        law({"U": low, "Umf": Umf, "fluctuation_ratio": 0.3})
+    th = rng.uniform(1e-5, 2.0, (3, 1, 6))
+    got = SpeedModel("maxwellian", granular_temperature=th).median()
+    assert _bits(got) == _bits(np.sqrt(th * np.log(2.0)))
+    m2, u0, den = rng.uniform(1e-9, 1e-6, (3, 4, 1)), rng.uniform(0.01, 2.0, (1, 1, 6)), \
+        rng.uniform(1e-9, 1e-3, (3, 1, 1))
+    assert _bits(_stokes_of(m2, u0, den)) == _bits(m2 * u0 / den)
+    u_typ = rng.uniform(0.01, 2.0, (3, 4, 6))
+    u_star = rng.uniform(0.01, 2.0, (3, 4, 1))
+    u_star[0, 1, 0], u_star[1, 2, 0], u_star[2, 3, 0] = np.inf, 0.0, np.nan
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ref = np.where(np.isinf(u_star), 0.0, u_typ / u_star)
+        out = np.full(u_typ.shape, 7.0)
+        _margin_of(u_typ, u_star, out=out)
+    assert _bits(out) == _bits(ref)

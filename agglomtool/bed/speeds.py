@@ -55,7 +55,10 @@ reference the compiled set is tested against.
 from __future__ import annotations
 
 import numpy as np
+from numba import vectorize
 from scipy.special import ndtr, ndtri
+
+from .._jit import CACHE
 
 __all__ = ["SPEED_FAMILIES", "SpeedModel", "sticking_probability"]
 
@@ -64,6 +67,17 @@ __all__ = ["SPEED_FAMILIES", "SpeedModel", "sticking_probability"]
 #: the two lists agree).
 SPEED_FAMILIES = ("fixed", "lognormal", "maxwellian", "excess-gas", "bubble-darton",
                   "bubble-mori-wen", "collisional-balance")
+
+
+#: ln 2 as numpy gives it (the Maxwellian median's factor).
+_LN2 = float(np.log(2.0))
+
+
+@vectorize(cache=CACHE)
+def _maxwell_median(theta, ln2):  # pragma: no cover - compiled
+    """``sqrt(theta ln 2)`` of one element: numpy's ``np.sqrt(theta * np.log(2.0))`` in one
+    pass (the product and the correctly rounded square root: the same numbers)."""
+    return np.sqrt(theta * ln2)
 
 
 class SpeedModel:
@@ -93,7 +107,7 @@ class SpeedModel:
     def median(self) -> np.ndarray:
         """Median impact speed [m/s] (the fixed value for ``"fixed"``)."""
         if self.family == "maxwellian":
-            return np.sqrt(self.theta * np.log(2.0))
+            return _maxwell_median(self.theta, _LN2)
         return self.u0
 
     def cdf(self, u) -> np.ndarray:
