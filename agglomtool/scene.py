@@ -778,18 +778,23 @@ class Resolved:
         ceiling = float(np.max(self.num("u_ceiling")))
         return critical_impact_speed(p_i, p_j, u_max=ceiling, **self._common())
 
-    def stokes(self, u0):
+    def stokes(self, u0, out=None):
         """Viscous Stokes number of the pair at head-on speed ``u0`` [-]:
         ``St = m_r w / (1.5 pi mu_l r^2)`` with the wet reduced mass ``m_r``, relative
         speed ``w = 2 u0`` and harmonic radius ``r``; for identical particles it is the
-        paper's ``St = 2 m v0 / (3 pi mu_l r^2)`` (Eq. 77) with ``v0 = u0``."""
+        paper's ``St = 2 m v0 / (3 pi mu_l r^2)`` (Eq. 77) with ``v0 = u0``. ``out``: a
+        float64 array of the result's shape to write it into (then returned)."""
         p_i, p_j = self.particles
         m_i = wet_mass(p_i, self.liquid.rho)
         m_j = wet_mass(p_j, self.liquid.rho)
         m_r = m_i * m_j / (m_i + m_j)
         r = 2.0 / (2.0 / p_i.d + 2.0 / p_j.d)
         # the formula's operations in its order, the speed's array read once
-        return _stokes_of(m_r * 2.0, u0, 1.5 * math.pi * self.liquid.mu * r * r)
+        m2, den = m_r * 2.0, 1.5 * math.pi * self.liquid.mu * r * r
+        if (out is not None and out.dtype == np.float64 and out.shape
+                == np.broadcast_shapes(np.shape(m2), np.shape(u0), np.shape(den))):
+            return _stokes_of(m2, u0, den, out=out)
+        return _stokes_of(m2, u0, den)
 
 
 @vectorize(cache=CACHE)
@@ -867,7 +872,8 @@ def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
     optional ``{name: array of the block's shape}`` (a map's result, in memory) into which
     the margin is computed, with no temporaries of the block's size; the other outputs
     are returned as views, for the caller to write once."""
-    u_typ = r.u_typical
+    into = {} if out is None else out
+    u_typ = r.speeds.median(out=into.get("u_typical"))  # r.u_typical, in its block
     res = r.collide(u_typ)
     # The block's shape: names (solids, mode, ...) reach the kernel as one scalar each, so
     # the collision's shape alone can miss their (size-1) axes and those of u0*.
@@ -885,9 +891,14 @@ def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
             _margin_of(u_typ_f, u_star_f, out=target)
         else:
             margin = b(_margin_of(u_typ_f, u_star_f), shape)
+    st = r.stokes(u_typ, out=into.get("St"))
+
+    def view(name, a):  # an output already in its block of ``out`` is that block
+        return a if a is into.get(name) else b(a, shape)
+
     return {
-        "u_typical": b(u_typ, shape), "U": b(r.U, shape), "e_w": b(res.e_w, shape),
+        "u_typical": view("u_typical", u_typ), "U": b(r.U, shape), "e_w": b(res.e_w, shape),
         "agglomerated": b(res.agglomerated, shape), "stage": b(res.stage, shape),
-        "St": b(r.stokes(u_typ), shape), "propensity": b(prop, shape),
+        "St": view("St", st), "propensity": b(prop, shape),
         "margin": margin,
     }

@@ -256,3 +256,30 @@ def test_an_in_memory_map_faults_its_result_in_on_every_thread(monkeypatch):
     grid._touch(buf, grid.PAGE)
     assert [int(i) for i in np.flatnonzero(buf == 0)] == [0, grid.PAGE, 2 * grid.PAGE,
                                                           3 * grid.PAGE]
+
+
+@pytest.mark.parametrize("law", [{}, {"speed": "fixed", "u0": 0.1}])
+def test_typical_speed_and_stokes_number_are_computed_into_the_result(law):
+    """``collision_outputs`` with ``out`` computes u_typical (where the median is
+    computed: a Maxwellian's) and St in the given arrays, which it returns: the same
+    numbers, bit for bit, as without."""
+    from agglomtool.scene import Resolved, collision_outputs
+
+    scene = at.Scene(**{**at.Scene(liquid="water", T=298.15, d_i=300e-6).values(), **law})
+    axes = dict(T=np.linspace(290.0, 340.0, 3), h0=np.geomspace(2e-6, 2e-5, 4))
+    axes.update(dict(U_Umf=np.linspace(1.5, 6.0, 9)) if not law else
+                dict(u0=np.geomspace(0.01, 1.0, 9)))
+    values = dict(scene.values())
+    for k, name in enumerate(axes):
+        shape = [1] * len(axes)
+        shape[k] = -1
+        values[name] = np.asarray(axes[name]).reshape(shape)
+    r = Resolved(values)
+    u_star = np.array(r.u_star, dtype=float)
+    ref = collision_outputs(r, u_star, 16)
+    out = {k: np.full(ref[k].shape, np.nan) for k in ("u_typical", "St")}
+    got = collision_outputs(r, u_star, 16, out=dict(out))
+    assert got["St"] is out["St"]
+    assert (got["u_typical"] is out["u_typical"]) == (not law)  # a fixed speed is u0
+    for name in ref:
+        assert _bits(got[name]) == _bits(ref[name]), name

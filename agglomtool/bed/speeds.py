@@ -104,9 +104,14 @@ class SpeedModel:
         self.theta = (None if granular_temperature is None
                       else np.asarray(granular_temperature, dtype=float))
 
-    def median(self) -> np.ndarray:
-        """Median impact speed [m/s] (the fixed value for ``"fixed"``)."""
+    def median(self, out=None) -> np.ndarray:
+        """Median impact speed [m/s] (the fixed value for ``"fixed"``). ``out``: a float64
+        array of the parameters' shape into which a computed median is written (then
+        returned), e.g. a map's result; ignored where the median is a parameter."""
         if self.family == "maxwellian":
+            if (out is not None and out.shape == self.theta.shape
+                    and out.dtype == np.float64):
+                return _maxwell_median(self.theta, _LN2, out=out)
             return _maxwell_median(self.theta, _LN2)
         return self.u0
 
