@@ -789,19 +789,16 @@ class Resolved:
         m_j = wet_mass(p_j, self.liquid.rho)
         m_r = m_i * m_j / (m_i + m_j)
         r = 2.0 / (2.0 / p_i.d + 2.0 / p_j.d)
-        # the formula's operations in its order, the speed's array read once
+        # the formula's operations in its order, in one array divided in place where its
+        # shape is the result's (a new array costs more than the arithmetic)
         m2, den = m_r * 2.0, 1.5 * math.pi * self.liquid.mu * r * r
-        if (out is not None and out.dtype == np.float64 and out.shape
-                == np.broadcast_shapes(np.shape(m2), np.shape(u0), np.shape(den))):
-            return _stokes_of(m2, u0, den, out=out)
-        return _stokes_of(m2, u0, den)
-
-
-@vectorize(cache=CACHE)
-def _stokes_of(m2, u0, den):  # pragma: no cover - compiled
-    """``m2 u0 / den`` of one element (:meth:`Resolved.stokes`: ``m2 = 2 m_r``, ``den =
-    1.5 pi mu_l r^2``), one pass over the speeds instead of two."""
-    return m2 * u0 / den
+        shape = np.broadcast_shapes(np.shape(m2), np.shape(u0), np.shape(den))
+        if not (out is not None and out.dtype == np.float64 and out.shape == shape):
+            out = None
+        st = np.multiply(m2, u0, out=out)
+        if isinstance(st, np.ndarray) and st.shape == shape:
+            return np.divide(st, den, out=st)
+        return st / den
 
 
 @vectorize(cache=CACHE)

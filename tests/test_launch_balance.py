@@ -5,6 +5,7 @@ resolved scene: the same numbers in every case."""
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numba
@@ -22,6 +23,7 @@ from agglomtool.collision.fused import (
     flat_inputs,
     launch_blocks,
 )
+from agglomtool.pair import wet_mass
 
 
 def _bits(a):
@@ -193,7 +195,7 @@ def test_compiled_passes_give_numpys_numbers():
     edge values (an infinite or zero u0*, NaN, a negative excess refused as before)."""
     from agglomtool.bed.speed_models import IMPACT_SPEED_MODELS
     from agglomtool.bed.speeds import SpeedModel
-    from agglomtool.scene import _margin_of, _stokes_of
+    from agglomtool.scene import Resolved, _margin_of
 
     rng = np.random.default_rng(11)
     U = rng.uniform(0.2, 3.0, (5, 1, 7))
@@ -215,9 +217,20 @@ def test_compiled_passes_give_numpys_numbers():
     th = rng.uniform(1e-5, 2.0, (3, 1, 6))
     got = SpeedModel("maxwellian", granular_temperature=th).median()
     assert _bits(got) == _bits(np.sqrt(th * np.log(2.0)))
-    m2, u0, den = rng.uniform(1e-9, 1e-6, (3, 4, 1)), rng.uniform(0.01, 2.0, (1, 1, 6)), \
-        rng.uniform(1e-9, 1e-3, (3, 1, 1))
-    assert _bits(_stokes_of(m2, u0, den)) == _bits(m2 * u0 / den)
+    out = np.full(th.shape, 3.0)
+    assert SpeedModel("maxwellian", granular_temperature=th).median(out=out) is out
+    assert _bits(out) == _bits(np.sqrt(th * np.log(2.0)))
+    assert _bits(SpeedModel("maxwellian", granular_temperature=0.02).median()) == _bits(
+        np.sqrt(np.asarray(0.02) * np.log(2.0)))
+    r = Resolved(dict(at.Scene(liquid="water", T=298.15, d_i=300e-6).values(),
+                      h0=rng.uniform(2e-6, 2e-5, (3, 4, 1)), T=rng.uniform(290, 340, (3, 1, 1))))
+    p_i, p_j = r.particles
+    m_i, m_j = wet_mass(p_i, r.liquid.rho), wet_mass(p_j, r.liquid.rho)
+    m_r, rad = m_i * m_j / (m_i + m_j), 2.0 / (2.0 / p_i.d + 2.0 / p_j.d)
+    for u0 in (rng.uniform(0.01, 2.0, (1, 1, 6)), rng.uniform(0.01, 2.0, (3, 4, 6)), 0.3,
+               rng.uniform(0.01, 2.0, (4, 1))):
+        ref = m_r * 2.0 * u0 / (1.5 * math.pi * r.liquid.mu * rad * rad)
+        assert _bits(r.stokes(u0)) == _bits(ref)
     u_typ = rng.uniform(0.01, 2.0, (3, 4, 6))
     u_star = rng.uniform(0.01, 2.0, (3, 4, 1))
     u_star[0, 1, 0], u_star[1, 2, 0], u_star[2, 3, 0] = np.inf, 0.0, np.nan

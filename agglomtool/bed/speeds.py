@@ -55,10 +55,7 @@ reference the compiled set is tested against.
 from __future__ import annotations
 
 import numpy as np
-from numba import vectorize
 from scipy.special import ndtr, ndtri
-
-from .._jit import CACHE
 
 __all__ = ["SPEED_FAMILIES", "SpeedModel", "sticking_probability"]
 
@@ -71,13 +68,6 @@ SPEED_FAMILIES = ("fixed", "lognormal", "maxwellian", "excess-gas", "bubble-dart
 
 #: ln 2 as numpy gives it (the Maxwellian median's factor).
 _LN2 = float(np.log(2.0))
-
-
-@vectorize(cache=CACHE)
-def _maxwell_median(theta, ln2):  # pragma: no cover - compiled
-    """``sqrt(theta ln 2)`` of one element: numpy's ``np.sqrt(theta * np.log(2.0))`` in one
-    pass (the product and the correctly rounded square root: the same numbers)."""
-    return np.sqrt(theta * ln2)
 
 
 class SpeedModel:
@@ -109,10 +99,13 @@ class SpeedModel:
         array of the parameters' shape into which a computed median is written (then
         returned), e.g. a map's result; ignored where the median is a parameter."""
         if self.family == "maxwellian":
-            if (out is not None and out.shape == self.theta.shape
+            # np.sqrt(theta * ln 2) with one array, the product's, rooted in place (a new
+            # array costs more than the arithmetic: its memory is mapped at first write)
+            if not (out is not None and out.shape == self.theta.shape
                     and out.dtype == np.float64):
-                return _maxwell_median(self.theta, _LN2, out=out)
-            return _maxwell_median(self.theta, _LN2)
+                out = None
+            med = np.multiply(self.theta, _LN2, out=out)
+            return np.sqrt(med, out=med) if isinstance(med, np.ndarray) else np.sqrt(med)
         return self.u0
 
     def cdf(self, u) -> np.ndarray:
