@@ -877,7 +877,8 @@ def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
     shape = np.broadcast_shapes(res.e_w.shape, np.shape(u_star), np.shape(r.U),
                                 np.shape(u_typ))
     prop = sticking_probability(r.speeds, u_star, r.collide, nodes=nodes, shape=shape,
-                                collide_on=r.collide_on, pair=r.sticking_pair)
+                                collide_on=r.collide_on, pair=r.sticking_pair,
+                                out=into.get("propensity"))
     b = np.broadcast_to
     target = None if out is None else out.get("margin")
     u_typ_f, u_star_f = np.asarray(u_typ, dtype=float), np.asarray(u_star, dtype=float)
@@ -896,6 +897,6 @@ def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
     return {
         "u_typical": view("u_typical", u_typ), "U": b(r.U, shape), "e_w": b(res.e_w, shape),
         "agglomerated": b(res.agglomerated, shape), "stage": b(res.stage, shape),
-        "St": view("St", st), "propensity": b(prop, shape),
+        "St": view("St", st), "propensity": view("propensity", prop),
         "margin": margin,
     }

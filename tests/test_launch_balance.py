@@ -1,4 +1,4 @@
-"""A map's block at the kernel's pace (issue 26, strong scaling): an input given twice
+"""A map's block at the kernel's pace (strong scaling of a map over threads): an input given twice
 flattened once, the loops' blocks spread over the threads
 (:func:`agglomtool.collision.fused.launch_blocks`), every group of a block read from one
 resolved scene: the same numbers in every case."""
@@ -274,8 +274,9 @@ def test_an_in_memory_map_faults_its_result_in_on_every_thread(monkeypatch):
 @pytest.mark.parametrize("law", [{}, {"speed": "fixed", "u0": 0.1}])
 def test_typical_speed_and_stokes_number_are_computed_into_the_result(law):
     """``collision_outputs`` with ``out`` computes u_typical (where the median is
-    computed: a Maxwellian's) and St in the given arrays, which it returns: the same
-    numbers, bit for bit, as without."""
+    computed: a Maxwellian's), St and the propensity (the compiled sticking set's one
+    pass) in the given arrays, which it returns: the same numbers, bit for bit, as
+    without."""
     from agglomtool.scene import Resolved, collision_outputs
 
     scene = at.Scene(**{**at.Scene(liquid="water", T=298.15, d_i=300e-6).values(), **law})
@@ -290,9 +291,9 @@ def test_typical_speed_and_stokes_number_are_computed_into_the_result(law):
     r = Resolved(values)
     u_star = np.array(r.u_star, dtype=float)
     ref = collision_outputs(r, u_star, 16)
-    out = {k: np.full(ref[k].shape, np.nan) for k in ("u_typical", "St")}
+    out = {k: np.full(ref[k].shape, np.nan) for k in ("u_typical", "St", "propensity")}
     got = collision_outputs(r, u_star, 16, out=dict(out))
-    assert got["St"] is out["St"]
+    assert got["St"] is out["St"] and got["propensity"] is out["propensity"]
     assert (got["u_typical"] is out["u_typical"]) == (not law)  # a fixed speed is u0
     for name in ref:
         assert _bits(got[name]) == _bits(ref[name]), name

@@ -507,7 +507,7 @@ ONE, PER_ELEMENT, PER_COLLISION, PER_TRAILING = 0, 1, 2, 3
 
 
 def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, family, p1, p2,
-                     how=None):
+                     how=None, out=None):
     """The sticking sets of :func:`sticking_windows` and the propensity of
     :func:`propensity_from_windows` in one pass (one launch): ``P`` at ``n * inner``
     elements, element ``k`` of collision ``k // inner`` (the collisions constant along the
@@ -515,10 +515,13 @@ def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, fa
     two steps. ``p1``, ``p2``: float64 arrays read as ``how`` says (a pair of
     :data:`ONE`, :data:`PER_ELEMENT`, :data:`PER_COLLISION`, :data:`PER_TRAILING`; by
     default ``ONE`` for an array of length 1, else ``PER_ELEMENT``). NaN where the
-    collision's set was not proven and probability lies above ``u0*``."""
+    collision's set was not proven and probability lies above ``u0*``. ``out``: a
+    C-contiguous float64 1-D array of ``n * inner`` elements to write ``P`` into (then
+    returned)."""
     u_star = np.ascontiguousarray(u_star, dtype=np.float64).reshape(-1)
     su = 1 if u_star.shape[0] > 1 else 0
-    out = np.empty(n * int(inner))
+    if out is None:
+        out = np.empty(n * int(inner))
     if how is None:
         how = tuple(ONE if p.shape[0] == 1 else PER_ELEMENT for p in (p1, p2))
     particle = True if particle_slip else None
