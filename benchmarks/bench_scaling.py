@@ -4,9 +4,7 @@
                                        [--profile DIR] [--cluster N]
 
 For each thread count (``numba.set_num_threads``; the process must start with at least as
-many, ``NUMBA_NUM_THREADS``), best and median of ``--repeats`` of (for the maps also their
-serial seconds: the map's time less the time inside the compiled parallel launches,
-``agglomtool._jit.parallel_launch``; the part no thread count shortens):
+many, ``NUMBA_NUM_THREADS``), best and median of ``--repeats`` of:
 
 - a 4e6-point water map (300 um sand, T 100 x h0 200 x U/U_mf 200, the default excess-gas
   speeds, u0* at every point, propensity), the README's kind of map;
@@ -67,41 +65,13 @@ def plain_collide(scene, axes):
     return lambda: r.collide(u)
 
 
-class LaunchClock:
-    """Seconds spent inside ``agglomtool._jit.parallel_launch`` (every module's reference to
-    it is wrapped, the modules having imported the function by name)."""
-
-    def __init__(self):
-        import agglomtool._jit as jit
-
-        self.seconds = 0.0
-        orig = jit.parallel_launch
-
-        def timed_launch(kernel, *args):
-            t = time.perf_counter()
-            try:
-                return orig(kernel, *args)
-            finally:
-                self.seconds += time.perf_counter() - t
-
-        for mod in list(sys.modules.values()):
-            if (getattr(mod, "__name__", "").startswith("agglomtool")
-                    and getattr(mod, "parallel_launch", None) is orig):
-                mod.parallel_launch = timed_launch
-
-
-def timed(fn, repeats, clock=None):
-    """Seconds of each of ``repeats`` calls; with ``clock`` also the serial seconds of each
-    (``(times, serial)``)."""
-    out, serial = [], []
+def timed(fn, repeats):
+    out = []
     for _ in range(repeats):
-        inside = clock.seconds if clock else 0.0
         t = time.perf_counter()
         fn()
         out.append(time.perf_counter() - t)
-        if clock:
-            serial.append(out[-1] - (clock.seconds - inside))
-    return (out, serial) if clock else out
+    return out
 
 
 def fmt(ts):
@@ -127,16 +97,14 @@ def main() -> None:
     col = plain_collide(*AXES["water"])
     col()
     print(f"compile and warm-up {time.perf_counter() - t0:.1f} s", flush=True)
-    clock = LaunchClock()
     med = {}
     for n in threads:
         numba.set_num_threads(n)
         line = [f"{n:2d} threads"]
         for name, (scene, axes) in AXES.items():
-            ts, serial = timed(lambda s=scene, x=axes: sweep(s, **x), a.repeats, clock)
+            ts = timed(lambda s=scene, x=axes: sweep(s, **x), a.repeats)
             med[name, n] = statistics.median(ts)
-            line.append(f"{name} map {fmt(ts)} (serial median "
-                        f"{statistics.median(serial):.3f} s)")
+            line.append(f"{name} map {fmt(ts)}")
         ts = timed(col, a.repeats)
         med["collide", n] = statistics.median(ts)
         line.append(f"plain collide {fmt(ts)}")
