@@ -23,6 +23,7 @@ from functools import cached_property
 from typing import Any
 
 import numpy as np
+from numba import vectorize
 
 from . import materials
 from ._fields import (
@@ -34,6 +35,7 @@ from ._fields import (
     U_CEILING,
     short_unit,
 )
+from ._jit import CACHE
 from ._validate import check_range, check_typed
 from .api import _FUSED, MODES, _fused_inputs, collide, critical_impact_speed
 from .bed.speed_models import IMPACT_SPEED_MODELS, mixed_law, speed_law
@@ -818,17 +820,37 @@ class Resolved:
         ceiling = float(np.max(self.num("u_ceiling")))
         return critical_impact_speed(p_i, p_j, u_max=ceiling, **self._common())
 
-    def stokes(self, u0):
+    def stokes(self, u0, out=None):
         """Viscous Stokes number of the pair at head-on speed ``u0`` [-]:
         ``St = m_r w / (1.5 pi mu_l r^2)`` with the wet reduced mass ``m_r``, relative
         speed ``w = 2 u0`` and harmonic radius ``r``; for identical particles it is the
-        paper's ``St = 2 m v0 / (3 pi mu_l r^2)`` (Eq. 77) with ``v0 = u0``."""
+        paper's ``St = 2 m v0 / (3 pi mu_l r^2)`` (Eq. 77) with ``v0 = u0``. ``out``: a
+        float64 array of the result's shape to write it into (then returned)."""
         p_i, p_j = self.particles
         m_i = wet_mass(p_i, self.liquid.rho)
         m_j = wet_mass(p_j, self.liquid.rho)
         m_r = m_i * m_j / (m_i + m_j)
         r = 2.0 / (2.0 / p_i.d + 2.0 / p_j.d)
-        return m_r * 2.0 * u0 / (1.5 * math.pi * self.liquid.mu * r * r)
+        # the formula's operations in its order, in one array divided in place where its
+        # shape is the result's (a new array costs more than the arithmetic)
+        m2, den = m_r * 2.0, 1.5 * math.pi * self.liquid.mu * r * r
+        shape = np.broadcast_shapes(np.shape(m2), np.shape(u0), np.shape(den))
+        if not (out is not None and out.dtype == np.float64 and out.shape == shape):
+            out = None
+        st = np.multiply(m2, u0, out=out)
+        if isinstance(st, np.ndarray) and st.shape == shape:
+            return np.divide(st, den, out=st)
+        return st / den
+
+
+@vectorize(cache=CACHE)
+def _margin_of(u_typ, u_star):  # pragma: no cover - compiled
+    """The margin ``u_typ / u0*`` of one element, 0 where ``u0*`` is infinite (no
+    collision sticks there): ``np.where(np.isinf(u_star), 0.0, u_typ / u_star)`` in one
+    pass, written where the caller says (``out``)."""
+    if math.isinf(u_star):
+        return 0.0
+    return u_typ / u_star
 
 
 def capillary_number(mu_l, gamma, u_star):
@@ -889,28 +911,34 @@ def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
     optional ``{name: array of the block's shape}`` (a map's result, in memory) into which
     the margin is computed, with no temporaries of the block's size; the other outputs
     are returned as views, for the caller to write once."""
-    u_typ = r.u_typical
+    into = {} if out is None else out
+    u_typ = r.speeds.median(out=into.get("u_typical"))  # r.u_typical, in its block
     res = r.collide(u_typ)
     # The block's shape: names (solids, mode, ...) reach the kernel as one scalar each, so
     # the collision's shape alone can miss their (size-1) axes and those of u0*.
     shape = np.broadcast_shapes(res.e_w.shape, np.shape(u_star), np.shape(r.U),
                                 np.shape(u_typ))
     prop = sticking_probability(r.speeds, u_star, r.collide, nodes=nodes, shape=shape,
-                                collide_on=r.collide_on, pair=r.sticking_pair)
+                                collide_on=r.collide_on, pair=r.sticking_pair,
+                                out=into.get("propensity"))
     b = np.broadcast_to
     target = None if out is None else out.get("margin")
+    u_typ_f, u_star_f = np.asarray(u_typ, dtype=float), np.asarray(u_star, dtype=float)
     with np.errstate(divide="ignore"):
         if (target is not None and target.shape == tuple(shape)
                 and target.dtype == np.float64):
-            # the same numbers as the np.where below, written once into the result
-            np.divide(u_typ, u_star, out=target)
-            np.copyto(target, 0.0, where=np.isinf(u_star))
-            margin = target
+            margin = target  # written once into the result
+            _margin_of(u_typ_f, u_star_f, out=target)
         else:
-            margin = b(np.where(np.isinf(u_star), 0.0, u_typ / u_star), shape)
+            margin = b(_margin_of(u_typ_f, u_star_f), shape)
+    st = r.stokes(u_typ, out=into.get("St"))
+
+    def view(name, a):  # an output already in its block of ``out`` is that block
+        return a if a is into.get(name) else b(a, shape)
+
     return {
-        "u_typical": b(u_typ, shape), "U": b(r.U, shape), "e_w": b(res.e_w, shape),
+        "u_typical": view("u_typical", u_typ), "U": b(r.U, shape), "e_w": b(res.e_w, shape),
         "agglomerated": b(res.agglomerated, shape), "stage": b(res.stage, shape),
-        "St": b(r.stokes(u_typ), shape), "propensity": b(prop, shape),
+        "St": view("St", st), "propensity": view("propensity", prop),
         "margin": margin,
     }

@@ -24,6 +24,7 @@ import math
 
 import numpy as np
 import pytest
+from _random_pairs import AIR, as_inputs, random_arrays
 
 import agglomtool as at
 from agglomtool.api import _FUSED, _critical_vectorised, _fused_inputs
@@ -40,32 +41,15 @@ from agglomtool.collision.critical import (
     search_update,
 )
 
-AIR = at.Gas(mu=18.48e-6, rho=1.168)
 #: ``1 - lo/hi`` after 10 halvings of the scan's last step: the boundary between 10 and 11.
 RTOL_AT_A_STEP = -math.expm1(-math.log(2.0) / (16 * 2**10))
 
 
 def _pairs(n, seed, plates=False):
-    rng = np.random.default_rng(seed)
-
-    def lu(lo, hi):
-        return 10.0 ** rng.uniform(np.log10(lo), np.log10(hi), n)
-
-    ha = lu(0.02e-6, 1e-6)
-    h0 = ha * lu(1.5, 100.0)
-    d_j, rho_j = lu(100e-6, 3e-3), rng.uniform(1000.0, 5000.0, n)
+    a = random_arrays(n, seed)
     if plates:
-        d_j[: n // 10] = np.inf
-        rho_j[: n // 10] = np.inf
-    return dict(
-        p_i=at.Particle(d=lu(100e-6, 3e-3), rho=rng.uniform(1000.0, 5000.0, n), h0=h0, ha=ha),
-        p_j=at.Particle(d=d_j, rho=rho_j, h0=h0, ha=ha),
-        liquid=at.Liquid(mu=lu(1e-3, 30.0), gamma=rng.uniform(0.02, 0.5, n),
-                         rho=rng.uniform(800.0, 3000.0, n),
-                         theta_deg=rng.uniform(0.0, 80.0, n)),
-        gas=AIR, bed=at.Bed(eps=rng.uniform(0.4, 0.95, n)),
-        beta_deg=rng.uniform(0.0, 360.0, n), e=rng.uniform(0.2, 1.0, n),
-    )
+        a["d_j"][: n // 10] = np.inf
+    return as_inputs(a)
 
 
 def _element(kw, i):

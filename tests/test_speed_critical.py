@@ -15,37 +15,20 @@ import math
 
 import numpy as np
 import pytest
+from _random_pairs import as_inputs, random_arrays
 
 import agglomtool as at
 from agglomtool.api import _critical_vectorised
 
-AIR = at.Gas(mu=18.48e-6, rho=1.168)
 RTOL = 1e-6
 
 
 def _random_set(n, seed):
-    rng = np.random.default_rng(seed)
-
-    def lu(lo, hi):
-        return 10.0 ** rng.uniform(np.log10(lo), np.log10(hi), n)
-
-    ha = lu(0.02e-6, 1e-6)
-    h0 = ha * lu(1.5, 100.0)
-    h0[:10] = 0.5 * ha[:10]  # no bridge: 0
-    e = rng.uniform(0.2, 1.0, n)
-    e[10:20] = 0.0  # never rebounds: inf
-    d_j = lu(100e-6, 3e-3)
-    d_j[20:60] = np.inf  # plates
-    rho_j = np.where(np.isinf(d_j), np.inf, rng.uniform(1000.0, 5000.0, n))
-    return dict(
-        p_i=at.Particle(d=lu(100e-6, 3e-3), rho=rng.uniform(1000.0, 5000.0, n), h0=h0, ha=ha),
-        p_j=at.Particle(d=d_j, rho=rho_j, h0=h0, ha=ha),
-        liquid=at.Liquid(mu=lu(1e-3, 30.0), gamma=rng.uniform(0.02, 0.5, n),
-                         rho=rng.uniform(800.0, 3000.0, n),
-                         theta_deg=rng.uniform(0.0, 80.0, n)),
-        gas=AIR, bed=at.Bed(eps=rng.uniform(0.4, 0.95, n)),
-        beta_deg=rng.uniform(0.0, 360.0, n), e=e,
-    )
+    a = random_arrays(n, seed)
+    a["h0"][:10] = 0.5 * a["ha"][:10]  # no bridge: 0
+    a["e"][10:20] = 0.0  # never rebounds: inf
+    a["d_j"][20:60] = np.inf  # plates
+    return as_inputs(a)
 
 
 def _reference(kw, mode, drag_slip="emulsion", body_forces=True):

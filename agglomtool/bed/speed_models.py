@@ -29,7 +29,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numba import vectorize
 
+from .._jit import CACHE
 from .._validate import PlausibilityWarning
 from . import hydrodynamics as hd
 from .speeds import SpeedModel
@@ -55,8 +57,29 @@ class ImpactSpeedModel:
     law: Callable[[dict], SpeedModel]
 
 
+@vectorize(cache=CACHE)
+def _excess_theta(U, Umf, ratio):  # pragma: no cover - compiled
+    """``(ratio (U - Umf))**2`` of one element where ``U - Umf`` is not ``<= 0`` (NaN
+    included, as numpy's formula gives it); -1 where it is (no square is negative): the
+    caller then takes the plain path, whose error names the value. One pass, no
+    temporaries; the same operations as the formula, so the same numbers."""
+    excess = U - Umf
+    if excess <= 0.0:
+        return -1.0
+    t = ratio * excess
+    return t * t
+
+
 def _excess_gas(x) -> SpeedModel:
     U, Umf = np.asarray(x["U"], float), np.asarray(x["Umf"], float)
+    ratio = np.asarray(x["fluctuation_ratio"], float)
+    # (the compiled comparison flags a NaN as an invalid operation, numpy's does not:
+    # that flag is not a warning here, as it was not with numpy)
+    with np.errstate(invalid="ignore"):
+        theta = np.asarray(_excess_theta(U, Umf, ratio))
+    # the smallest value ignoring NaN: the sentinel -1 wherever U does not exceed U_mf
+    if theta.size and not np.fmin.reduce(theta, axis=None) < 0.0:
+        return SpeedModel("maxwellian", granular_temperature=theta)
     excess = U - Umf
     if np.any(excess <= 0.0):
         bad = float(np.broadcast_to(U, excess.shape)[excess <= 0.0][0])

@@ -54,6 +54,8 @@ reference the compiled set is tested against.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy.special import ndtr, ndtri
 
@@ -64,6 +66,10 @@ __all__ = ["SPEED_FAMILIES", "SpeedModel", "sticking_probability"]
 #: the two lists agree).
 SPEED_FAMILIES = ("fixed", "lognormal", "maxwellian", "excess-gas", "bubble-darton",
                   "bubble-mori-wen", "collisional-balance")
+
+
+#: ln 2 as numpy gives it (the Maxwellian median's factor).
+_LN2 = float(np.log(2.0))
 
 
 class SpeedModel:
@@ -90,10 +96,18 @@ class SpeedModel:
         self.theta = (None if granular_temperature is None
                       else np.asarray(granular_temperature, dtype=float))
 
-    def median(self) -> np.ndarray:
-        """Median impact speed [m/s] (the fixed value for ``"fixed"``)."""
+    def median(self, out=None) -> np.ndarray:
+        """Median impact speed [m/s] (the fixed value for ``"fixed"``). ``out``: a float64
+        array of the parameters' shape into which a computed median is written (then
+        returned), e.g. a map's result; ignored where the median is a parameter."""
         if self.family == "maxwellian":
-            return np.sqrt(self.theta * np.log(2.0))
+            # np.sqrt(theta * ln 2) with one array, the product's, rooted in place (a new
+            # array costs more than the arithmetic: its memory is mapped at first write)
+            if not (out is not None and out.shape == self.theta.shape
+                    and out.dtype == np.float64):
+                out = None
+            med = np.multiply(self.theta, _LN2, out=out)
+            return np.sqrt(med, out=med) if isinstance(med, np.ndarray) else np.sqrt(med)
         return self.u0
 
     def cdf(self, u) -> np.ndarray:
@@ -130,7 +144,8 @@ class SpeedModel:
 
 
 def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16,
-                         shape=None, collide_on=None, pair=None, report=None) -> np.ndarray:
+                         shape=None, collide_on=None, pair=None, report=None,
+                         out=None) -> np.ndarray:
     """Probability that a collision sticks when ``u0`` follows ``speeds`` [-].
 
     Parameters
@@ -160,6 +175,9 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
     report : dict, optional
         Filled with ``"exact"`` (elements whose ``P`` came from the compiled sticking set)
         and ``"quadrature"`` (elements integrated by the nodes).
+    out : numpy.ndarray, optional
+        A C-contiguous float64 array of ``shape`` (a map's result) into which the compiled
+        sticking set's ``P`` is written; it is then the array returned.
 
     Returns
     -------
@@ -171,13 +189,13 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
     u_star = np.asarray(u_star, dtype=float)
     fused = None if pair is None else pair(u_star)
     if fused is not None:
-        out = _exact(speeds, u_star, fused, shape)
-        if out is not None:
-            p, left = out
+        found = _exact(speeds, u_star, fused, shape, out)
+        if found is not None:
+            p, left = found
             if report is not None:
-                report["exact"] = int(p.size - np.count_nonzero(left))
-                report["quadrature"] = int(np.count_nonzero(left))
-            if left.any():
+                report["exact"] = int(p.size - (0 if left is None else np.count_nonzero(left)))
+                report["quadrature"] = int(0 if left is None else np.count_nonzero(left))
+            if left is not None and left.any():
                 p[left] = _quadrature(speeds, u_star, collide, nodes, p.shape, collide_on,
                                       within=left)[left]
             return p
@@ -199,10 +217,11 @@ def _flat_param(a, shape):
     return np.ascontiguousarray(np.broadcast_to(a, shape)).reshape(-1)
 
 
-def _exact(speeds: SpeedModel, u_star, fused, shape):
-    """``(P, left)``: ``P`` from the compiled sticking sets, ``left`` (a boolean array) where
-    a collision's set was not proven and the quadrature must fill ``P`` in; None where the
-    collisions' shape does not broadcast to ``shape``."""
+def _exact(speeds: SpeedModel, u_star, fused, shape, out=None):
+    """``(P, left)``: ``P`` from the compiled sticking sets, ``left`` (a boolean array, None
+    where it would hold no True) where a collision's set was not proven and the quadrature
+    must fill ``P`` in; None where the collisions' shape does not broadcast to ``shape``.
+    ``out``: as for :func:`sticking_probability` (used where the elements are one pass's)."""
     from ..collision.sticking import (
         propensity_exact,
         propensity_from_windows,
@@ -232,8 +251,14 @@ def _exact(speeds: SpeedModel, u_star, fused, shape):
     if lead is not None:  # each collision's elements consecutive: one pass, no index
         inner = int(np.prod(shape[lead:], dtype=np.int64))
         (p1, h1), (p2, h2) = (_part_param(a, shape, lead) for a in (p1, p2))
+        into = None
+        if (out is not None and out.shape == shape and out.dtype == np.float64
+                and out.flags.c_contiguous and out.flags.writeable):
+            into = out.reshape(-1)  # a view: P is written into ``out``
         p = propensity_exact(ins, steps, n_c, tier, body, particle_slip, us, inner,
-                             _FAMILY_CODES[fam], p1, p2, (h1, h2))
+                             _FAMILY_CODES[fam], p1, p2, (h1, h2), out=into)
+        if into is not None:
+            p = out
     else:
         p1, p2 = _flat_param(p1, shape), _flat_param(p2, shape)
         lo, hi, count, status = sticking_windows(ins, steps, n_c, tier, body, particle_slip,
@@ -242,8 +267,11 @@ def _exact(speeds: SpeedModel, u_star, fused, shape):
             np.arange(n_c, dtype=np.int64).reshape(cshape), shape)).reshape(-1)
         p = propensity_from_windows(idx, _FAMILY_CODES[fam], p1, p2, us, lo, hi, count,
                                     status)
-    p = p.reshape(shape)
-    return p, np.isnan(p)
+    if p is not out:
+        p = p.reshape(shape)
+    # one reduction decides the common case (no NaN: the minimum is NaN exactly when some
+    # element is); the mask only where the quadrature has elements to fill in
+    return p, (np.isnan(p) if p.size and math.isnan(p.min()) else None)
 
 
 def _trailing(cshape: tuple, shape: tuple):

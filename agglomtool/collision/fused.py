@@ -24,7 +24,8 @@ The cosine of the contact angle and the sine of the collision angle are the dear
 numbers of the preparation (each costs about as much as the rest of it together). The
 loops take them from the previous collision where its angle is the same (:func:`_angles`):
 in a map an angle usually stays fixed over many collisions. The parallel loops run in
-blocks of :data:`BLOCK` collisions, each a serial loop carrying that memo. The values are
+blocks of at most :data:`BLOCK` collisions (:func:`launch_blocks`), each a serial loop
+carrying that memo. The values are
 the same either way (tested bitwise against :func:`prepare_one` on each collision alone).
 
 Inputs
@@ -42,6 +43,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from numba import njit, prange, types
 from numba.extending import overload
@@ -63,6 +65,7 @@ __all__ = [
     "fused_batch",
     "check_speeds",
     "slip_flag",
+    "launch_blocks",
 ]
 
 #: The inputs, in the order the fused kernels take them.
@@ -83,6 +86,12 @@ SERIAL_BELOW = 2000
 #: Collisions per block of the parallel loops: each block is a serial loop on one thread,
 #: which carries the angles' memo (:func:`_angles`) from one collision to the next.
 BLOCK = 4096
+
+#: Blocks per thread that a parallel launch aims at, and the fewest collisions per block:
+#: a launch of few blocks per thread (a map's block of 2.4e5 collisions on 16 threads has
+#: 58 blocks of :data:`BLOCK`) runs blocks of fewer collisions (:func:`launch_blocks`).
+BLOCKS_PER_THREAD = 8
+MIN_BLOCK = 256
 
 #: Tier codes of :func:`fused_batch`.
 TIER_PAPER, TIER_RELATIVE = 0, 1
@@ -298,22 +307,47 @@ def _fused_serial(ins, st, body, particle_slip, tier, check, e_w, stage, path, w
                         det, 0, e_w.shape[0])
 
 
+def launch_blocks(n: int, full: int = BLOCK, least: int = MIN_BLOCK) -> tuple[int, int]:
+    """``(block, lanes)`` of a parallel launch over ``n`` items: blocks of at most ``full``
+    items, fewer (at least ``least``) where there would be under
+    :data:`BLOCKS_PER_THREAD` blocks per thread; ``lanes`` the threads' count (at most the
+    blocks'). Lane ``t`` runs blocks ``t, t + lanes, t + 2 lanes, ...``: numba gives each
+    thread a contiguous share of a ``prange``, so each lane's blocks are spread over the
+    whole batch and a region of dear collisions (a map's corner) is shared by all threads.
+    Only the order of the work changes, never a collision's arithmetic."""
+    threads = numba.get_num_threads()
+    block = max(min(least, full), min(full, -(-n // (threads * BLOCKS_PER_THREAD))))
+    return block, max(1, min(threads, -(-n // block)))
+
+
 @njit(parallel=True, cache=CACHE)
-def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det):
+def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det,
+                    block, lanes):
     n = e_w.shape[0]
-    # Each speed rule's first offender as a min-reduction over the blocks (check_speeds'
+    nb = (n + block - 1) // block
+    # Each speed rule's first offender as a min-reduction over the lanes (check_speeds'
     # rules and answer, whatever order the threads take).
     f1 = n
     f2 = n
     f3 = n
     f4 = n
-    for b in prange((n + BLOCK - 1) // BLOCK):
-        g1, g2, g3, g4 = _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage,
-                                      path, w_out, det, b * BLOCK, min(n, (b + 1) * BLOCK))
-        f1 = min(f1, g1)
-        f2 = min(f2, g2)
-        f3 = min(f3, g3)
-        f4 = min(f4, g4)
+    for t in prange(lanes):
+        h1 = n
+        h2 = n
+        h3 = n
+        h4 = n
+        for b in range(t, nb, lanes):
+            g1, g2, g3, g4 = _fused_block(ins, st, body, particle_slip, tier, check, e_w,
+                                          stage, path, w_out, det, b * block,
+                                          min(n, (b + 1) * block))
+            h1 = min(h1, g1)
+            h2 = min(h2, g2)
+            h3 = min(h3, g3)
+            h4 = min(h4, g4)
+        f1 = min(f1, h1)
+        f2 = min(f2, h2)
+        f3 = min(f3, h3)
+        f4 = min(f4, h4)
     return f1, f2, f3, f4
 
 
@@ -335,16 +369,17 @@ def _fused_serial_relative(ins, st, body, particle_slip, check, e_w, stage, path
 
 
 @njit(cache=CACHE)
-def _fused_parallel_paper(ins, st, body, particle_slip, check, e_w, stage, path, w_out, det):
+def _fused_parallel_paper(ins, st, body, particle_slip, check, e_w, stage, path, w_out, det,
+                          block, lanes):
     return _fused_parallel(ins, st, body, particle_slip, TIER_PAPER, check, e_w, stage, path,
-                           w_out, det)
+                           w_out, det, block, lanes)
 
 
 @njit(cache=CACHE)
 def _fused_parallel_relative(ins, st, body, particle_slip, check, e_w, stage, path, w_out,
-                             det):
+                             det, block, lanes):
     return _fused_parallel(ins, st, body, particle_slip, TIER_RELATIVE, check, e_w, stage,
-                           path, w_out, det)
+                           path, w_out, det, block, lanes)
 
 
 #: (tier, parallel) -> the loop's entry point.
@@ -558,11 +593,14 @@ def flat_inputs(values, shape):
     arrays = list(values)
     steps = np.zeros(len(values), dtype=np.int64)
     scalar_at = []
+    done: dict = {}  # id -> (flat, step): one array given twice (h0 and h0_j) flattened once
     for q, v in enumerate(values):
         if type(v) is float or v.ndim == 0:
             scalar_at.append(q)
+        elif id(v) in done:
+            arrays[q], steps[q] = done[id(v)]
         else:
-            arrays[q], steps[q] = _flat_input(v, shape, n)
+            arrays[q], steps[q] = done[id(v)] = _flat_input(v, shape, n)
     if scalar_at:
         # Each scalar is a row of one (k, 1) array: a C-contiguous 1-D array of length 1.
         # (Equal lengths by construction; strict=True would cost a microsecond more, as the
@@ -593,7 +631,7 @@ def fused_batch(ins, steps, n, tier, body, particle_slip, details=False, check=F
     if n < SERIAL_BELOW:
         first = _FUSED_ENTRY[int(tier), False](*args)
     else:
-        first = parallel_launch(_FUSED_ENTRY[int(tier), True], *args)
+        first = parallel_launch(_FUSED_ENTRY[int(tier), True], *args, *launch_blocks(n))
     if not check:
         return e_w, stage, path, w, det
     return e_w, stage, path, w, det, _first_rule(first, n)

@@ -52,7 +52,7 @@ from numba import njit, prange
 from .._jit import CACHE, parallel_launch
 from .critical import _raw
 from .critical_relative import Separation, _e_zero, _sep, kernel_constants
-from .fused import SERIAL_BELOW, TIER_PAPER, prepare_one, tier_kernel
+from .fused import SERIAL_BELOW, TIER_PAPER, launch_blocks, prepare_one, tier_kernel
 from .records import Pair
 
 __all__ = ["sticking_windows", "propensity_from_windows", "propensity_exact", "FIXED", "LOGNORMAL",
@@ -490,13 +490,14 @@ def _propensity_serial(ins, st, u_star, su, tier, body, particle_slip, inner, fa
 
 @njit(parallel=True, cache=CACHE)
 def _propensity_parallel(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1,
-                         h1, p2, h2, out):
+                         h1, p2, h2, out, per, lanes):
+    # blocks of ``per`` collisions, lane t running blocks t, t + lanes, ... (launch_blocks)
     n = out.shape[0] // inner
-    per = max(1, 4096 // inner)  # collisions per block: about 4096 elements, at least one
     nb = (n + per - 1) // per
-    for b in prange(nb):
-        _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1,
-                          h1, p2, h2, out, b * per, min(n, (b + 1) * per))
+    for t in prange(lanes):
+        for b in range(t, nb, lanes):
+            _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family,
+                              p1, h1, p2, h2, out, b * per, min(n, (b + 1) * per))
 
 
 #: How :func:`propensity_exact` reads a law parameter: one value, one per element, one per
@@ -505,7 +506,7 @@ ONE, PER_ELEMENT, PER_COLLISION, PER_TRAILING = 0, 1, 2, 3
 
 
 def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, family, p1, p2,
-                     how=None):
+                     how=None, out=None):
     """The sticking sets of :func:`sticking_windows` and the propensity of
     :func:`propensity_from_windows` in one pass (one launch): ``P`` at ``n * inner``
     elements, element ``k`` of collision ``k // inner`` (the collisions constant along the
@@ -513,10 +514,13 @@ def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, fa
     two steps. ``p1``, ``p2``: float64 arrays read as ``how`` says (a pair of
     :data:`ONE`, :data:`PER_ELEMENT`, :data:`PER_COLLISION`, :data:`PER_TRAILING`; by
     default ``ONE`` for an array of length 1, else ``PER_ELEMENT``). NaN where the
-    collision's set was not proven and probability lies above ``u0*``."""
+    collision's set was not proven and probability lies above ``u0*``. ``out``: a
+    C-contiguous float64 1-D array of ``n * inner`` elements to write ``P`` into (then
+    returned)."""
     u_star = np.ascontiguousarray(u_star, dtype=np.float64).reshape(-1)
     su = 1 if u_star.shape[0] > 1 else 0
-    out = np.empty(n * int(inner))
+    if out is None:
+        out = np.empty(n * int(inner))
     if how is None:
         how = tuple(ONE if p.shape[0] == 1 else PER_ELEMENT for p in (p1, p2))
     particle = True if particle_slip else None
@@ -525,5 +529,8 @@ def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, fa
     if n < SERIAL_BELOW // 4 and out.shape[0] < SERIAL_BELOW:
         _propensity_serial(*args)
     else:
-        parallel_launch(_propensity_parallel, *args)
+        # blocks of about 4096 elements (at least one collision), smaller where a launch
+        # would have few blocks per thread; each block's windows are searched afresh
+        per, lanes = launch_blocks(n, max(1, 4096 // int(inner)), 1)
+        parallel_launch(_propensity_parallel, *args, per, lanes)
     return out

@@ -16,7 +16,9 @@ import logging
 
 import numpy as np
 import xarray as xr
+from numba import njit, prange
 
+from .._jit import CACHE, parallel_launch
 from ..scene import (
     Scene,
 )
@@ -252,6 +254,28 @@ def _with_regime(ds: xr.Dataset) -> xr.Dataset:
     return ds
 
 
+#: Bytes between the writes of :func:`prefault` (a page of memory).
+PAGE = 4096
+
+
+@njit(parallel=True, cache=CACHE)
+def _touch(buf, step):  # pragma: no cover - compiled
+    for p in prange((buf.shape[0] + step - 1) // step):
+        buf[p * step] = 0
+
+
+def prefault(arrays) -> None:
+    """Write one byte of every page of ``arrays`` (new, not yet written: ``np.empty``) on
+    every thread. The system maps a new array's memory at its first write, page by page;
+    a map's result (0.2 GB for 4e6 points) was first written block by block on the
+    calling thread, 20-30 ms of every such map in page faults (measured: 0.2 GB written
+    first 0.024-0.030 s, written again 0.0075 s). The values are left undefined, as
+    ``np.empty``'s: every element is written by the sweep's blocks."""
+    for a in arrays:
+        if a.nbytes >= 1 << 22 and a.flags.c_contiguous:
+            parallel_launch(_touch, a.reshape(-1).view(np.uint8), PAGE)
+
+
 def _compute_here(plan, progress: bool, announce) -> dict:
     """``{name: numpy array}`` of the sweep, block by block in this process; the estimate is
     announced after a few timed blocks (:func:`agglomtool.maps.estimate.run_blocks_here`),
@@ -261,6 +285,7 @@ def _compute_here(plan, progress: bool, announce) -> dict:
 
     out = {k: np.empty(plan.var_shape(k), dtype=plan.variables[k][1])
            for k in plan.lazy_names}
+    prefault(out.values())
     bar = None
 
     def start(seconds, method):

@@ -254,40 +254,50 @@ def _block_function(scene_values: dict, names: tuple, group: str, nodes: int, ou
     per output. With ``out`` (a tuple, one item per output: an array of the block's shape,
     or None) each output is written into its array instead, once, with no block-sized copy
     in between; an output whose item is None is returned as a read-only view."""
-    into = out
 
     def func(*arrays):
         values = dict(scene_values)
         values.update(zip(names, arrays[: len(names)], strict=True))
         r = Resolved(values)
-        if group == "gas":
-            out = (r.mu_g, r.rho_g)
-        elif group == "liquid":
-            out = (r.liquid.mu, r.liquid.gamma, r.liquid.rho)
-        elif group == "fluid":
-            out = (r.Umf, r.U_e)
-        elif group == "critical":
-            c = critical_outputs(r)
-            out = tuple(c[k] for k in GROUPS["critical"][1])
-        else:
-            c = flagged_collision_outputs(r, arrays[-1], nodes, None if into is None else {
-                k: t for k, t in zip(GROUPS["collision"][1], into, strict=True)
-                if t is not None})
-            out = tuple(c[k] for k in GROUPS["collision"][1])
         shape = np.broadcast_shapes(*[np.shape(a) for a in arrays]) if arrays else ()
-        if into is None:
-            return tuple(np.broadcast_to(o, shape).copy() for o in out)
-        done = []
-        for target, o in zip(into, out, strict=True):
-            if target is None:  # not wanted: a view, never copied
-                done.append(np.broadcast_to(o, shape))
-                continue
-            if o is not target:  # as ``a[...] = o`` would
-                np.copyto(target, np.broadcast_to(o, shape), casting="unsafe")
-            done.append(target)
-        return tuple(done)
+        return _finish(_group_outputs(r, group, nodes, out, arrays[-1] if arrays else None),
+                       shape, out)
 
     return func
+
+
+def _group_outputs(r: Resolved, group: str, nodes: int, out=None, u_star=None) -> tuple:
+    """The outputs of ``group`` (``GROUPS``) from the resolved block ``r``, as computed
+    (their own shapes); ``u_star``: the collision group's ``u0*``; ``out``: as for
+    :func:`_block_function` (the collision group writes its margin into it)."""
+    if group == "gas":
+        return (r.mu_g, r.rho_g)
+    if group == "liquid":
+        return (r.liquid.mu, r.liquid.gamma, r.liquid.rho)
+    if group == "fluid":
+        return (r.Umf, r.U_e)
+    if group == "critical":
+        c = critical_outputs(r)
+        return tuple(c[k] for k in GROUPS["critical"][1])
+    c = flagged_collision_outputs(r, u_star, nodes, None if out is None else {
+        k: t for k, t in zip(GROUPS["collision"][1], out, strict=True) if t is not None})
+    return tuple(c[k] for k in GROUPS["collision"][1])
+
+
+def _finish(outputs: tuple, shape: tuple, into=None) -> tuple:
+    """``outputs`` broadcast to the block's ``shape``: new arrays, or (``into``) written
+    into its arrays, a view where its item is None (:func:`_block_function`)."""
+    if into is None:
+        return tuple(np.broadcast_to(o, shape).copy() for o in outputs)
+    done = []
+    for target, o in zip(into, outputs, strict=True):
+        if target is None:  # not wanted: a view, never copied
+            done.append(np.broadcast_to(o, shape))
+            continue
+        if o is not target:  # as ``a[...] = o`` would
+            np.copyto(target, np.broadcast_to(o, shape), casting="unsafe")
+        done.append(target)
+    return tuple(done)
 
 
 def _split(n: int, c: int) -> tuple:

@@ -29,8 +29,17 @@ import numpy as np
 import xarray as xr
 
 from .._version import __version__
-from ..scene import Scene
-from .layout import GROUPS, _block_function, _chunks, _dataset_attrs, _grid_values, _split
+from ..scene import Resolved, Scene
+from .layout import (
+    GROUPS,
+    _block_function,
+    _chunks,
+    _dataset_attrs,
+    _finish,
+    _grid_values,
+    _group_outputs,
+    _split,
+)
 from .meta import field_attrs, variable_attrs
 
 if TYPE_CHECKING:  # for the annotation only: materials is imported where it is used
@@ -207,7 +216,7 @@ class SweepPlan:
     def _memo(self):
         return threading.local()
 
-    def _critical(self, sl: dict) -> dict:
+    def _critical(self, sl: dict, shared=None) -> dict:
         """The critical group's outputs over the block's slice of its dimensions; the last
         one is kept (per thread) for the next block."""
         dims = self.group_dims["critical"]
@@ -217,11 +226,22 @@ class SweepPlan:
         memo = getattr(self._memo, "last", None)
         if memo is not None and memo[0] == key:
             return memo[1]
-        vals = self._group("critical", sl)
+        vals = self._group("critical", sl, shared=shared)
         self._memo.last = (key, vals)
         return vals
 
-    def _group(self, group: str, sl: dict, u_star=None, out=None) -> dict:
+    def _shared(self, sl: dict) -> Resolved:
+        """The block's scene resolved once for all its groups: every swept field at its
+        slice, over all the grid's dimensions (the collision group's shapes). Each group
+        reads what it depends on (the gas and liquid properties, ``U_mf``, ...) from it,
+        computed once per block instead of once per group; its values are the same
+        element by element, each group's output only lacks the other groups' axes."""
+        dims = self.group_dims["collision"]
+        values = dict(self.base)
+        values.update({d: _compat(self.grid[d][sl[d]], (d,), dims) for d in dims})
+        return Resolved(values)
+
+    def _group(self, group: str, sl: dict, u_star=None, out=None, shared=None) -> dict:
         dims = self.group_dims[group]
         args = [_compat(self.grid[d][sl[d]], (d,), dims) for d in dims]
         if group == "collision":
@@ -230,8 +250,16 @@ class SweepPlan:
         if out is not None:
             into = tuple(None if k not in out else out[k][tuple(sl[d] for d in dims)]
                          for k in GROUPS[group][1])
-        vals = _block_function(self.base, dims, group, int(self.nodes), into)(*args)
-        return dict(zip(GROUPS[group][1], vals, strict=True))
+        if shared is None or self.group_dims["collision"] != tuple(self.grid):
+            vals = _block_function(self.base, dims, group, int(self.nodes), into)(*args)
+            return dict(zip(GROUPS[group][1], vals, strict=True))
+        r = shared()
+        shape = np.broadcast_shapes(*[np.shape(a) for a in args])
+        raw = _group_outputs(r, group, int(self.nodes), into, args[-1])
+        if group != "collision":  # over every dimension: the group's own axes kept
+            ones = tuple(sl[d].stop - sl[d].start if d in dims else 1 for d in self.grid)
+            raw = tuple(np.broadcast_to(o, ones).reshape(shape) for o in raw)
+        return dict(zip(GROUPS[group][1], _finish(raw, shape, into), strict=True))
 
     def evaluate(self, sl: dict, wanted, out=None) -> dict:
         """``{name: array}`` of the variables ``wanted`` over the block ``sl``
@@ -252,17 +280,25 @@ class SweepPlan:
         groups = {self.variables[v][2] for v in wanted}
         into = None if out is None else {k: out[k] for k in wanted}
         found: dict = {}
+        held: list = []
+
+        def shared():  # the block's one Resolved, made where a group first needs it
+            if not held:
+                held.append(self._shared(sl))
+            return held[0]
+
         for group in GROUPS:
             if group not in groups:
                 continue
             if not self.group_dims[group]:
                 vals = {k: self.eager[k] for k in GROUPS[group][1]}
             elif group == "critical":
-                vals = self._critical(sl)
+                vals = self._critical(sl, shared)
             elif group == "collision":
-                vals = self._group(group, sl, self._critical(sl)["u_star"], into)
+                vals = self._group(group, sl, self._critical(sl, shared)["u_star"], into,
+                                   shared)
             else:
-                vals = self._group(group, sl, out=into)
+                vals = self._group(group, sl, out=into, shared=shared)
             found.update({k: v for k, v in vals.items() if k in wanted})
         if out is not None:  # the critical group's (kept for the next block): copied once
             for k, v in found.items():
