@@ -27,7 +27,7 @@ import agglomtool as at
 from agglomtool.api import _evaluate, _fused_inputs, _lab_speeds
 from agglomtool.collision import fused
 from agglomtool.collision.paper import run_paper
-from agglomtool.collision.records import Pair
+from agglomtool.collision.records import Pair, RawPair
 from agglomtool.collision.relative import run_relative
 from agglomtool.pair import prepare_pair
 from agglomtool.properties.fluidization import GRAVITY
@@ -212,8 +212,9 @@ def test_repeated_angles(body, slip):
     beta = runs(rng.choice([0.0, 45.0, 90.0, 180.0, 300.0, -90.0], 200))
     assert (np.diff(liq.theta_deg) != 0).sum() > 40 and (np.diff(beta) != 0).sum() > 40
     _, ins, steps, n = _fused_inputs(p_i, p_j, liq, gas, bed, beta, e, u0, None)
-    alone = np.array([fused.prepare_one(*[a[q * s] for a, s in zip(ins, steps, strict=True)],
-                                        body, slip) for q in range(n)]).T
+    raw = [[a[q * s] for a, s in zip(ins, steps, strict=True)] for q in range(n)]
+    alone = np.array([fused.prepare_one(RawPair(*x[:18]), x[18], x[19], body, slip)
+                      for x in raw]).T
     m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, wpu = alone
     alone = np.array([m_i, m_j, r, H0, Ha, np.broadcast_to(ins[8], (n,)),  # prepare_flat's
                       np.broadcast_to(ins[9], (n,)), cos_t, theta, w, fn_i, fn_j,  # rows

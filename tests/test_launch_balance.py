@@ -89,7 +89,7 @@ def test_fused_loop_gives_the_same_numbers_however_its_blocks_are_dealt(tier):
     def run(parallel, *how):
         out = (np.empty(n), np.empty(n, dtype=np.int8), np.empty(n, dtype=np.int8),
                np.empty(n), np.empty((n, 0)))
-        first = fused._FUSED_ENTRY[tier, parallel](ins, steps, True, None, True, *out, *how)
+        first = fused._FUSED_ENTRY[tier, parallel](ins, steps, (True, None, True), out, *how)
         return [_bits(o) for o in out], tuple(int(f) for f in first)
 
     ref = run(False)

@@ -36,7 +36,7 @@ from .critical_relative import (
     threshold_from,
 )
 from .fused import SERIAL_BELOW, TIER_PAPER, TIER_RELATIVE, prepare_one, tier_kernel
-from .records import Pair
+from .records import Pair, RawPair
 from .relative import reduced_mass
 
 __all__ = ["first_rebound_speed", "critical_speeds", "Search", "SearchLimits",
@@ -407,17 +407,18 @@ def _sticks(vals, raw, w_rel, tier, body, particle_slip, empty):
     mu_l = raw[8]
     gamma = raw[9]
     e = raw[17]
-    ew, _, _ = tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w_rel, fn_i,
-                           fn_j, e, empty)
+    ew, _, _ = tier_kernel(tier, Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i,
+                                      fn_j, e), w_rel, empty)
     return ew == 0.0
 
 
 @njit(cache=CACHE, inline="always")
 def _raw(ins, st, q):
-    """The raw inputs of collision ``q`` as a tuple of floats: the solver's helpers take it
-    instead of the arrays themselves (passing the tuple of 20 arrays to a function that is
-    not inlined costs a reference-count update per array and call)."""
-    return (
+    """The raw inputs of collision ``q`` as a :class:`.records.RawPair` of floats (its
+    fields also read by position): the solver's helpers take it instead of the arrays
+    themselves (passing the tuple of 20 arrays to a function that is not inlined costs a
+    reference-count update per array and call)."""
+    return RawPair(
         ins[0][q * st[0]], ins[1][q * st[1]], ins[2][q * st[2]], ins[3][q * st[3]],
         ins[4][q * st[4]], ins[5][q * st[5]], ins[6][q * st[6]], ins[7][q * st[7]],
         ins[8][q * st[8]], ins[9][q * st[9]], ins[10][q * st[10]], ins[11][q * st[11]],
@@ -429,11 +430,7 @@ def _raw(ins, st, q):
 @njit(cache=CACHE)
 def _prep(raw, u, body, particle_slip):
     """:func:`.fused.prepare_one` of a head-on collision at lab speed ``u`` [m/s]."""
-    return prepare_one(
-        raw[0], raw[1], raw[2], raw[3], raw[4], raw[5], raw[6], raw[7], raw[8], raw[9],
-        raw[10], raw[11], raw[12], raw[13], raw[14], raw[15], raw[16], raw[17], u, math.nan,
-        body, particle_slip,
-    )
+    return prepare_one(raw, u, math.nan, body, particle_slip)
 
 
 class SolveOptions(NamedTuple):

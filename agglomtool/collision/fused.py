@@ -42,6 +42,7 @@ launching the parallel loop costs tens of microseconds, more than a small batch 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -53,7 +54,7 @@ from ..constants import GRAVITY
 from ._codes import N_DETAILS
 from .paper import paper_kernel
 from .physics import U_E_PER_UMF, WEN_YU_C1, WEN_YU_C2, drag_gidaspow, wet_mass, wet_umf
-from .records import Pair
+from .records import Pair, Prepared, RawPair
 from .relative import relative_kernel
 
 __all__ = [
@@ -65,6 +66,8 @@ __all__ = [
     "fused_batch",
     "check_speeds",
     "slip_flag",
+    "FusedFlags",
+    "FusedOutputs",
     "launch_blocks",
 ]
 
@@ -96,10 +99,10 @@ MIN_BLOCK = 256
 #: Tier codes of :func:`fused_batch`.
 TIER_PAPER, TIER_RELATIVE = 0, 1
 
-def tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e,
-                row):
+def tier_kernel(tier, pair, w, row):
     """``(e_w, stage, path)`` of the ``tier`` kernel (:data:`TIER_PAPER`: ``paper_kernel``,
-    :data:`TIER_RELATIVE`: ``relative_kernel``), in compiled code only. Where ``tier`` is a
+    :data:`TIER_RELATIVE`: ``relative_kernel``) for the :class:`.records.Pair` ``pair`` at
+    relative speed ``w`` [m/s], the details into ``row``, in compiled code only. Where ``tier`` is a
     compile-time constant (the entry points pass :data:`TIER_PAPER` or
     :data:`TIER_RELATIVE`) only that tier's kernel is compiled; else both, chosen at run
     time."""
@@ -107,22 +110,18 @@ def tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, f
 
 
 @overload(tier_kernel, prefer_literal=True, inline="always")
-def _tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
-    def paper(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
-        return paper_kernel(
-            Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e), w, row)
+def _tier_kernel(tier, pair, w, row):
+    def paper(tier, pair, w, row):
+        return paper_kernel(pair, w, row)
 
-    def relative(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
-        ew, sg, pa, _ = relative_kernel(
-            Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e), w, row)
+    def relative(tier, pair, w, row):
+        ew, sg, pa, _ = relative_kernel(pair, w, row)
         return ew, sg, pa
 
-    def either(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, fn_j, e, row):
+    def either(tier, pair, w, row):
         if tier == TIER_PAPER:
-            return paper_kernel(
-                Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e), w, row)
-        ew, sg, pa, _ = relative_kernel(
-            Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e), w, row)
+            return paper_kernel(pair, w, row)
+        ew, sg, pa, _ = relative_kernel(pair, w, row)
         return ew, sg, pa
 
     if isinstance(tier, types.IntegerLiteral):
@@ -133,11 +132,27 @@ def _tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i, 
 _DEG = math.pi / 180.0  # numpy's deg2rad multiplies by the same constant
 
 
+class GasFlow(NamedTuple):
+    """The gas around a pair, as the body forces of :func:`_body_force_n` need it."""
+
+    #: gas viscosity [Pa s]
+    mu_g: float
+    #: gas density [kg/m3]
+    rho_g: float
+    #: bed voidage [-]
+    eps: float
+    #: the emulsion's superficial gas speed [m/s] (``U``, or ``1.1 U_mf``)
+    U_e: float
+
+
 @njit(cache=CACHE)
-def _body_force_n(d, h0, m, mu_g, rho_g, eps, U_e, uy, uz, particle_slip, cos_b, sin_b):
+def _body_force_n(d, h0, m, gas, uy, uz, particle_slip, cs_b):
     """Net body force on one particle projected on the axis ``n`` [N]
-    (``pair.body_force_vector`` then Eq. 118); ``(uy, uz)`` its lab velocity [m/s].
-    ``cos_b`` is read only where the lateral slip is nonzero (``particle_slip``)."""
+    (``pair.body_force_vector`` then Eq. 118); ``(uy, uz)`` its lab velocity [m/s];
+    ``gas``: :class:`GasFlow`; ``cs_b``: the cosine and the sine of the collision angle,
+    the cosine read only where the lateral slip is nonzero (``particle_slip``)."""
+    mu_g, rho_g, eps, U_e = gas
+    cos_b, sin_b = cs_b
     if math.isinf(d):
         vol = 0.0
         d_wet = 1.0
@@ -165,27 +180,35 @@ def _body_force_n(d, h0, m, mu_g, rho_g, eps, U_e, uy, uz, particle_slip, cos_b,
 
 
 @njit(cache=CACHE)
-def prepare_one(d_i, rho_i, h0_i, ha_i, d_j, rho_j, h0_j, ha_j, mu_l, gamma, rho_l,
-                theta_deg, mu_g, rho_g, eps, U, beta_deg, e, u0, u0_j, body, particle_slip):
-    """The kernel numbers of one collision from its raw inputs (module docstring).
+def prepare_one(raw, u0, u0_j, body, particle_slip):
+    """The kernel numbers of one collision from its raw inputs ``raw`` (a
+    :class:`.records.RawPair`) and its lab speeds ``u0``, ``u0_j`` [m/s] (``u0_j`` NaN:
+    head-on, ``u0`` for both) (module docstring).
 
-    Returns ``(m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, w_per_u0)``: masses [kg],
-    harmonic radius [m], gaps [m], cosine of the contact angle and the angle [rad], projected
-    body forces [N], relative normal speed ``u_i + u_j`` [m/s] and its ratio to a head-on
-    ``u0`` [-] (2, or 1 with a plate).
+    Returns a :class:`.records.Prepared`: masses [kg], harmonic radius [m], gaps [m],
+    cosine of the contact angle and the angle [rad], projected body forces [N], relative
+    normal speed ``u_i + u_j`` [m/s] and its ratio to a head-on ``u0`` [-] (2, or 1 with a
+    plate).
     """
+    beta_deg = raw.beta_deg
     sin_b = math.sin(beta_deg * _DEG) if body else 0.0
-    return _prepare(d_i, rho_i, h0_i, ha_i, d_j, rho_j, h0_j, ha_j, mu_l, gamma, rho_l,
-                    theta_deg * _DEG, math.cos(theta_deg * _DEG), mu_g, rho_g, eps, U,
-                    beta_deg, sin_b, e, u0, u0_j, body, particle_slip)
+    theta_deg = raw.theta_deg
+    (m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w,
+     w_per_u0) = _prepare(raw, theta_deg * _DEG, math.cos(theta_deg * _DEG), sin_b, u0,
+                          u0_j, body, particle_slip)
+    return Prepared(m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, w, w_per_u0)
 
 
 @njit(cache=CACHE, inline="always")
-def _prepare(d_i, rho_i, h0_i, ha_i, d_j, rho_j, h0_j, ha_j, mu_l, gamma, rho_l, theta, cos_t,
-             mu_g, rho_g, eps, U, beta_deg, sin_b, e, u0, u0_j, body, particle_slip):
+def _prepare(raw, theta, cos_t, sin_b, u0, u0_j, body, particle_slip):
     """:func:`prepare_one` from the contact angle [rad] and its cosine, and the sine of
     the collision angle (read only with ``body``): the loops take them from
-    :func:`_angles`."""
+    :func:`_angles`. ``raw``'s ``theta_deg`` is not read. A plain tuple, in the order of
+    :class:`.records.Prepared` (:func:`_one` adds the angles' memo to it)."""
+    d_i, rho_i, h0_i, ha_i = raw.d_i, raw.rho_i, raw.h0_i, raw.ha_i
+    d_j, rho_j, h0_j, ha_j = raw.d_j, raw.rho_j, raw.h0_j, raw.ha_j
+    rho_l, mu_g, rho_g, eps, U = raw.rho_l, raw.mu_g, raw.rho_g, raw.eps, raw.U
+    beta_deg = raw.beta_deg
     plate_i = math.isinf(d_i)
     plate_j = math.isinf(d_j)
     m_i = wet_mass(d_i, rho_i, h0_i, rho_l)
@@ -205,16 +228,44 @@ def _prepare(d_i, rho_i, h0_i, ha_i, d_j, rho_j, h0_j, ha_j, mu_l, gamma, rho_l,
             U_e = U
         # The cosine of the collision angle only projects a lateral slip (particle_slip).
         cos_b = math.cos(beta_deg * _DEG) if particle_slip else 0.0
-        fn_i = _body_force_n(d_i, h0_i, m_i, mu_g, rho_g, eps, U_e, u_i * cos_b, u_i * sin_b,
-                             particle_slip, cos_b, sin_b)
-        fn_j = _body_force_n(d_j, h0_j, m_j, mu_g, rho_g, eps, U_e, -u_j * cos_b,
-                             -u_j * sin_b, particle_slip, cos_b, sin_b)
+        gas = GasFlow(mu_g=mu_g, rho_g=rho_g, eps=eps, U_e=U_e)
+        fn_i = _body_force_n(d_i, h0_i, m_i, gas, u_i * cos_b, u_i * sin_b, particle_slip,
+                             (cos_b, sin_b))
+        fn_j = _body_force_n(d_j, h0_j, m_j, gas, -u_j * cos_b, -u_j * sin_b, particle_slip,
+                             (cos_b, sin_b))
     else:
         fn_i = 0.0
         fn_j = 0.0
     w_per_u0 = 1.0 if (plate_i or plate_j) else 2.0
     return (m_i, m_j, r, h0_i + h0_j, ha_i + ha_j, cos_t, theta, fn_i, fn_j, u_i + u_j,
             w_per_u0)
+
+
+class FusedFlags(NamedTuple):
+    """The flags of a fused loop (:func:`fused_batch`), one record for a batch."""
+
+    #: weight, buoyancy and drag on
+    body: bool
+    #: the drag's slip is the particle's own speed: ``True``, or ``None`` for false
+    #: (:func:`slip_flag`: the loop is compiled without the lateral-slip code)
+    particle_slip: object
+    #: validate the lab speeds in the same pass (:func:`check_speeds`' rules)
+    check: bool
+
+
+class FusedOutputs(NamedTuple):
+    """The output arrays of a fused loop, one element (row) per collision."""
+
+    #: velocity restitution coefficients [-]
+    e_w: np.ndarray
+    #: stage codes (int8)
+    stage: np.ndarray
+    #: path codes (int8)
+    path: np.ndarray
+    #: relative normal impact speeds [m/s]
+    w: np.ndarray
+    #: details, ``(n, N_DETAILS)``, or ``(n, 0)`` without
+    det: np.ndarray
 
 
 #: The angles' memo of a loop before its first collision (:func:`_angles`).
@@ -249,22 +300,26 @@ def _one(ins, st, k, body, particle_slip, last):
     memo for the next collision (four more items; ``last``: this loop's previous memo, or
     :data:`NO_ANGLES`). One flat tuple: numba's parallel loops do not unpack nested ones."""
     ang = _angles(ins, st, k, body, last)
-    return _prepare(
+    raw = RawPair(
         ins[0][k * st[0]], ins[1][k * st[1]], ins[2][k * st[2]], ins[3][k * st[3]],
         ins[4][k * st[4]], ins[5][k * st[5]], ins[6][k * st[6]], ins[7][k * st[7]],
-        ins[8][k * st[8]], ins[9][k * st[9]], ins[10][k * st[10]], ang[0] * _DEG, ang[1],
+        ins[8][k * st[8]], ins[9][k * st[9]], ins[10][k * st[10]], ang[0],
         ins[12][k * st[12]], ins[13][k * st[13]], ins[14][k * st[14]], ins[15][k * st[15]],
-        ang[2], ang[3], ins[17][k * st[17]], ins[18][k * st[18]], ins[19][k * st[19]],
-        body, particle_slip,
-    ) + ang
+        ang[2], ins[17][k * st[17]],
+    )
+    return _prepare(raw, ang[0] * _DEG, ang[1], ang[3], ins[18][k * st[18]],
+                    ins[19][k * st[19]], body, particle_slip) + ang
 
 
 @njit(cache=CACHE)
-def _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det, k0,
-                 k1):
+def _fused_block(ins, st, flags, tier, out, k0, k1):
     """The fused loop over collisions ``k0 <= k < k1`` (one thread, carrying the angles'
-    memo). Returns each speed rule's first offender among them (``n``: none); with
-    ``check`` a collision that breaks rule 3 or 4 is not computed (NaN, stage -1)."""
+    memo), its flags a :class:`FusedFlags`, its outputs written into ``out`` (a
+    :class:`FusedOutputs`). Returns each speed rule's first offender among them (``n``:
+    none); with ``flags.check`` a collision that breaks rule 3 or 4 is not computed (NaN,
+    stage -1)."""
+    body, particle_slip, check = flags
+    e_w, stage, path, w_out, det = out
     n = e_w.shape[0]
     g1 = n
     g2 = n
@@ -287,8 +342,8 @@ def _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_
         mu_l = ins[8][k * st[8]]
         gamma = ins[9][k * st[9]]
         e = ins[17][k * st[17]]
-        ew, sg, pa = tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w,
-                                 fn_i, fn_j, e, row)
+        ew, sg, pa = tier_kernel(tier, Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta,
+                                            fn_i, fn_j, e), w, row)
         e_w[k] = ew
         stage[k] = sg
         path[k] = pa
@@ -302,9 +357,8 @@ def _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_
 
 
 @njit(cache=CACHE)
-def _fused_serial(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det):
-    return _fused_block(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out,
-                        det, 0, e_w.shape[0])
+def _fused_serial(ins, st, flags, tier, out):
+    return _fused_block(ins, st, flags, tier, out, 0, out.e_w.shape[0])
 
 
 def launch_blocks(n: int, full: int = BLOCK, least: int = MIN_BLOCK) -> tuple[int, int]:
@@ -321,9 +375,8 @@ def launch_blocks(n: int, full: int = BLOCK, least: int = MIN_BLOCK) -> tuple[in
 
 
 @njit(parallel=True, cache=CACHE)
-def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path, w_out, det,
-                    block, lanes):
-    n = e_w.shape[0]
+def _fused_parallel(ins, st, flags, tier, out, block, lanes):
+    n = out.e_w.shape[0]
     nb = (n + block - 1) // block
     # Each speed rule's first offender as a min-reduction over the lanes (check_speeds'
     # rules and answer, whatever order the threads take).
@@ -337,8 +390,7 @@ def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path,
         h3 = n
         h4 = n
         for b in range(t, nb, lanes):
-            g1, g2, g3, g4 = _fused_block(ins, st, body, particle_slip, tier, check, e_w,
-                                          stage, path, w_out, det, b * block,
+            g1, g2, g3, g4 = _fused_block(ins, st, flags, tier, out, b * block,
                                           min(n, (b + 1) * block))
             h1 = min(h1, g1)
             h2 = min(h2, g2)
@@ -356,30 +408,32 @@ def _fused_parallel(ins, st, body, particle_slip, tier, check, e_w, stage, path,
 # no "paper" kernel, and the other way round.
 
 
-@njit(cache=CACHE)
-def _fused_serial_paper(ins, st, body, particle_slip, check, e_w, stage, path, w_out, det):
-    return _fused_serial(ins, st, body, particle_slip, TIER_PAPER, check, e_w, stage, path,
-                         w_out, det)
+# Their ``flags`` and ``out`` come from Python as plain tuples and are made records here:
+# numba's dispatcher types a plain tuple as fast as separate arguments, named tuples more
+# slowly: these two cost about 1 us more per call as records (measured; a collide of one
+# pair takes about 40 us).
 
 
 @njit(cache=CACHE)
-def _fused_serial_relative(ins, st, body, particle_slip, check, e_w, stage, path, w_out, det):
-    return _fused_serial(ins, st, body, particle_slip, TIER_RELATIVE, check, e_w, stage, path,
-                         w_out, det)
+def _fused_serial_paper(ins, st, flags, out):
+    return _fused_serial(ins, st, FusedFlags(*flags), TIER_PAPER, FusedOutputs(*out))
 
 
 @njit(cache=CACHE)
-def _fused_parallel_paper(ins, st, body, particle_slip, check, e_w, stage, path, w_out, det,
-                          block, lanes):
-    return _fused_parallel(ins, st, body, particle_slip, TIER_PAPER, check, e_w, stage, path,
-                           w_out, det, block, lanes)
+def _fused_serial_relative(ins, st, flags, out):
+    return _fused_serial(ins, st, FusedFlags(*flags), TIER_RELATIVE, FusedOutputs(*out))
 
 
 @njit(cache=CACHE)
-def _fused_parallel_relative(ins, st, body, particle_slip, check, e_w, stage, path, w_out,
-                             det, block, lanes):
-    return _fused_parallel(ins, st, body, particle_slip, TIER_RELATIVE, check, e_w, stage,
-                           path, w_out, det, block, lanes)
+def _fused_parallel_paper(ins, st, flags, out, block, lanes):
+    return _fused_parallel(ins, st, FusedFlags(*flags), TIER_PAPER, FusedOutputs(*out), block,
+                           lanes)
+
+
+@njit(cache=CACHE)
+def _fused_parallel_relative(ins, st, flags, out, block, lanes):
+    return _fused_parallel(ins, st, FusedFlags(*flags), TIER_RELATIVE, FusedOutputs(*out),
+                           block, lanes)
 
 
 #: (tier, parallel) -> the loop's entry point.
@@ -454,8 +508,8 @@ def prepare_at(ins, steps, idx, body, particle_slip):
 @njit(cache=CACHE, inline="always")
 def _speed_rules_at(ins, st, k):
     """:func:`_speed_rules` of collision ``k`` of the fused inputs (``u0_j`` NaN: None)."""
-    return _speed_rules(ins[0], ins[4], ins[18], ins[19], not math.isnan(ins[19][k * st[19]]),
-                        st[0], st[4], st[18], st[19], k)
+    return _speed_rules((ins[0], ins[4], ins[18], ins[19]), (st[0], st[4], st[18], st[19]),
+                        not math.isnan(ins[19][k * st[19]]), k)
 
 
 @njit(cache=CACHE, inline="always")
@@ -464,15 +518,17 @@ def _rules_update(ins, st, k, g1, g2, g3, g4):
     each rule's first offender so far: ``(g1, g2, g3, g4, skip)``, ``skip`` True where the
     collision breaks rule 3 or 4 (then it is not computed). A flat tuple: a parallel loop's
     body cannot unpack a nested one."""
-    r1, r2, r3, r4 = _speed_rules_at(ins, st, k)
-    g1, g2, g3, g4 = _fold_rules(k, r1, r2, r3, r4, g1, g2, g3, g4)
-    return g1, g2, g3, g4, (r3 or r4)
+    broken = _speed_rules_at(ins, st, k)
+    g1, g2, g3, g4 = _fold_rules(k, broken, (g1, g2, g3, g4))
+    return g1, g2, g3, g4, (broken[2] or broken[3])
 
 
 @njit(cache=CACHE, inline="always")
-def _fold_rules(k, r1, r2, r3, r4, g1, g2, g3, g4):
-    """Each rule's first offender so far, ``g1 .. g4``, after collision ``k`` broke the
-    rules ``r1 .. r4`` (a serial scan in order of ``k``)."""
+def _fold_rules(k, broken, first):
+    """Each rule's first offender so far, ``first`` (four indices), after collision ``k``
+    broke the rules ``broken`` (four booleans; a serial scan in order of ``k``)."""
+    r1, r2, r3, r4 = broken
+    g1, g2, g3, g4 = first
     if r1 and k < g1:
         g1 = k
     if r2 and k < g2:
@@ -485,8 +541,12 @@ def _fold_rules(k, r1, r2, r3, r4, g1, g2, g3, g4):
 
 
 @njit(cache=CACHE, inline="always")
-def _speed_rules(d_i, d_j, u0, u0_j, given, si, sj, su, sv, k):
-    """The rules of :func:`check_speeds` broken by collision ``k``: four booleans."""
+def _speed_rules(arrays, steps, given, k):
+    """The rules of :func:`check_speeds` broken by collision ``k``: four booleans.
+    ``arrays``: ``(d_i, d_j, u0, u0_j)``; ``steps``: their steps (0 or 1); ``given``:
+    ``u0_j`` is read."""
+    d_i, d_j, u0, u0_j = arrays
+    si, sj, su, sv = steps
     plate_i = math.isinf(d_i[k * si])
     plate_j = math.isinf(d_j[k * sj])
     u = u0[k * su]
@@ -503,19 +563,18 @@ def _speed_rules(d_i, d_j, u0, u0_j, given, si, sj, su, sv, k):
 
 
 @njit(cache=CACHE)
-def _check_speeds_serial(d_i, d_j, u0, u0_j, given, si, sj, su, sv, n):
+def _check_speeds_serial(arrays, steps, given, n):
     f1 = n
     f2 = n
     f3 = n
     f4 = n
     for k in range(n):
-        r1, r2, r3, r4 = _speed_rules(d_i, d_j, u0, u0_j, given, si, sj, su, sv, k)
-        f1, f2, f3, f4 = _fold_rules(k, r1, r2, r3, r4, f1, f2, f3, f4)
+        f1, f2, f3, f4 = _fold_rules(k, _speed_rules(arrays, steps, given, k), (f1, f2, f3, f4))
     return f1, f2, f3, f4
 
 
 @njit(parallel=True, cache=CACHE)
-def _check_speeds_parallel(d_i, d_j, u0, u0_j, given, si, sj, su, sv, n):
+def _check_speeds_parallel(arrays, steps, given, n):
     # Each rule's first offender as a min-reduction over the collisions: the same answer as
     # the serial scan, whatever order the threads take.
     f1 = n
@@ -523,7 +582,7 @@ def _check_speeds_parallel(d_i, d_j, u0, u0_j, given, si, sj, su, sv, n):
     f3 = n
     f4 = n
     for k in prange(n):
-        r1, r2, r3, r4 = _speed_rules(d_i, d_j, u0, u0_j, given, si, sj, su, sv, k)
+        r1, r2, r3, r4 = _speed_rules(arrays, steps, given, k)
         f1 = min(f1, k if r1 else n)
         f2 = min(f2, k if r2 else n)
         f3 = min(f3, k if r3 else n)
@@ -543,10 +602,11 @@ def check_speeds(d_i, d_j, u0, u0_j, n):
     given = u0_j.shape[0] > 0
     steps = (1 if d_i.shape[0] > 1 else 0, 1 if d_j.shape[0] > 1 else 0,
              1 if u0.shape[0] > 1 else 0, 1 if (given and u0_j.shape[0] > 1) else 0)
+    args = ((d_i, d_j, u0, u0_j), steps, given, n)
     if n < SERIAL_BELOW:
-        first = _check_speeds_serial(d_i, d_j, u0, u0_j, given, *steps, n)
+        first = _check_speeds_serial(*args)
     else:
-        first = parallel_launch(_check_speeds_parallel, d_i, d_j, u0, u0_j, given, *steps, n)
+        first = parallel_launch(_check_speeds_parallel, *args)
     return _first_rule(first, n)
 
 
@@ -621,20 +681,17 @@ def fused_batch(ins, steps, n, tier, body, particle_slip, details=False, check=F
     item ``(code, index)`` is returned as there; collisions that break rule 3 or 4 are not
     computed (their outputs are NaN, stage -1), so a caller must raise on a nonzero code.
     """
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
-    w = np.empty(n)
-    det = np.empty((n, N_DETAILS if details else 0))
-    args = (ins, steps, bool(body), slip_flag(particle_slip), bool(check), e_w, stage, path, w,
-            det)
+    # FusedOutputs and FusedFlags, as plain tuples (the entry points make them records)
+    out = (np.empty(n), np.empty(n, dtype=np.int8), np.empty(n, dtype=np.int8), np.empty(n),
+           np.empty((n, N_DETAILS if details else 0)))
+    args = (ins, steps, (bool(body), slip_flag(particle_slip), bool(check)), out)
     if n < SERIAL_BELOW:
         first = _FUSED_ENTRY[int(tier), False](*args)
     else:
         first = parallel_launch(_FUSED_ENTRY[int(tier), True], *args, *launch_blocks(n))
     if not check:
-        return e_w, stage, path, w, det
-    return e_w, stage, path, w, det, _first_rule(first, n)
+        return out
+    return (*out, _first_rule(first, n))
 
 
 def prepare_flat(ins, steps, n, body, particle_slip):

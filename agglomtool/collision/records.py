@@ -21,6 +21,8 @@ from .._jit import CACHE
 
 __all__ = [
     "Pair",
+    "RawPair",
+    "Prepared",
     "TierInputs",
     "INPUT_FIELDS",
     "tier_inputs",
@@ -66,6 +68,78 @@ class Pair(NamedTuple):
     fn_j: float
     #: dry restitution coefficient [-]
     e: float
+
+
+class RawPair(NamedTuple):
+    """The raw inputs of one collision of the fused kernels (:mod:`.fused`), all but its
+    lab speeds ``u0`` and ``u0_j``: what :func:`.fused.prepare_one` makes a :class:`Pair`
+    from, in the order of :data:`.fused.INPUT_NAMES`."""
+
+    #: solid diameter of particle i [m]; ``inf`` for a plate
+    d_i: float
+    #: solid density of i [kg/m3]
+    rho_i: float
+    #: liquid layer on i [m]
+    h0_i: float
+    #: asperities of i [m]
+    ha_i: float
+    #: solid diameter of particle j [m]; ``inf`` for a plate
+    d_j: float
+    #: solid density of j [kg/m3]
+    rho_j: float
+    #: liquid layer on j [m]
+    h0_j: float
+    #: asperities of j [m]
+    ha_j: float
+    #: liquid viscosity [Pa s]
+    mu_l: float
+    #: surface tension [N/m]
+    gamma: float
+    #: liquid density [kg/m3]
+    rho_l: float
+    #: contact angle [deg]
+    theta_deg: float
+    #: gas viscosity [Pa s]
+    mu_g: float
+    #: gas density [kg/m3]
+    rho_g: float
+    #: bed voidage [-]
+    eps: float
+    #: superficial gas speed [m/s]; NaN: ``1.1 U_mf`` of the pair
+    U: float
+    #: collision angle [deg]
+    beta_deg: float
+    #: dry restitution coefficient [-]
+    e: float
+
+
+class Prepared(NamedTuple):
+    """What :func:`.fused.prepare_one` makes of a :class:`RawPair` and its lab speeds: the
+    :class:`Pair` fields that change (the others are the raw inputs' ``mu_l``, ``gamma``
+    and ``e``), the relative speed and its ratio to a head-on ``u0``."""
+
+    #: wet mass of i [kg]
+    m_i: float
+    #: wet mass of j [kg]
+    m_j: float
+    #: harmonic-mean solid radius [m]
+    r: float
+    #: gap at first liquid contact [m]
+    H0: float
+    #: gap at solid contact [m]
+    Ha: float
+    #: cosine of the contact angle [-]
+    cos_t: float
+    #: contact angle [rad]
+    theta: float
+    #: net body force on i along the normal [N]
+    fn_i: float
+    #: net body force on j along the normal [N]
+    fn_j: float
+    #: relative normal speed ``u_i + u_j`` [m/s]
+    w: float
+    #: ``w`` per head-on ``u0`` [-]: 2, or 1 with a plate
+    w_per_u0: float
 
 
 class TierInputs(NamedTuple):

@@ -216,8 +216,8 @@ def _piece(a, a_inner, b, scale, args):
 @njit(cache=CACHE)
 def _sticks(tier, vals, mu_l, gamma, e, w, empty):
     m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, _ = vals
-    ew, _, _ = tier_kernel(tier, m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, w, fn_i,
-                           fn_j, e, empty)
+    ew, _, _ = tier_kernel(tier, Pair(m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i,
+                                      fn_j, e), w, empty)
     return ew == 0.0
 
 
@@ -229,9 +229,7 @@ def _windows_one(raw, u_star, tier, body, particle_slip, lo, hi, empty):
         return 0, FALLBACK  # NaN: nothing to integrate from
     if math.isinf(u_star):
         return 0, EXACT  # sticks at every speed: P = 1 from F(u0*) alone
-    vals = prepare_one(raw[0], raw[1], raw[2], raw[3], raw[4], raw[5], raw[6], raw[7],
-                       raw[8], raw[9], raw[10], raw[11], raw[12], raw[13], raw[14], raw[15],
-                       raw[16], raw[17], 0.0, math.nan, body, particle_slip)
+    vals = prepare_one(raw, 0.0, math.nan, body, particle_slip)
     m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, wpu = vals
     mu_l, gamma, e = raw[8], raw[9], raw[17]
     if not H0 > Ha:
