@@ -4,11 +4,8 @@ Every function of ``agglomtool/collision/`` (nested ones and ``@overload`` imple
 included) is read with :mod:`ast`; its positional parameters are those that can be passed
 by position (``posonlyargs`` and ``args``, with or without a default; ``*args`` and
 keyword-only parameters are not counted). More than :data:`LIMIT` of them is a function
-that should take a record of :mod:`agglomtool.collision.records` instead.
-
-The files converted hold none; the files not yet converted are listed with their count
-when this test was written, as a ceiling: the counts can only go down (lower a ceiling when
-a file improves, drop the file from :data:`NOT_YET` when it reaches 0).
+that should take a record of :mod:`agglomtool.collision.records` (or of its own module)
+instead. No file of the core holds one.
 """
 
 from __future__ import annotations
@@ -20,11 +17,6 @@ CORE = Path(__file__).resolve().parent.parent / "agglomtool" / "collision"
 
 #: Most positional parameters a function of the core may take.
 LIMIT = 8
-
-#: Files not yet converted, with their number of functions over :data:`LIMIT` (a ceiling).
-NOT_YET = {
-    "sticking.py": 11,
-}
 
 #: Python-level entry points whose flags must be keyword-only (the tier functions and
 #: their batch variants): a bare ``False`` in a call says nothing.
@@ -71,17 +63,13 @@ def test_the_counter_counts_positional_parameters(tmp_path):
     assert over_limit(src) == [("a", 9), ("inner", 9)]
 
 
-def test_no_long_positional_lists_in_the_converted_files():
-    files = sorted(p for p in CORE.glob("*.py") if p.name not in NOT_YET)
-    assert {p.name for p in files} >= set(TIER_FILES) | {"records.py"}
+def test_no_long_positional_lists_in_the_core():
+    files = sorted(CORE.glob("*.py"))
+    assert {p.name for p in files} >= set(TIER_FILES) | {"records.py", "fused.py",
+                                                         "sticking.py", "critical.py",
+                                                         "critical_relative.py"}
     bad = {p.name: over_limit(p) for p in files if over_limit(p)}
     assert not bad, f"functions over {LIMIT} positional parameters (take a record): {bad}"
-
-
-def test_the_files_not_yet_converted_only_improve():
-    for name, ceiling in NOT_YET.items():
-        found = over_limit(CORE / name)
-        assert len(found) <= ceiling, (name, len(found), ceiling, found)
 
 
 def test_tier_flags_are_keywords():

@@ -131,8 +131,8 @@ def test_propensity_loop_gives_the_same_numbers_however_its_blocks_are_dealt():
         inner = 7
         finite = np.where(np.isfinite(us) & (us > 0.0), us, 1.0)
         p1 = (finite[:, None] * 10 ** rng.uniform(-0.5, 2.0, (n, inner))).ravel()
-        args = (ins, steps, us, 1 if us.size > 1 else 0, int(tier), bool(body),
-                True if slip else None, inner, 2, p1, 1, np.ones(1), 0)
+        args = ((ins, steps, us, 1 if us.size > 1 else 0), (int(tier), bool(body),
+                True if slip else None), inner, (2, p1, 1, np.ones(1), 0))
         ref = np.empty(n * inner)
         sticking._propensity_serial(*args, ref)
         for per, lanes in ((20, 1), (1, 2), (3, 3), (7, 16), launch_blocks(n, 4096 // inner, 1)):

@@ -121,7 +121,8 @@ def test_one_pass_propensity_equals_windows_then_integration(mode):
         ins, steps, cshape, tier, body, slip = pairs.pair(pairs.u_star)
         n = int(np.prod(cshape))
         us = np.ascontiguousarray(np.broadcast_to(pairs.u_star, cshape)).ravel()
-        lo, hi, count, status = sticking_windows(ins, steps, n, tier, body, slip, us)
+        sets = sticking_windows(ins, steps, n, tier, us, body=body, particle_slip=slip)
+        count, status = sets.counts, sets.status
         windows += int(np.count_nonzero(count > 0))
         fallback += int(np.count_nonzero(status != 0))
         inner = 9  # speeds per collision, trailing
@@ -131,9 +132,9 @@ def test_one_pass_propensity_equals_windows_then_integration(mode):
         for family, p1, p2 in ((0, speeds, np.ones(1)),
                                (1, speeds, rng.uniform(0.05, 1.5, n * inner)),
                                (2, speeds**2 / math.log(2.0), np.ones(1))):
-            ref = propensity_from_windows(idx, family, p1, p2, us, lo, hi, count, status)
-            got = propensity_exact(ins, steps, n, tier, body, slip, us, inner, family, p1,
-                                   p2)
+            ref = propensity_from_windows(idx, family, p1, p2, us, sets)
+            got = propensity_exact(ins, steps, n, tier, us, inner, body=body,
+                                   particle_slip=slip, family=family, p1=p1, p2=p2)
             assert np.array_equal(got.view(np.uint64), ref.view(np.uint64)), family
         # a parameter per position along the speed axis, or per collision, read in place
         # of its copy over every element (PER_TRAILING, PER_COLLISION): the same numbers
@@ -142,10 +143,10 @@ def test_one_pass_propensity_equals_windows_then_integration(mode):
         for family in (0, 1, 2):
             for part, how, full in ((along, 3, np.tile(along, n)),
                                     (per_c, 2, np.repeat(per_c, inner))):
-                ref = propensity_from_windows(idx, family, full, np.full(1, 0.5), us, lo, hi,
-                                              count, status)
-                got = propensity_exact(ins, steps, n, tier, body, slip, us, inner, family,
-                                       part, np.full(1, 0.5), (how, 0))
+                ref = propensity_from_windows(idx, family, full, np.full(1, 0.5), us, sets)
+                got = propensity_exact(ins, steps, n, tier, us, inner, body=body,
+                                       particle_slip=slip, family=family, p1=part,
+                                       p2=np.full(1, 0.5), how=(how, 0))
                 assert np.array_equal(got.view(np.uint64), ref.view(np.uint64)), (family, how)
     assert windows > 0
     if mode == "paper":

@@ -78,7 +78,7 @@ class Pairs:
         ins, steps, shape, tier, body, slip = fused
         n = int(np.prod(shape))
         us = np.broadcast_to(self.u_star, shape).ravel()
-        return sticking_windows(ins, steps, n, tier, body, slip, us)
+        return sticking_windows(ins, steps, n, tier, us, body=body, particle_slip=slip)
 
 
 def _random_pairs(seed, n_pairs, angles=13):

@@ -255,18 +255,18 @@ def _exact(speeds: SpeedModel, u_star, fused, shape, out=None):
         if (out is not None and out.shape == shape and out.dtype == np.float64
                 and out.flags.c_contiguous and out.flags.writeable):
             into = out.reshape(-1)  # a view: P is written into ``out``
-        p = propensity_exact(ins, steps, n_c, tier, body, particle_slip, us, inner,
-                             _FAMILY_CODES[fam], p1, p2, (h1, h2), out=into)
+        p = propensity_exact(ins, steps, n_c, tier, us, inner, body=body,
+                             particle_slip=particle_slip, family=_FAMILY_CODES[fam], p1=p1,
+                             p2=p2, how=(h1, h2), out=into)
         if into is not None:
             p = out
     else:
         p1, p2 = _flat_param(p1, shape), _flat_param(p2, shape)
-        lo, hi, count, status = sticking_windows(ins, steps, n_c, tier, body, particle_slip,
-                                                 us)
+        windows = sticking_windows(ins, steps, n_c, tier, us, body=body,
+                                   particle_slip=particle_slip)
         idx = np.ascontiguousarray(np.broadcast_to(
             np.arange(n_c, dtype=np.int64).reshape(cshape), shape)).reshape(-1)
-        p = propensity_from_windows(idx, _FAMILY_CODES[fam], p1, p2, us, lo, hi, count,
-                                    status)
+        p = propensity_from_windows(idx, _FAMILY_CODES[fam], p1, p2, us, windows)
     if p is not out:
         p = p.reshape(shape)
     # one reduction decides the common case (no NaN: the minimum is NaN exactly when some

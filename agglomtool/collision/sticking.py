@@ -45,6 +45,7 @@ one (``f`` the speed law's density), far below 1e-9 for any law of this package.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit, prange
@@ -56,7 +57,8 @@ from .fused import SERIAL_BELOW, TIER_PAPER, launch_blocks, prepare_one, tier_ke
 from .records import Pair
 
 __all__ = ["sticking_windows", "propensity_from_windows", "propensity_exact", "FIXED", "LOGNORMAL",
-           "MAXWELLIAN", "EXACT", "FALLBACK", "MAX_WINDOWS", "T_RTOL", "MAX_STEPS"]
+           "MAXWELLIAN", "EXACT", "FALLBACK", "MAX_WINDOWS", "T_RTOL", "MAX_STEPS",
+           "SetInputs", "SetFlags", "Windows", "SpeedLaw"]
 
 #: Speed-law family codes of :func:`propensity_from_windows`.
 FIXED, LOGNORMAL, MAXWELLIAN = 0, 1, 2
@@ -73,6 +75,66 @@ MAX_STEPS = 2100
 CHECK_OFFSET = 1e-9
 #: ``1 - F(u0*)`` below which ``P = 1`` (as the quadrature takes it).
 REST_MIN = 1e-12
+
+
+# The records of a launch. The launches take them from Python as plain tuples and make them
+# records inside (numba's dispatcher types a plain tuple as fast as separate arguments, a
+# named tuple more slowly, the slower the more fields it holds).
+
+
+class SetInputs(NamedTuple):
+    """The collisions of a launch: the fused kernels' inputs and each one's ``u0*``."""
+
+    #: the input arrays of :data:`.fused.INPUT_NAMES` (the lab speeds are not read)
+    ins: tuple
+    #: their steps, 0 or 1 (int64 array)
+    st: np.ndarray
+    #: the head-on ``u0*`` [m/s], of length 1 or one per collision
+    u_star: np.ndarray
+    #: its step, 0 or 1
+    su: int
+
+
+class SetFlags(NamedTuple):
+    """Which kernel decides a collision."""
+
+    #: ``fused.TIER_PAPER`` or ``fused.TIER_RELATIVE``
+    tier: int
+    #: weight, buoyancy and drag on
+    body: bool
+    #: the drag's slip is the particle's own speed: ``True``, or ``None`` for false
+    particle_slip: object
+
+
+class Windows(NamedTuple):
+    """The sticking sets of :func:`sticking_windows`, one row per collision."""
+
+    #: the windows' lower ends, head-on speed [m/s], ``(n, MAX_WINDOWS)``
+    lo: np.ndarray
+    #: their upper ends [m/s]
+    hi: np.ndarray
+    #: windows per collision (int8; ``count`` would hide the tuple's method)
+    counts: np.ndarray
+    #: :data:`EXACT` or :data:`FALLBACK` (int8)
+    status: np.ndarray
+
+
+class SpeedLaw(NamedTuple):
+    """The speed law of a propensity: its family and its two parameters, each a float64
+    array read as its ``how`` says (:data:`ONE`, :data:`PER_ELEMENT`, :data:`PER_COLLISION`,
+    :data:`PER_TRAILING`; :func:`propensity_from_windows` takes ``ONE`` or
+    ``PER_ELEMENT``, which are the arrays' steps 0 and 1)."""
+
+    #: :data:`FIXED`, :data:`LOGNORMAL` or :data:`MAXWELLIAN`
+    family: int
+    #: the fixed speed, the lognormal median [m/s] or the granular temperature [m2/s2]
+    p1: np.ndarray
+    #: how ``p1`` is read
+    how1: int
+    #: the lognormal ``sigma_ln`` [-] (else not read)
+    p2: np.ndarray
+    #: how ``p2`` is read
+    how2: int
 
 
 @njit(cache=CACHE)
@@ -222,9 +284,12 @@ def _sticks(tier, vals, mu_l, gamma, e, w, empty):
 
 
 @njit(cache=CACHE)
-def _windows_one(raw, u_star, tier, body, particle_slip, lo, hi, empty):
-    """The sticking set of one collision above ``u_star`` [m/s] (head-on lab speed) as
-    intervals of head-on speed written to ``lo``, ``hi``; returns ``(count, status)``."""
+def _windows_one(raw, u_star, flags, lo, hi, empty):
+    """The sticking set of one collision (``raw``: :class:`.records.RawPair`) above
+    ``u_star`` [m/s] (head-on lab speed), decided by the kernel of ``flags``
+    (:class:`SetFlags`), as intervals of head-on speed written to ``lo``, ``hi``; returns
+    ``(count, status)``."""
+    tier, body, particle_slip = flags
     if not u_star >= 0.0:
         return 0, FALLBACK  # NaN: nothing to integrate from
     if math.isinf(u_star):
@@ -316,54 +381,60 @@ def _windows_one(raw, u_star, tier, body, particle_slip, lo, hi, empty):
 
 
 @njit(cache=CACHE)
-def _windows_range(ins, st, u_star, su, tier, body, particle_slip, lo, hi, count, status,
-                   q0, q1):
+def _windows_range(inp, flags, win, q0, q1):
+    """The sticking sets of collisions ``q0 <= q < q1`` of ``inp`` (:class:`SetInputs`)
+    into ``win`` (:class:`Windows`)."""
+    ins, st, u_star, su = inp
+    lo, hi, count, status = win
     empty = np.empty(0)
     for q in range(q0, q1):
-        c, s = _windows_one(_raw(ins, st, q), u_star[q * su], tier, body, particle_slip,
-                            lo[q], hi[q], empty)
+        c, s = _windows_one(_raw(ins, st, q), u_star[q * su], flags, lo[q], hi[q], empty)
         count[q] = c
         status[q] = s
 
 
 @njit(cache=CACHE)
-def _windows_serial(ins, st, u_star, su, tier, body, particle_slip, lo, hi, count, status):
-    _windows_range(ins, st, u_star, su, tier, body, particle_slip, lo, hi, count, status, 0,
-                   count.shape[0])
+def _windows_serial(inp, flags, win):
+    _windows_range(SetInputs(*inp), SetFlags(*flags), Windows(*win), 0, win[2].shape[0])
 
 
 @njit(parallel=True, cache=CACHE)
-def _windows_parallel(ins, st, u_star, su, tier, body, particle_slip, lo, hi, count, status):
-    n = count.shape[0]
+def _windows_parallel(inp, flags, win):
+    # the inputs' record is made in the loop's body: a parallel loop cannot take a record
+    # that holds the tuple of input arrays
+    ins, st, u_star, su = inp
+    kernel = SetFlags(*flags)
+    sets = Windows(*win)
+    n = sets.counts.shape[0]
     nb = (n + 255) // 256
     for b in prange(nb):
-        _windows_range(ins, st, u_star, su, tier, body, particle_slip, lo, hi, count, status,
-                       b * 256, min(n, (b + 1) * 256))
+        _windows_range(SetInputs(ins, st, u_star, su), kernel, sets, b * 256,
+                       min(n, (b + 1) * 256))
 
 
-def sticking_windows(ins, steps, n, tier, body, particle_slip, u_star):
+def sticking_windows(ins, steps, n, tier, u_star, *, body, particle_slip):
     """The sticking sets above ``u_star`` of ``n`` collisions given as the fused kernels'
     inputs (:mod:`.fused`; the lab speeds are not read) for ``tier`` ``fused.TIER_PAPER``
     or ``fused.TIER_RELATIVE``.
 
     ``u_star``: a float64 array of length 1 or ``n``, the head-on ``u0*`` [m/s]. Returns
-    ``(lo, hi, count, status)``: collision ``q`` sticks (above ``u_star``) on the head-on
-    speeds ``[lo[q, k], hi[q, k]]``, ``k < count[q]``; ``status[q]`` is :data:`EXACT` or
-    :data:`FALLBACK` (no proven bracket: integrate it by the quadrature).
-    """
+    a :class:`Windows` ``(lo, hi, counts, status)``: collision ``q`` sticks (above
+    ``u_star``) on the head-on speeds ``[lo[q, k], hi[q, k]]``, ``k < count[q]``;
+    ``status[q]`` is :data:`EXACT` or :data:`FALLBACK` (no proven bracket: integrate it by
+    the quadrature). ``body``: weight, buoyancy and drag on; ``particle_slip``: the drag's
+    slip is the particle's own speed."""
     u_star = np.ascontiguousarray(u_star, dtype=np.float64).reshape(-1)
     su = 1 if u_star.shape[0] > 1 else 0
-    lo = np.zeros((n, MAX_WINDOWS))
-    hi = np.zeros((n, MAX_WINDOWS))
-    count = np.zeros(n, dtype=np.int8)
-    status = np.zeros(n, dtype=np.int8)
-    particle = True if particle_slip else None
-    args = (ins, steps, u_star, su, int(tier), bool(body), particle, lo, hi, count, status)
+    win = Windows(lo=np.zeros((n, MAX_WINDOWS)), hi=np.zeros((n, MAX_WINDOWS)),
+                  counts=np.zeros(n, dtype=np.int8), status=np.zeros(n, dtype=np.int8))
+    # SetInputs, SetFlags and Windows as plain tuples (the launches make them records)
+    args = ((ins, steps, u_star, su), (int(tier), bool(body), True if particle_slip else None),
+            tuple(win))
     if n < SERIAL_BELOW // 4:
         _windows_serial(*args)
     else:
         parallel_launch(_windows_parallel, *args)
-    return lo, hi, count, status
+    return win
 
 
 @njit(cache=CACHE, inline="always")
@@ -408,8 +479,11 @@ def _p_one(family, us, a, b, lo, hi, count, status):
 
 
 @njit(cache=CACHE)
-def _integrate_range(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out, k0,
-                     k1):
+def _integrate_range(idx, law, u_star, win, out, k0, k1):
+    """``P`` of elements ``k0 <= k < k1`` (collision ``idx[k]``) under ``law``
+    (:class:`SpeedLaw`, ``how`` the arrays' steps) from the sticking sets ``win``."""
+    family, p1, s1, p2, s2 = law
+    lo, hi, count, status = win
     for k in range(k0, k1):
         q = idx[k]
         out[k] = _p_one(family, u_star[q], p1[k * s1], p2[k * s2], lo[q], hi[q], count[q],
@@ -417,23 +491,23 @@ def _integrate_range(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status,
 
 
 @njit(cache=CACHE)
-def _integrate_serial(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out):
-    _integrate_range(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out, 0,
-                     out.shape[0])
+def _integrate_serial(idx, law, u_star, win, out):
+    _integrate_range(idx, SpeedLaw(*law), u_star, Windows(*win), out, 0, out.shape[0])
 
 
 @njit(parallel=True, cache=CACHE)
-def _integrate_parallel(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out):
+def _integrate_parallel(idx, law, u_star, win, out):
+    speeds = SpeedLaw(*law)
+    sets = Windows(*win)
     n = out.shape[0]
     nb = (n + 4095) // 4096
     for b in prange(nb):
-        _integrate_range(idx, family, p1, s1, p2, s2, u_star, lo, hi, count, status, out,
-                         b * 4096, min(n, (b + 1) * 4096))
+        _integrate_range(idx, speeds, u_star, sets, out, b * 4096, min(n, (b + 1) * 4096))
 
 
-def propensity_from_windows(idx, family, p1, p2, u_star, lo, hi, count, status):
+def propensity_from_windows(idx, family, p1, p2, u_star, windows):
     """``P`` at ``idx.size`` elements, element ``k`` of collision ``idx[k]`` of
-    :func:`sticking_windows` (its ``u_star``, ``lo``, ``hi``, ``count``, ``status``):
+    :func:`sticking_windows` (its ``u_star`` and its :class:`Windows` ``windows``):
     ``F(u0*) + sum_k F(hi_k) - F(max(lo_k, u0*))`` with the law ``family``
     (:data:`FIXED`, :data:`LOGNORMAL`, :data:`MAXWELLIAN`) of parameters ``p1``, ``p2``
     (float64 arrays of length 1 or ``idx.size``). NaN where the collision's status is
@@ -442,7 +516,9 @@ def propensity_from_windows(idx, family, p1, p2, u_star, lo, hi, count, status):
     out = np.empty(n)
     s1 = 1 if p1.shape[0] > 1 else 0
     s2 = 1 if p2.shape[0] > 1 else 0
-    args = (idx, int(family), p1, s1, p2, s2, u_star, lo, hi, count, status, out)
+    # SpeedLaw (its steps for ``how``) and Windows as plain tuples (the launches make them
+    # records)
+    args = (idx, (int(family), p1, s1, p2, s2), u_star, tuple(windows), out)
     if n < SERIAL_BELOW:
         _integrate_serial(*args)
     else:
@@ -464,8 +540,12 @@ def _param(p, how, k, q, inner):
 
 
 @njit(cache=CACHE)
-def _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, h1,
-                      p2, h2, out, q0, q1):
+def _propensity_range(inp, flags, inner, law, out, q0, q1):
+    """The sticking sets and ``P`` of collisions ``q0 <= q < q1`` of ``inp``
+    (:class:`SetInputs`; their ``inner`` elements each, consecutive) under ``law``
+    (:class:`SpeedLaw`), into ``out``."""
+    ins, st, u_star, su = inp
+    family, p1, h1, p2, h2 = law
     empty = np.empty(0)
     lo = np.zeros(MAX_WINDOWS)
     hi = np.zeros(MAX_WINDOWS)
@@ -473,29 +553,31 @@ def _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, fam
         lo[:] = 0.0
         hi[:] = 0.0
         us = u_star[q * su]
-        c, s = _windows_one(_raw(ins, st, q), us, tier, body, particle_slip, lo, hi, empty)
+        c, s = _windows_one(_raw(ins, st, q), us, flags, lo, hi, empty)
         for k in range(q * inner, (q + 1) * inner):
             out[k] = _p_one(family, us, _param(p1, h1, k, q, inner),
                             _param(p2, h2, k, q, inner), lo, hi, c, s)
 
 
 @njit(cache=CACHE)
-def _propensity_serial(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, h1,
-                       p2, h2, out):
-    _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1, h1,
-                      p2, h2, out, 0, out.shape[0] // inner)
+def _propensity_serial(inp, flags, inner, law, out):
+    _propensity_range(SetInputs(*inp), SetFlags(*flags), inner, SpeedLaw(*law), out, 0,
+                      out.shape[0] // inner)
 
 
 @njit(parallel=True, cache=CACHE)
-def _propensity_parallel(ins, st, u_star, su, tier, body, particle_slip, inner, family, p1,
-                         h1, p2, h2, out, per, lanes):
+def _propensity_parallel(inp, flags, inner, law, out, per, lanes):
     # blocks of ``per`` collisions, lane t running blocks t, t + lanes, ... (launch_blocks)
+    # (the inputs' record made in the loop's body, as in _windows_parallel)
+    ins, st, u_star, su = inp
+    kernel = SetFlags(*flags)
+    speeds = SpeedLaw(*law)
     n = out.shape[0] // inner
     nb = (n + per - 1) // per
     for t in prange(lanes):
         for b in range(t, nb, lanes):
-            _propensity_range(ins, st, u_star, su, tier, body, particle_slip, inner, family,
-                              p1, h1, p2, h2, out, b * per, min(n, (b + 1) * per))
+            _propensity_range(SetInputs(ins, st, u_star, su), kernel, inner, speeds, out,
+                              b * per, min(n, (b + 1) * per))
 
 
 #: How :func:`propensity_exact` reads a law parameter: one value, one per element, one per
@@ -503,8 +585,8 @@ def _propensity_parallel(ins, st, u_star, su, tier, body, particle_slip, inner, 
 ONE, PER_ELEMENT, PER_COLLISION, PER_TRAILING = 0, 1, 2, 3
 
 
-def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, family, p1, p2,
-                     how=None, out=None):
+def propensity_exact(ins, steps, n, tier, u_star, inner, *, body, particle_slip, family, p1,
+                     p2, how=None, out=None):
     """The sticking sets of :func:`sticking_windows` and the propensity of
     :func:`propensity_from_windows` in one pass (one launch): ``P`` at ``n * inner``
     elements, element ``k`` of collision ``k // inner`` (the collisions constant along the
@@ -514,16 +596,17 @@ def propensity_exact(ins, steps, n, tier, body, particle_slip, u_star, inner, fa
     default ``ONE`` for an array of length 1, else ``PER_ELEMENT``). NaN where the
     collision's set was not proven and probability lies above ``u0*``. ``out``: a
     C-contiguous float64 1-D array of ``n * inner`` elements to write ``P`` into (then
-    returned)."""
+    returned). ``body``, ``particle_slip``: as :func:`sticking_windows`; ``family``: the
+    speed law's (:data:`FIXED`, :data:`LOGNORMAL`, :data:`MAXWELLIAN`)."""
     u_star = np.ascontiguousarray(u_star, dtype=np.float64).reshape(-1)
     su = 1 if u_star.shape[0] > 1 else 0
     if out is None:
         out = np.empty(n * int(inner))
     if how is None:
         how = tuple(ONE if p.shape[0] == 1 else PER_ELEMENT for p in (p1, p2))
-    particle = True if particle_slip else None
-    args = (ins, steps, u_star, su, int(tier), bool(body), particle, int(inner), int(family),
-            p1, int(how[0]), p2, int(how[1]), out)
+    # SetInputs, SetFlags and SpeedLaw as plain tuples (the launches make them records)
+    args = ((ins, steps, u_star, su), (int(tier), bool(body), True if particle_slip else None),
+            int(inner), (int(family), p1, int(how[0]), p2, int(how[1])), out)
     if n < SERIAL_BELOW // 4 and out.shape[0] < SERIAL_BELOW:
         _propensity_serial(*args)
     else:
