@@ -158,6 +158,7 @@ def main() -> None:
     t0 = time.perf_counter()
     for scene, axes in AXES.values():
         sweep(scene, **small(axes))
+        sweep(scene, **axes)  # the parallel paths of a map as large as the timed ones
     col = plain_collide(*AXES["water"])  # bench_sweep's: one collide at the typical speed
     col()
     print(f"compile and warm-up {time.perf_counter() - t0:.1f} s; threading layer "
