@@ -51,7 +51,8 @@ from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from . import _codes as codes
-from .bridge import bridge_volume, g_diff, gap_parts, ln_f_diff, rupture_gap
+from . import stages
+from .bridge import bridge_volume, g_diff, gap_parts, ln_f_change, ln_f_diff
 from .fused import (
     BLOCK,
     NO_ANGLES,
@@ -62,22 +63,9 @@ from .fused import (
     slip_flag,
 )
 from .ode import MAX_STEPS, ode_batch, ode_kernel
-from .outcome import DETAIL_NAMES
 from .physics import reduced_mass, relative_body_force
 from .records import Bridge, Gap, OdeOptions, Pair, TierInputs, WorkScale, pair_at, tier_inputs
 from .relative import relative_kernel
-from .stages import (
-    bridge_constants,
-    contact_details,
-    fresh_details,
-    no_bridge,
-    rupture_details,
-    split_details,
-    stage_details,
-    stage_energy,
-    stage_losses,
-    work_details,
-)
 
 __all__ = [
     "run_auto",
@@ -129,10 +117,6 @@ PIECEWISE_BOUND = 0.3
 #: (``benchmarks/results/auto_calibration.md``), with safety factors 3.0 and 3.2 on the log.
 PIECE_STICK_MARGIN = (1.05, 1.02)
 
-_H_RUPT = DETAIL_NAMES.index("h_rupt")
-_W_CONTACT = DETAIL_NAMES.index("w_contact")
-
-
 @njit(cache=CACHE)
 def closed_form_indicator(pair, w, det):
     """The closed forms' ``e_w`` and their error indicator ``g`` (module docstring) for the
@@ -150,15 +134,15 @@ def closed_form_indicator(pair, w, det):
     if not ew > 0.0:
         return ew, st, pa, math.inf
     m_r, _, _ = reduced_mass(m_i, m_j)
-    c, kcap, a2 = bridge_constants(pair)
+    c, kcap, a2 = stages.bridge_constants(pair)
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
     k0 = 0.5 * m_r * w * w
     c_delta = c * -ln_f_diff(H0, Ha, a2)
     w_end = w - c_delta / m_r
     work = abs(kcap * g_diff(H0, Ha, a2))
     eta = c_delta / (m_r * w_end) * (work + abs(f_b) * (H0 - Ha))
-    h_rupt = det[_H_RUPT]
-    w_s = e * det[_W_CONTACT]
+    h_rupt = det[codes.H_RUPT]
+    w_s = e * det[codes.W_CONTACT]
     if h_rupt > Ha:
         c_delta = c * ln_f_diff(Ha, h_rupt, a2)
         w_end = w_s - c_delta / m_r
@@ -176,7 +160,7 @@ def closed_form_indicator_lean(pair, w):
     the indicator. Bitwise the same ``(e_w, stage, path, g)`` (tested)."""
     e = pair.e
     if not pair.H0 > pair.Ha:
-        ew, st, pa = no_bridge(e)
+        ew, st, pa = stages.no_bridge(e)
         return ew, st, pa, 0.0
     return _whole_at(w, e, pair.theta, pair.mu_l, pair.gamma, _whole_parts(pair))
 
@@ -190,14 +174,14 @@ def _whole_parts(pair):
     forms at two speeds, and the piecewise forms start from these, :func:`_pieces_parts`)."""
     m_i, m_j, r, H0, Ha, _, _, _, _, fn_i, fn_j, _ = pair
     m_r, _, _ = reduced_mass(m_i, m_j)
-    bridge = bridge_constants(pair)
+    bridge = stages.bridge_constants(pair)
     c, kcap, a2 = bridge
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
     s_h0, k_h0, v_h0 = gap_parts(H0, a2)
     s_ha, k_ha, v_ha = gap_parts(Ha, a2)
     # the approach's losses, as relative_kernel takes them
-    c_delta, l_cap, l_bdw = stage_losses(Gap(H0, s_h0, k_h0, v_h0), Gap(Ha, s_ha, k_ha, v_ha),
-                                         bridge, f_b)
+    c_delta, l_cap, l_bdw = stages.stage_losses(
+        Gap(H0, s_h0, k_h0, v_h0), Gap(Ha, s_ha, k_ha, v_ha), bridge, f_b)
     vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)
     return (m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw, s_ha,
             k_h0, v_h0, s_h0)
@@ -211,15 +195,14 @@ def _whole_at(w, e, theta, mu_l, gamma, parts):
     taken from ``parts``."""
     m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw, s_ha = parts[:14]
     k0 = 0.5 * m_r * w * w
-    code, k_app, _ = stage_energy(k0, w, m_r, c_delta, l_cap, l_bdw)
+    code, k_app, _ = stages.stage_energy(k0, w, m_r, c_delta, l_cap, l_bdw)
     if code:
         return 0.0, (codes.APP_VIS if code == 1 else codes.APP_EN), 0, math.inf
-    w_s = e * math.sqrt(2.0 * k_app / m_r)
+    w_s = e * stages.contact_speed(k_app, m_r)
     if not w_s > 0.0:
         return 0.0, codes.CONTACT, 0, math.inf
     k_s = 0.5 * m_r * w_s * w_s
-    # rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2)), cube root done once
-    h_rupt = rupture_gap(theta, mu_l * w_s / gamma, vol3)
+    _, h_rupt = stages.rupture_at(w_s, mu_l, gamma, theta, vol3)
     path = 0
     sep = h_rupt > Ha
     c_delta_s = 0.0
@@ -228,10 +211,10 @@ def _whole_at(w, e, theta, mu_l, gamma, parts):
         path |= codes.P_BROKEN
         k_end = k_s
     else:
-        c_delta_s, l_cap_s, l_bdw_s = stage_losses(
+        c_delta_s, l_cap_s, l_bdw_s = stages.stage_losses(
             Gap(Ha, s_ha, k_ha, v_ha), Gap(h_rupt, *gap_parts(h_rupt, a2)), Bridge(c, kcap, a2),
             f_b)
-        code, k_end, _ = stage_energy(k_s, w_s, m_r, c_delta_s, l_cap_s, l_bdw_s)
+        code, k_end, _ = stages.stage_energy(k_s, w_s, m_r, c_delta_s, l_cap_s, l_bdw_s)
         if code:
             return 0.0, (codes.SEP_VIS if code == 1 else codes.SEP_EN), path, math.inf
     ew = math.sqrt(k_end / k0)
@@ -309,8 +292,7 @@ def _stage_pieces(k, v, start, om_s, end, law, n, indicator=True):
     d_s, s_s, k1, val1 = start
     d_e, s_e, k2, val2 = end
     a2, m_r, c, kcap, f_b, a = law
-    # ln f(d_e) - ln f(d_s) as ln_f_diff_from forms it.
-    delta = abs((val2 - val1) + (k1 - k2) * _LN4)
+    delta = abs(ln_f_change(start, end))
     cd = c * (delta / n)
     dv = cd / m_r
     v4_s = 0.0
@@ -409,10 +391,8 @@ def piecewise_kernel(pair, w, n, det):
     """
     e = pair.e
     if not pair.H0 > pair.Ha:
-        if fresh_details(det):
-            m_r, _, _ = reduced_mass(pair.m_i, pair.m_j)
-            contact_details(det, m_r, e, w)
-        ew, st, pa = no_bridge(e)
+        stages.fresh_details(det)
+        ew, st, pa = stages.dry_contact(det, reduced_mass(pair.m_i, pair.m_j)[0], e, w)
         return ew, st, pa, 0.0, True
     return _piecewise(pair, w, n, det, _collision_parts(pair))
 
@@ -422,23 +402,23 @@ def _piecewise(pair, w, n, det, parts, indicator=True):
     """:func:`piecewise_kernel` with ``H0 > Ha`` from the collision's ``parts``
     (:func:`_collision_parts`); ``indicator`` False: the outcome only (``g`` and ``clear``
     then mean nothing; :func:`_stage_pieces`)."""
-    H0, Ha, mu_l, gamma, theta, e = pair.H0, pair.Ha, pair.mu_l, pair.gamma, pair.theta, pair.e
+    H0, Ha, e = pair.H0, pair.Ha, pair.e
     (m_r, frac_i, frac_j, a2, c, kcap, f_b, a, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha,
      om_ha, vol3) = parts
     law = (a2, m_r, c, kcap, f_b, a)
     gap_ha = Gap(Ha, s_ha, k_ha, v_ha)
     nan = math.nan
-    want = fresh_details(det)
+    want = stages.fresh_details(det)
     k0 = 0.5 * m_r * w * w
     h_rupt = nan
     if want:
-        split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, k0)
+        stages.split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, k0)
         det[codes.ST_APP] = m_r * w / c
     k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(
         k0, w, Gap(H0, s_h0, k_h0, v_h0), om_h0, gap_ha, law, n, indicator)
     if want:
         # a viscous stop leaves the viscous loss NaN, as in relative_kernel
-        stage_details(det, False, l_cap, l_vis if code != 1 else nan, l_bdw, frac_i, frac_j)
+        stages.stage_details(det, False, l_cap, l_vis if code != 1 else nan, l_bdw, frac_i, frac_j)
     stage = codes.REBOUND
     path = 0
     k_end = 0.0
@@ -447,20 +427,11 @@ def _piecewise(pair, w, n, det, parts, indicator=True):
     elif code == 2:
         stage = codes.APP_EN
     else:
-        w_c = math.sqrt(2.0 * k_app / m_r)
-        w_s = e * w_c
-        if want:
-            split_details(det, codes.K_APP_I, codes.K_APP_J, frac_i, frac_j, k_app)
-            contact_details(det, m_r, e, w_c)
+        w_s = stages.relative_contact(det, frac_i, frac_j, m_r, e, k_app)
         if not w_s > 0.0:
             stage = codes.CONTACT
         else:
-            k_s = 0.5 * m_r * w_s * w_s
-            ca = mu_l * w_s / gamma
-            # rupture_distance(theta, ca, bridge_volume(r, a2)), its cube root done once
-            h_rupt = rupture_gap(theta, ca, vol3)
-            if want:
-                rupture_details(det, frac_i, frac_j, k_s, ca, h_rupt)
+            k_s, h_rupt = stages.separation_start(det, pair, frac_i, frac_j, m_r, w_s, vol3)
             if not h_rupt > Ha:
                 path |= codes.P_BROKEN
                 k_end = k_s
@@ -471,16 +442,16 @@ def _piecewise(pair, w, n, det, parts, indicator=True):
                 eta = eta + eta_s
                 clear = clear and clear_s
                 if want:
-                    stage_details(det, True, l_cap, l_vis if code != 1 else nan, l_bdw, frac_i,
-                                  frac_j)
+                    stages.stage_details(det, True, l_cap, l_vis if code != 1 else nan, l_bdw,
+                                         frac_i, frac_j)
                 if code == 1:
                     stage = codes.SEP_VIS
                 elif code == 2:
                     stage = codes.SEP_EN
             if stage == codes.REBOUND and want:
-                split_details(det, codes.K_FIN_I, codes.K_FIN_J, frac_i, frac_j, k_end)
+                stages.split_details(det, codes.K_FIN_I, codes.K_FIN_J, frac_i, frac_j, k_end)
     if want:
-        work_details(det, WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
+        stages.work_details(det, WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
     if stage != codes.REBOUND:
         return 0.0, stage, path, math.inf, False
     ew = math.sqrt(k_end / k0)
@@ -510,9 +481,7 @@ def piecewise_batch(ins: TierInputs, n_pieces):
         raise ValueError(f"n_pieces = {n_pieces!r} must be at least 1")
     ins = tier_inputs(ins)
     size = ins.w.shape[0]
-    e_w = np.empty(size)
-    stage = np.empty(size, dtype=np.int8)
-    path = np.empty(size, dtype=np.int8)
+    e_w, stage, path, _ = stages.tier_outputs(size, False)
     g = np.empty(size)
     clear = np.empty(size, dtype=np.bool_)
     parallel_launch(_piecewise_batch, ins, n_pieces, e_w, stage, path, g, clear)
@@ -535,7 +504,7 @@ def _decide_inline(pair, w, tol, empty):
     (:func:`_decide_beyond`, 15 % of the collisions on the benchmark batch) called."""
     e = pair.e
     if not pair.H0 > pair.Ha:
-        ew, st, pa = no_bridge(e)
+        ew, st, pa = stages.no_bridge(e)
         return ew, st, pa, 1, 0.0
     # closed_form_indicator_lean, its speed-independent part kept for a second speed
     whole = _whole_parts(pair)
@@ -716,9 +685,7 @@ def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, *, return_pi
     :func:`~.fused.fused_batch`; a caller must raise on a nonzero code (the collisions
     that break rule 3 or 4 are not computed)."""
     tol = _check_tol(tol)
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
+    e_w, stage, path, _ = stages.tier_outputs(n, False)
     w = np.empty(n)
     pieces = np.empty(n, dtype=np.int8)
     o = ode_options(ode_rtol(tol))
@@ -812,12 +779,9 @@ def auto_batch(ins: TierInputs, *, details=False, tol=DEFAULT_TOL, return_pieces
     tol = _check_tol(tol)
     ins = tier_inputs(ins)
     n = ins.w.shape[0]
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
+    e_w, stage, path, det = stages.tier_outputs(n, details)
     pieces = np.empty(n, dtype=np.int8)
     bound = np.empty(n)
-    det = np.empty((n, len(DETAIL_NAMES) if details else 0))
     parallel_launch(_choose, ins, tol, e_w, stage, path, pieces, bound, det)
     idx = np.flatnonzero(pieces == 0)
     if idx.size:

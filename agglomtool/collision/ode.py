@@ -49,6 +49,7 @@ from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from . import _codes as codes
+from . import stages
 from .bridge import (
     _LN4,
     bridge_volume,
@@ -70,15 +71,6 @@ from .records import (
     WorkScale,
     pair_at,
     tier_inputs,
-)
-from .stages import (
-    bridge_constants,
-    contact_details,
-    fresh_details,
-    no_bridge,
-    split_details,
-    stage_details,
-    work_details,
 )
 
 __all__ = [
@@ -379,14 +371,12 @@ def ode_kernel(pair, w, det, opts):
     self_consistent = opts.self_consistent
     stick_margin = opts.stick_margin
     nan = math.nan
-    want = fresh_details(det)
+    want = stages.fresh_details(det)
     m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if not H0 > Ha:
-        if want:
-            contact_details(det, m_r, e, w)
-        e_w, stage, path = no_bridge(e)
+        e_w, stage, path = stages.dry_contact(det, m_r, e, w)
         return e_w, stage, path, 0, 0
-    c, kcap, a2 = bridge_constants(pair)
+    c, kcap, a2 = stages.bridge_constants(pair)
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
     k0 = 0.5 * m_r * w * w
     kc = kcap / k0
@@ -398,7 +388,7 @@ def ode_kernel(pair, w, det, opts):
     vol3 = vol ** (1.0 / 3.0)
     e2 = e * e
     if want:
-        split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, k0)
+        stages.split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, k0)
         det[codes.ST_APP] = m_r * w / c
         # (the approach's body-force loss in the order of its own products, and its viscous
         # loss below, are ode's: the stage is integrated, not taken in closed form)
@@ -438,15 +428,14 @@ def ode_kernel(pair, w, det, opts):
         det[codes.K_APP_I] = frac_j * k_c * k0
         det[codes.K_APP_J] = frac_i * k_c * k0
         det[codes.L_VIS_APP] = k0 * (1.0 - k_c) - det[codes.L_CAP_APP] + f_b * (H0 - Ha)
-        contact_details(det, m_r, e, w_c)
+        stages.contact_details(det, m_r, e, w_c)
     if not e > 0.0:
         return 0.0, codes.CONTACT, 0, steps, 0
 
     # ---- separation
     k_s = e2 * k_c
     w_s = e * w_c
-    ca = mu_l * w_s / gamma
-    h_rupt = rupture_gap(theta, ca, vol3)
+    ca, h_rupt = stages.rupture_at(w_s, mu_l, gamma, theta, vol3)
     path = 0
     if not h_rupt > Ha:
         path |= codes.P_BROKEN
@@ -473,12 +462,12 @@ def ode_kernel(pair, w, det, opts):
         det[codes.K_SEP_J] = frac_i * k_s * k0
         det[codes.CA] = ca
         det[codes.H_RUPT] = h_rupt
-        work_details(det, WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
+        stages.work_details(det, WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
         if h_rupt > Ha and status != _STOPPED:
             l_cap = kcap * g_diff(Ha, h_rupt, a2)
             l_bdw = f_b * (h_rupt - Ha)
-            stage_details(det, True, l_cap, k0 * (k_s - k_end) - l_cap - l_bdw, l_bdw, frac_i,
-                          frac_j)
+            stages.stage_details(det, True, l_cap, k0 * (k_s - k_end) - l_cap - l_bdw, l_bdw,
+                                 frac_i, frac_j)
     if status == _STOPPED:
         return 0.0, codes.SEP_EN, path, steps, 0
     if want:
@@ -545,12 +534,9 @@ def ode_batch(ins: TierInputs, *, details=False, rtol=DEFAULT_RTOL, atol=DEFAULT
             raise ValueError(f"stick_margin = {stick_margin!r} must be >= 0 (or None)")
     ins = tier_inputs(ins)
     n = ins.w.shape[0]
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
+    e_w, stage, path, det = stages.tier_outputs(n, details)
     steps = np.empty(n, dtype=np.int64)
     status = np.empty(n, dtype=np.int8)
-    det = np.empty((n, codes.N_DETAILS if details else 0))
     opts = OdeOptions(float(rtol), float(atol), rupture == "self-consistent",
                       bool(volume_corrected), float(first_step), float(max_step),
                       float(first_change), margin)

@@ -37,11 +37,11 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from . import _codes as codes
+from . import stages
 from .bridge import (
     bridge_volume,
     g_change,
@@ -49,11 +49,9 @@ from .bridge import (
     gap_parts,
     ln_f_change,
     ln_f_diff_from,
-    rupture_distance,
 )
 from .physics import reduced_mass
 from .records import Gap, Mover, StageResult, TierInputs, pair_at, tier_inputs
-from .stages import bridge_constants, contact_details, fresh_details, no_bridge, viscous_loss
 
 __all__ = ["paper_kernel", "run_paper"]
 
@@ -80,7 +78,7 @@ def _running_energy(D, start, mover, bridge):
     k, v, share, m, force = mover
     c, kcap, a2 = bridge
     cap = share * kcap * g_diff(d_start, D, a2)
-    vis = viscous_loss(v, m, c * abs(ln_f_diff_from(start_kind, start_val, D, a2)))
+    vis = stages.viscous_loss(v, m, c * abs(ln_f_diff_from(start_kind, start_val, D, a2)))
     return k - cap - vis + force * share * abs(D - d_start)
 
 
@@ -93,7 +91,7 @@ def _cap_vis(D, start, mover, bridge):
     c, kcap, a2 = bridge
     at = Gap(D, *gap_parts(D, a2))
     return (share * kcap * g_change(start, at, a2),
-            viscous_loss(v, m, c * abs(ln_f_change(start, at))))
+            stages.viscous_loss(v, m, c * abs(ln_f_change(start, at))))
 
 
 @njit(cache=CACHE)
@@ -445,7 +443,7 @@ def _stage(start, end, mover_i, mover_j, p, bridge):
     k_mid = (
         k_y
         - (share_y * kcap * g_change(start, stop, a2) + kcap * g_change(stop, end, a2))
-        - viscous_loss(v_y, m_y, c * abs(ln_f_change(start, stop)))
+        - stages.viscous_loss(v_y, m_y, c * abs(ln_f_change(start, stop)))
         + f_y * (share_y * dist_1 + dist_2)
     )
     if k_mid <= 0.0:
@@ -454,10 +452,35 @@ def _stage(start, end, mover_i, mover_j, p, bridge):
     c_delta_2 = c * abs(ln_f_change(stop, end))
     if not c_delta_2 < m_y * v_mid:  # Eq. 144
         return StageResult(4, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
-    k_end_y = k_mid - viscous_loss(v_mid, m_y, c_delta_2)  # Eqs. 37b, 145
+    k_end_y = k_mid - stages.viscous_loss(v_mid, m_y, c_delta_2)  # Eqs. 37b, 145
     if flag == 1:
         return StageResult(0, 0.0, k_end_y, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
     return StageResult(0, k_end_y, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
+
+
+@njit(cache=CACHE, inline="always")
+def _stage_path(det, separation, res):
+    """The path flag of the stage ``res`` (a :class:`~.records.StageResult` of the approach,
+    or of the separation where ``separation``): which particle stopped first, if one did;
+    its losses and stop gap written to the details where ``det`` has length."""
+    if det.shape[0] > 0:
+        if separation:
+            det[codes.L_CAP_SEP] = res.l_cap
+            det[codes.L_VIS_SEP] = res.l_vis
+            det[codes.L_BDW_SEP_I] = res.l_bdw_i
+            det[codes.L_BDW_SEP_J] = res.l_bdw_j
+            det[codes.D_STOP_SEP] = res.d_stop
+        else:
+            det[codes.L_CAP_APP] = res.l_cap
+            det[codes.L_VIS_APP] = res.l_vis
+            det[codes.L_BDW_APP_I] = res.l_bdw_i
+            det[codes.L_BDW_APP_J] = res.l_bdw_j
+            det[codes.D_STOP_APP] = res.d_stop
+    if res.flags == 1:
+        return codes.P_SEP_I if separation else codes.P_APP_I
+    if res.flags == 2:
+        return codes.P_SEP_J if separation else codes.P_APP_J
+    return 0
 
 
 @njit(cache=CACHE)
@@ -468,17 +491,15 @@ def paper_kernel(pair, w, det):
     ``det`` is a float64 array of length ``len(DETAIL_NAMES)`` to fill, or of length 0.
     """
     m_i, m_j, r, H0, Ha, mu_l, gamma, _, theta, fn_i, fn_j, e = pair
-    want = fresh_details(det)
+    want = stages.fresh_details(det)
     # Mass fractions and reduced mass, exact for a plate on either side.
     m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     path = 0
     # No bridge can form: a dry collision, no liquid losses at all.
     if not H0 > Ha:
-        if want:
-            contact_details(det, m_r, e, w)
-        return no_bridge(e)
+        return stages.dry_contact(det, m_r, e, w)
 
-    bridge = bridge_constants(pair)  # Eqs. 25-26, 29-30
+    bridge = stages.bridge_constants(pair)  # Eqs. 25-26, 29-30
     c, kcap, a2 = bridge
 
     # ---- approach, H0 -> Ha (Eqs. 34-45, 72-73, 79-80, 88-90, 100-103, 112-119, 126-127)
@@ -491,22 +512,12 @@ def paper_kernel(pair, w, det):
         det[codes.ST_APP] = p / c
     gap_h0 = Gap(H0, *gap_parts(H0, a2))
     gap_ha = Gap(Ha, *gap_parts(Ha, a2))
-    code, ka_i, ka_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
-        gap_h0, gap_ha, Mover(k_i, frac_j * w, frac_j, m_i, fn_i),
-        Mover(k_j, frac_i * w, frac_i, m_j, -fn_j), p, bridge
-    )
-    if flags == 1:
-        path |= codes.P_APP_I
-    elif flags == 2:
-        path |= codes.P_APP_J
-    if want:
-        det[codes.L_CAP_APP] = l_cap
-        det[codes.L_VIS_APP] = l_vis
-        det[codes.L_BDW_APP_I] = lb_i
-        det[codes.L_BDW_APP_J] = lb_j
-        det[codes.D_STOP_APP] = d_stop
-    if code != 0:
-        return 0.0, code, path  # codes 1-4 are the approach stages
+    res = _stage(gap_h0, gap_ha, Mover(k_i, frac_j * w, frac_j, m_i, fn_i),
+                 Mover(k_j, frac_i * w, frac_i, m_j, -fn_j), p, bridge)
+    path |= _stage_path(det, False, res)
+    if res.code != 0:
+        return 0.0, res.code, path  # codes 1-4 are the approach stages
+    ka_i, ka_j = res.k_end_i, res.k_end_j
     if want:
         det[codes.K_APP_I] = ka_i
         det[codes.K_APP_J] = ka_j
@@ -515,7 +526,7 @@ def paper_kernel(pair, w, det):
     w_c = math.sqrt(2.0 * ka_i / m_i) + math.sqrt(2.0 * ka_j / m_j)
     w_s = e * w_c
     if want:
-        contact_details(det, m_r, e, w_c)
+        stages.contact_details(det, m_r, e, w_c)
     if not w_s > 0.0:
         return 0.0, codes.CONTACT, path
     p_s = m_r * w_s
@@ -523,34 +534,21 @@ def paper_kernel(pair, w, det):
     ks_j = 0.5 * p_s * frac_i * w_s
 
     # ---- separation, Ha -> h_rupt (Eqs. 56-66, 74-75, 81-82, 91-97, 101, 104-105, 120-129)
-    ca = mu_l * w_s / gamma
-    h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
+    vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)  # as rupture_distance takes it
+    ca, h_rupt = stages.rupture_at(w_s, mu_l, gamma, theta, vol3)
     if want:
-        det[codes.K_SEP_I] = ks_i
-        det[codes.K_SEP_J] = ks_j
-        det[codes.CA] = ca
-        det[codes.H_RUPT] = h_rupt
+        stages.rupture_details(det, ks_i, ks_j, ca, h_rupt)
     if not h_rupt > Ha:
         path |= codes.P_BROKEN
         kf_i, kf_j = ks_i, ks_j
     else:
-        code, kf_i, kf_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
-            gap_ha, Gap(h_rupt, *gap_parts(h_rupt, a2)),
-            Mover(ks_i, frac_j * w_s, frac_j, m_i, -fn_i),
-            Mover(ks_j, frac_i * w_s, frac_i, m_j, fn_j), p_s, bridge,
-        )
-        if flags == 1:
-            path |= codes.P_SEP_I
-        elif flags == 2:
-            path |= codes.P_SEP_J
-        if want:
-            det[codes.L_CAP_SEP] = l_cap
-            det[codes.L_VIS_SEP] = l_vis
-            det[codes.L_BDW_SEP_I] = lb_i
-            det[codes.L_BDW_SEP_J] = lb_j
-            det[codes.D_STOP_SEP] = d_stop
-        if code != 0:
-            return 0.0, codes.SEP_VIS + code - 1, path
+        res = _stage(gap_ha, Gap(h_rupt, *gap_parts(h_rupt, a2)),
+                     Mover(ks_i, frac_j * w_s, frac_j, m_i, -fn_i),
+                     Mover(ks_j, frac_i * w_s, frac_i, m_j, fn_j), p_s, bridge)
+        path |= _stage_path(det, True, res)
+        if res.code != 0:
+            return 0.0, codes.SEP_VIS + res.code - 1, path
+        kf_i, kf_j = res.k_end_i, res.k_end_j
     if want:
         det[codes.K_FIN_I] = kf_i
         det[codes.K_FIN_J] = kf_j
@@ -582,9 +580,6 @@ def run_paper(ins: TierInputs, *, details=False):
     """
     ins = tier_inputs(ins)
     n = ins.w.shape[0]
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
-    det = np.empty((n, codes.N_DETAILS if details else 0))
+    e_w, stage, path, det = stages.tier_outputs(n, details)
     parallel_launch(_run_paper_batch, ins, e_w, stage, path, det)
     return e_w, stage, path, det

@@ -43,22 +43,11 @@ from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from . import _codes as codes
-from .bridge import bridge_volume, gap_parts, rupture_distance
+from . import stages
+from .bridge import bridge_volume, gap_parts
 from .physics import reduced_mass, relative_body_force
 from .records import Gap, TierInputs, WorkScale, pair_at, tier_inputs
-from .stages import (
-    bridge_constants,
-    contact_details,
-    fresh_details,
-    no_bridge,
-    rupture_details,
-    split_details,
-    stage_details,
-    stage_energy,
-    stage_losses,
-    term_work_fractions,
-    work_details,
-)
+from .stages import term_work_fractions
 from .stages import viscous_loss as _viscous_loss  # noqa: F401 (critical_relative's import)
 
 __all__ = [
@@ -80,7 +69,7 @@ def _stuck(stage, path, det, want, scale, h_rupt):
     """:func:`relative_kernel`'s answer where the pair sticks at ``stage``, the work
     fractions written first (with details; ``scale`` as in :func:`~.stages.work_details`)."""
     if want:
-        work_details(det, scale, h_rupt)
+        stages.work_details(det, scale, h_rupt)
     return 0.0, stage, path, 0.0
 
 
@@ -95,66 +84,57 @@ def relative_kernel(pair, w, det):
     columns hold the CM-frame split of the relative energies (``frac_j`` to i, ``frac_i``
     to j, which is exact for kinetic energies). The steps are those of :mod:`.stages`.
     """
-    m_i, m_j, r, H0, Ha, mu_l, gamma, _, theta, fn_i, fn_j, e = pair
-    want = fresh_details(det)
+    m_i, m_j, r, H0, Ha, _, _, _, _, fn_i, fn_j, e = pair
+    want = stages.fresh_details(det)
     m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if not H0 > Ha:
-        if want:
-            contact_details(det, m_r, e, w)
-        e_w, stage, path = no_bridge(e)
+        e_w, stage, path = stages.dry_contact(det, m_r, e, w)
         return e_w, stage, path, e_w * e_w
-    bridge = bridge_constants(pair)
+    bridge = stages.bridge_constants(pair)
     c, kcap, a2 = bridge
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
     k0 = 0.5 * m_r * w * w
     scale = WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2)
     if want:
-        split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, k0)
+        stages.split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, k0)
         det[codes.ST_APP] = m_r * w / c
 
     # ---- approach, H0 -> Ha (each gap's square root and ln f parts taken once)
     gap_h0 = Gap(H0, *gap_parts(H0, a2))
     gap_ha = Gap(Ha, *gap_parts(Ha, a2))
-    c_delta, l_cap, l_bdw = stage_losses(gap_h0, gap_ha, bridge, f_b)
-    code, k_app, l_vis = stage_energy(k0, w, m_r, c_delta, l_cap, l_bdw)
+    c_delta, l_cap, l_bdw = stages.stage_losses(gap_h0, gap_ha, bridge, f_b)
+    code, k_app, l_vis = stages.stage_energy(k0, w, m_r, c_delta, l_cap, l_bdw)
     if want:
-        stage_details(det, False, l_cap, l_vis, l_bdw, frac_i, frac_j)
+        stages.stage_details(det, False, l_cap, l_vis, l_bdw, frac_i, frac_j)
     if code:
         return _stuck(codes.APP_VIS if code == 1 else codes.APP_EN, 0, det, want, scale,
                       math.nan)
 
     # ---- contact
-    w_c = math.sqrt(2.0 * k_app / m_r)
-    w_s = e * w_c
-    if want:
-        split_details(det, codes.K_APP_I, codes.K_APP_J, frac_i, frac_j, k_app)
-        contact_details(det, m_r, e, w_c)
+    w_s = stages.relative_contact(det, frac_i, frac_j, m_r, e, k_app)
     if not w_s > 0.0:
         return _stuck(codes.CONTACT, 0, det, want, scale, math.nan)
 
     # ---- separation, Ha -> h_rupt
-    k_s = 0.5 * m_r * w_s * w_s
-    ca = mu_l * w_s / gamma
-    h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
+    vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)  # as rupture_distance takes it
+    k_s, h_rupt = stages.separation_start(det, pair, frac_i, frac_j, m_r, w_s, vol3)
     path = 0
-    if want:
-        rupture_details(det, frac_i, frac_j, k_s, ca, h_rupt)
     if not h_rupt > Ha:
         path |= codes.P_BROKEN
         k_end = k_s
     else:
-        c_delta, l_cap, l_bdw = stage_losses(gap_ha, Gap(h_rupt, *gap_parts(h_rupt, a2)),
-                                             bridge, f_b)
-        code, k_end, l_vis = stage_energy(k_s, w_s, m_r, c_delta, l_cap, l_bdw)
+        c_delta, l_cap, l_bdw = stages.stage_losses(
+            gap_ha, Gap(h_rupt, *gap_parts(h_rupt, a2)), bridge, f_b)
+        code, k_end, l_vis = stages.stage_energy(k_s, w_s, m_r, c_delta, l_cap, l_bdw)
         if want:
-            stage_details(det, True, l_cap, l_vis, l_bdw, frac_i, frac_j)
+            stages.stage_details(det, True, l_cap, l_vis, l_bdw, frac_i, frac_j)
         if code:
             return _stuck(codes.SEP_VIS if code == 1 else codes.SEP_EN, path, det, want, scale,
                           h_rupt)
     k_fin = k_end / k0
     if want:
-        split_details(det, codes.K_FIN_I, codes.K_FIN_J, frac_i, frac_j, k_end)
-        work_details(det, scale, h_rupt)
+        stages.split_details(det, codes.K_FIN_I, codes.K_FIN_J, frac_i, frac_j, k_end)
+        stages.work_details(det, scale, h_rupt)
     e_w = math.sqrt(k_fin)
     if not e_w > 0.0:  # the energy left underflowed: a stick, as in the paper kernel
         return 0.0, codes.SEP_EN, path, 0.0
@@ -176,11 +156,8 @@ def relative_batch(ins: TierInputs, *, details=False):
     energy [-]) as a fifth array."""
     ins = tier_inputs(ins)
     n = ins.w.shape[0]
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
+    e_w, stage, path, det = stages.tier_outputs(n, details)
     k_fin = np.empty(n)
-    det = np.empty((n, codes.N_DETAILS if details else 0))
     parallel_launch(_run_relative_batch, ins, e_w, stage, path, k_fin, det)
     return e_w, stage, path, det, k_fin
 

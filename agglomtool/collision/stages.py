@@ -24,11 +24,20 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from .._jit import CACHE
 from . import _codes as codes
-from .bridge import capillary_constant, g_change, g_diff, ln_f, ln_f_change, viscous_constant
+from .bridge import (
+    capillary_constant,
+    g_change,
+    g_diff,
+    ln_f,
+    ln_f_change,
+    rupture_gap,
+    viscous_constant,
+)
 from .records import Bridge
 
 __all__ = [
@@ -36,7 +45,12 @@ __all__ = [
     "bridge_constants",
     "fresh_details",
     "no_bridge",
+    "dry_contact",
     "contact_details",
+    "contact_speed",
+    "relative_contact",
+    "rupture_at",
+    "separation_start",
     "split_details",
     "stage_details",
     "rupture_details",
@@ -44,7 +58,16 @@ __all__ = [
     "stage_energy",
     "term_work_fractions",
     "work_details",
+    "tier_outputs",
 ]
+
+
+def tier_outputs(n, details):
+    """The output arrays of a tier call over ``n`` collisions, ``(e_w, stage, path, det)``:
+    ``e_w`` float64, the stage codes and path flags int8, the details ``(n, N_DETAILS)``
+    where ``details`` is true, else ``(n, 0)``."""
+    return (np.empty(n), np.empty(n, dtype=np.int8), np.empty(n, dtype=np.int8),
+            np.empty((n, codes.N_DETAILS if details else 0)))
 
 
 @njit(cache=CACHE)
@@ -88,11 +111,62 @@ def no_bridge(e):
 
 
 @njit(cache=CACHE, inline="always")
+def dry_contact(det, m_r, e, w):
+    """:func:`no_bridge` with its details written where ``det`` has length: the contact at
+    the impact speed ``w`` [m/s] (:func:`contact_details`, reduced mass ``m_r`` [kg])."""
+    if det.shape[0] > 0:
+        contact_details(det, m_r, e, w)
+    return no_bridge(e)
+
+
+@njit(cache=CACHE, inline="always")
 def contact_details(det, m_r, e, w_c):
     """The contact's details: the relative speed ``w_c`` [m/s] reaching the solid contact
     and the energy the restitution ``e`` takes there, ``m_r (1 - e^2) w_c^2 / 2`` [J]."""
     det[codes.W_CONTACT] = w_c
     det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+
+
+@njit(cache=CACHE, inline="always")
+def contact_speed(k_app, m_r):
+    """The relative speed [m/s] reaching the solid contact with the kinetic energy
+    ``k_app`` [J] of the relative motion (reduced mass ``m_r`` [kg])."""
+    return math.sqrt(2.0 * k_app / m_r)
+
+
+@njit(cache=CACHE, inline="always")
+def relative_contact(det, frac_i, frac_j, m_r, e, k_app):
+    """The solid contact of the relative motion (reduced mass ``m_r`` [kg], restitution
+    ``e``), reached with the kinetic energy ``k_app`` [J]: the speed it leaves with, ``e``
+    times the speed ``w_c`` it arrives with [m/s]; where ``det`` has length, ``k_app``
+    (split as :func:`split_details`) and :func:`contact_details` are written."""
+    w_c = contact_speed(k_app, m_r)
+    if det.shape[0] > 0:
+        split_details(det, codes.K_APP_I, codes.K_APP_J, frac_i, frac_j, k_app)
+        contact_details(det, m_r, e, w_c)
+    return e * w_c
+
+
+@njit(cache=CACHE, inline="always")
+def rupture_at(w_s, mu_l, gamma, theta, vol3):
+    """The capillary number ``Ca = mu_l w_s / gamma`` [-] at the opening speed ``w_s``
+    [m/s] and the rupture gap of Eq. 94 [m] (:func:`~.bridge.rupture_gap`, ``vol3`` the
+    cube root of the bridge volume [m]): ``(Ca, h_rupt)``."""
+    ca = mu_l * w_s / gamma
+    return ca, rupture_gap(theta, ca, vol3)
+
+
+@njit(cache=CACHE, inline="always")
+def separation_start(det, pair, frac_i, frac_j, m_r, w_s, vol3):
+    """The start of the relative motion's separation at the opening speed ``w_s`` [m/s]
+    (reduced mass ``m_r`` [kg]): its kinetic energy [J] and the rupture gap [m] of the
+    ``pair`` (:func:`rupture_at`); where ``det`` has length, they and the capillary number
+    are written (:func:`rupture_details`, the energy split as :func:`split_details`)."""
+    k_s = 0.5 * m_r * w_s * w_s
+    ca, h_rupt = rupture_at(w_s, pair.mu_l, pair.gamma, pair.theta, vol3)
+    if det.shape[0] > 0:
+        rupture_details(det, frac_j * k_s, frac_i * k_s, ca, h_rupt)
+    return k_s, h_rupt
 
 
 @njit(cache=CACHE, inline="always")
@@ -120,11 +194,12 @@ def stage_details(det, separation, l_cap, l_vis, l_bdw, frac_i, frac_j):
 
 
 @njit(cache=CACHE, inline="always")
-def rupture_details(det, frac_i, frac_j, k_s, ca, h_rupt):
-    """The separation's start in the details: the relative kinetic energy ``k_s`` [J] left
-    by the contact (split as :func:`split_details`), the capillary number ``ca`` [-] and the
-    rupture gap ``h_rupt`` [m] of Eq. 94."""
-    split_details(det, codes.K_SEP_I, codes.K_SEP_J, frac_i, frac_j, k_s)
+def rupture_details(det, k_i, k_j, ca, h_rupt):
+    """The separation's start in the details: the kinetic energies ``k_i, k_j`` [J] the
+    particles leave the contact with, the capillary number ``ca`` [-] and the rupture gap
+    ``h_rupt`` [m] of Eq. 94."""
+    det[codes.K_SEP_I] = k_i
+    det[codes.K_SEP_J] = k_j
     det[codes.CA] = ca
     det[codes.H_RUPT] = h_rupt
 

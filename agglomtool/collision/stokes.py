@@ -23,16 +23,14 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from . import _codes as codes
-from ._codes import N_DETAILS
+from . import stages
 from .bridge import viscous_constant
 from .physics import reduced_mass
 from .records import Pair, TierInputs, tier_inputs
-from .stages import fresh_details, no_bridge, split_details
 
 __all__ = ["run_stokes", "stokes_kernel"]
 
@@ -43,15 +41,15 @@ def stokes_kernel(pair, w, det):
     angle and body forces are not used) at the relative normal impact speed ``w`` [m/s] by
     the Ennis criterion. Returns ``(e_w, stage, path)``."""
     m_i, m_j, r, H0, Ha, mu_l, e = pair.m_i, pair.m_j, pair.r, pair.H0, pair.Ha, pair.mu_l, pair.e
-    want = fresh_details(det)
+    want = stages.fresh_details(det)
     m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if want:
-        split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, 0.5 * m_r * w * w)
+        stages.split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, 0.5 * m_r * w * w)
     if not H0 > Ha:
         # (no contact loss in the details: Ennis' criterion has no energy balance)
         if want:
             det[codes.W_CONTACT] = w
-        return no_bridge(e)
+        return stages.no_bridge(e)
     st = m_r * w / viscous_constant(mu_l, r)
     ln_gap = math.log(H0 / Ha) if Ha > 0.0 else math.inf
     if want:
@@ -90,9 +88,6 @@ def run_stokes(ins: TierInputs, *, details=False):
     """
     ins = tier_inputs(ins)
     n = ins.w.shape[0]
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
-    det = np.empty((n, N_DETAILS if details else 0))
+    e_w, stage, path, det = stages.tier_outputs(n, details)
     parallel_launch(_run_stokes_batch, ins, e_w, stage, path, det)
     return e_w, stage, path, det
