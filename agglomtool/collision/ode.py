@@ -458,10 +458,7 @@ def ode_kernel(pair, w, det, opts):
             h_rupt = math.exp(y_stop)
             ca = mu_l * w * math.sqrt(k_end) / gamma
     if want:
-        det[codes.K_SEP_I] = frac_j * k_s * k0
-        det[codes.K_SEP_J] = frac_i * k_s * k0
-        det[codes.CA] = ca
-        det[codes.H_RUPT] = h_rupt
+        stages.rupture_details(det, frac_j * k_s * k0, frac_i * k_s * k0, ca, h_rupt)
         stages.work_details(det, WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
         if h_rupt > Ha and status != _STOPPED:
             l_cap = kcap * g_diff(Ha, h_rupt, a2)

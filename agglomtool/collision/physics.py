@@ -16,6 +16,10 @@ public numpy functions, which answer ``inf`` or NaN there rather than raise. A p
 (``d = inf``) takes finite stand-ins before its answer is set: compiled over arrays, both
 sides of a branch are evaluated on every element, and an ``inf / inf`` on the side not
 taken would raise numpy's "invalid value" warning on good inputs.
+
+:func:`reduced_mass` and :func:`relative_body_force` are the pair physics of the tier
+kernels (every tier takes them, :mod:`.stages`): scalars in, a tuple or a scalar out, with
+the kernels' error model.
 """
 
 from __future__ import annotations
