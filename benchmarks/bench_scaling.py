@@ -148,6 +148,9 @@ def main() -> None:
                     help="first, a synthetic compute-bound kernel: the machine's own scaling")
     a = ap.parse_args()
     threads = [n for n in a.threads if n <= numba.config.NUMBA_NUM_THREADS]
+    import agglomtool
+
+    print(f"agglomtool from {os.path.dirname(agglomtool.__file__)}", flush=True)
     print(f"{os.cpu_count()} cores, Numba {numba.__version__} threading layer "
           f"{numba.config.THREADING_LAYER}, NUMBA_NUM_THREADS {numba.config.NUMBA_NUM_THREADS}, "
           f"numpy {np.__version__}, load {os.getloadavg()}", flush=True)
@@ -158,6 +161,7 @@ def main() -> None:
     t0 = time.perf_counter()
     for scene, axes in AXES.values():
         sweep(scene, **small(axes))
+        sweep(scene, **axes)  # the parallel paths of a map as large as the timed ones
     col = plain_collide(*AXES["water"])  # bench_sweep's: one collide at the typical speed
     col()
     print(f"compile and warm-up {time.perf_counter() - t0:.1f} s; threading layer "

@@ -134,12 +134,8 @@ def _plain_collide(scene, axes):
     from agglomtool.scene import Resolved
 
     names = list(axes)
-    values = dict(scene.values())
-    for k, name in enumerate(names):
-        shape = [1] * len(names)
-        shape[k] = -1
-        values[name] = np.asarray(axes[name]).reshape(shape)
-    r = Resolved(values)
+    # each axis along its own dimension (numpy's open mesh), as a map's block
+    r = Resolved({**scene.values(), **dict(zip(names, np.ix_(*axes.values()), strict=True))})
     shape = tuple(len(axes[n]) for n in names)
     u = np.broadcast_to(r.u_typical, shape)
     r.collide(u[:1, :1, :1])

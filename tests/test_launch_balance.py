@@ -283,12 +283,8 @@ def test_typical_speed_and_stokes_number_are_computed_into_the_result(law):
     axes = dict(T=np.linspace(290.0, 340.0, 3), h0=np.geomspace(2e-6, 2e-5, 4))
     axes.update(dict(U_Umf=np.linspace(1.5, 6.0, 9)) if not law else
                 dict(u0=np.geomspace(0.01, 1.0, 9)))
-    values = dict(scene.values())
-    for k, name in enumerate(axes):
-        shape = [1] * len(axes)
-        shape[k] = -1
-        values[name] = np.asarray(axes[name]).reshape(shape)
-    r = Resolved(values)
+    # each axis along its own dimension (numpy's open mesh), as a map's block
+    r = Resolved({**scene.values(), **dict(zip(axes, np.ix_(*axes.values()), strict=True))})
     u_star = np.array(r.u_star, dtype=float)
     ref = collision_outputs(r, u_star, 16)
     out = {k: np.full(ref[k].shape, np.nan) for k in ("u_typical", "St", "propensity")}

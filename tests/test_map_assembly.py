@@ -185,12 +185,8 @@ def test_margin_is_computed_into_the_result(mat, law):
     from agglomtool.scene import Resolved, collision_outputs
 
     scene, axes = _case(mat, law)
-    values = dict(scene.values())
-    for k, name in enumerate(axes):
-        shape = [1] * len(axes)
-        shape[k] = -1
-        values[name] = np.asarray(axes[name]).reshape(shape)
-    r = Resolved(values)
+    # each axis along its own dimension (numpy's open mesh), as a map's block
+    r = Resolved({**scene.values(), **dict(zip(axes, np.ix_(*axes.values()), strict=True))})
     u_star = np.array(r.u_star, dtype=float)
     u_star.flat[::3] = np.inf  # above the ceiling
     ref = collision_outputs(r, u_star, 16)

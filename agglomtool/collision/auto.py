@@ -51,7 +51,8 @@ from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from . import _codes as codes
-from .bridge import bridge_volume, g_diff, g_diff_s, gap_parts, ln_f_diff
+from . import stages
+from .bridge import bridge_volume, g_diff, gap_parts, ln_f_change, ln_f_diff
 from .fused import (
     BLOCK,
     NO_ANGLES,
@@ -62,10 +63,9 @@ from .fused import (
     slip_flag,
 )
 from .ode import MAX_STEPS, ode_batch, ode_kernel
-from .outcome import DETAIL_NAMES
-from .paper import _viscous_loss
-from .records import Gap, OdeOptions, Pair, TierInputs, WorkScale, pair_at, tier_inputs
-from .relative import reduced_mass, relative_body_force, relative_kernel, term_work_fractions
+from .physics import reduced_mass, relative_body_force
+from .records import Bridge, Gap, OdeOptions, Pair, TierInputs, WorkScale, pair_at, tier_inputs
+from .relative import relative_kernel
 
 __all__ = [
     "run_auto",
@@ -117,10 +117,6 @@ PIECEWISE_BOUND = 0.3
 #: (``benchmarks/results/auto_calibration.md``), with safety factors 3.0 and 3.2 on the log.
 PIECE_STICK_MARGIN = (1.05, 1.02)
 
-_H_RUPT = DETAIL_NAMES.index("h_rupt")
-_W_CONTACT = DETAIL_NAMES.index("w_contact")
-
-
 @njit(cache=CACHE)
 def closed_form_indicator(pair, w, det):
     """The closed forms' ``e_w`` and their error indicator ``g`` (module docstring) for the
@@ -131,24 +127,22 @@ def closed_form_indicator(pair, w, det):
     Returns ``(e_w, stage, path, g)``; ``g = inf`` where a stage has no viscous-only end
     speed (the closed forms stick).
     """
-    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e = pair
+    m_i, m_j, _, H0, Ha, _, _, _, _, fn_i, fn_j, e = pair
     ew, st, pa, _ = relative_kernel(pair, w, det)
     if not H0 > Ha:
         return ew, st, pa, 0.0
     if not ew > 0.0:
         return ew, st, pa, math.inf
     m_r, _, _ = reduced_mass(m_i, m_j)
-    a2 = (H0 - Ha) * (H0 + Ha)
-    c = 1.5 * math.pi * mu_l * r * r
-    kcap = 2.0 * math.pi * gamma * r * cos_t
+    c, kcap, a2 = stages.bridge_constants(pair)
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
     k0 = 0.5 * m_r * w * w
     c_delta = c * -ln_f_diff(H0, Ha, a2)
     w_end = w - c_delta / m_r
     work = abs(kcap * g_diff(H0, Ha, a2))
     eta = c_delta / (m_r * w_end) * (work + abs(f_b) * (H0 - Ha))
-    h_rupt = det[_H_RUPT]
-    w_s = e * det[_W_CONTACT]
+    h_rupt = det[codes.H_RUPT]
+    w_s = e * det[codes.W_CONTACT]
     if h_rupt > Ha:
         c_delta = c * ln_f_diff(Ha, h_rupt, a2)
         w_end = w_s - c_delta / m_r
@@ -166,9 +160,8 @@ def closed_form_indicator_lean(pair, w):
     the indicator. Bitwise the same ``(e_w, stage, path, g)`` (tested)."""
     e = pair.e
     if not pair.H0 > pair.Ha:
-        if e > 0.0:
-            return e, codes.REBOUND, codes.P_NO_BRIDGE, 0.0
-        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0.0
+        ew, st, pa = stages.no_bridge(e)
+        return ew, st, pa, 0.0
     return _whole_at(w, e, pair.theta, pair.mu_l, pair.gamma, _whole_parts(pair))
 
 
@@ -179,18 +172,16 @@ def _whole_parts(pair):
     roots and ``ln f`` parts of ``H0`` and ``Ha`` (:func:`~.bridge.gap_parts`), the
     approach's ``c Delta``, capillary and body losses (:func:`_decide` evaluates the closed
     forms at two speeds, and the piecewise forms start from these, :func:`_pieces_parts`)."""
-    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, _, fn_i, fn_j, _ = pair
+    m_i, m_j, r, H0, Ha, _, _, _, _, fn_i, fn_j, _ = pair
     m_r, _, _ = reduced_mass(m_i, m_j)
-    a2 = (H0 - Ha) * (H0 + Ha)
-    c = 1.5 * math.pi * mu_l * r * r
-    kcap = 2.0 * math.pi * gamma * r * cos_t
+    bridge = stages.bridge_constants(pair)
+    c, kcap, a2 = bridge
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
     s_h0, k_h0, v_h0 = gap_parts(H0, a2)
     s_ha, k_ha, v_ha = gap_parts(Ha, a2)
-    # c * -ln_f_diff(H0, Ha, a2), as ln_f_diff_from forms it
-    c_delta = c * -((v_ha - v_h0) + (k_h0 - k_ha) * _LN4)
-    l_cap = kcap * g_diff_s(H0, s_h0, Ha, s_ha, a2)  # as g_diff(H0, Ha, a2), bitwise
-    l_bdw = -f_b * (H0 - Ha)
+    # the approach's losses, as relative_kernel takes them
+    c_delta, l_cap, l_bdw = stages.stage_losses(
+        Gap(H0, s_h0, k_h0, v_h0), Gap(Ha, s_ha, k_ha, v_ha), bridge, f_b)
     vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)
     return (m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw, s_ha,
             k_h0, v_h0, s_h0)
@@ -199,20 +190,19 @@ def _whole_parts(pair):
 @njit(cache=CACHE, inline="always")
 def _whole_at(w, e, theta, mu_l, gamma, parts):
     """:func:`closed_form_indicator_lean` at the speed ``w`` from the collision's ``parts``
-    (:func:`_whole_parts`)."""
+    (:func:`_whole_parts`): the stages of :func:`~.relative.relative_kernel`
+    (:func:`~.stages.stage_losses`, :func:`~.stages.stage_energy`), the approach's losses
+    taken from ``parts``."""
     m_r, a2, c, kcap, f_b, H0, Ha, vol3, k_ha, v_ha, c_delta, l_cap, l_bdw, s_ha = parts[:14]
     k0 = 0.5 * m_r * w * w
-    if not c_delta < m_r * w:
-        return 0.0, codes.APP_VIS, 0, math.inf
-    k_app = k0 - l_cap - _viscous_loss(w, m_r, c_delta) - l_bdw
-    if not k_app > 0.0:
-        return 0.0, codes.APP_EN, 0, math.inf
-    w_s = e * math.sqrt(2.0 * k_app / m_r)
+    code, k_app, _ = stages.stage_energy(k0, w, m_r, c_delta, l_cap, l_bdw)
+    if code:
+        return 0.0, (codes.APP_VIS if code == 1 else codes.APP_EN), 0, math.inf
+    w_s = e * stages.contact_speed(k_app, m_r)
     if not w_s > 0.0:
         return 0.0, codes.CONTACT, 0, math.inf
     k_s = 0.5 * m_r * w_s * w_s
-    # rupture_distance(theta, mu_l * w_s / gamma, bridge_volume(r, a2)), cube root done once
-    h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(mu_l * w_s / gamma)) * vol3
+    _, h_rupt = stages.rupture_at(w_s, mu_l, gamma, theta, vol3)
     path = 0
     sep = h_rupt > Ha
     c_delta_s = 0.0
@@ -221,14 +211,12 @@ def _whole_at(w, e, theta, mu_l, gamma, parts):
         path |= codes.P_BROKEN
         k_end = k_s
     else:
-        s_hr, k_hr, v_hr = gap_parts(h_rupt, a2)
-        c_delta_s = c * ((v_hr - v_ha) + (k_ha - k_hr) * _LN4)  # c * ln_f_diff(Ha, h_rupt)
-        l_cap_s = kcap * g_diff_s(Ha, s_ha, h_rupt, s_hr, a2)
-        if not c_delta_s < m_r * w_s:
-            return 0.0, codes.SEP_VIS, path, math.inf
-        k_end = k_s - l_cap_s - _viscous_loss(w_s, m_r, c_delta_s) - f_b * (h_rupt - Ha)
-        if not k_end > 0.0:
-            return 0.0, codes.SEP_EN, path, math.inf
+        c_delta_s, l_cap_s, l_bdw_s = stages.stage_losses(
+            Gap(Ha, s_ha, k_ha, v_ha), Gap(h_rupt, *gap_parts(h_rupt, a2)), Bridge(c, kcap, a2),
+            f_b)
+        code, k_end, _ = stages.stage_energy(k_s, w_s, m_r, c_delta_s, l_cap_s, l_bdw_s)
+        if code:
+            return 0.0, (codes.SEP_VIS if code == 1 else codes.SEP_EN), path, math.inf
     ew = math.sqrt(k_end / k0)
     if not ew > 0.0:
         return 0.0, codes.SEP_EN, path, math.inf
@@ -304,8 +292,7 @@ def _stage_pieces(k, v, start, om_s, end, law, n, indicator=True):
     d_s, s_s, k1, val1 = start
     d_e, s_e, k2, val2 = end
     a2, m_r, c, kcap, f_b, a = law
-    # ln f(d_e) - ln f(d_s) as ln_f_diff_from forms it.
-    delta = abs((val2 - val1) + (k1 - k2) * _LN4)
+    delta = abs(ln_f_change(start, end))
     cd = c * (delta / n)
     dv = cd / m_r
     v4_s = 0.0
@@ -404,16 +391,9 @@ def piecewise_kernel(pair, w, n, det):
     """
     e = pair.e
     if not pair.H0 > pair.Ha:
-        nan = math.nan
-        if det.shape[0] > 0:
-            for q in range(det.shape[0]):
-                det[q] = nan
-            m_r, _, _ = reduced_mass(pair.m_i, pair.m_j)
-            det[codes.W_CONTACT] = w
-            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
-        if e > 0.0:
-            return e, codes.REBOUND, codes.P_NO_BRIDGE, 0.0, True
-        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0.0, True
+        stages.fresh_details(det)
+        ew, st, pa = stages.dry_contact(det, reduced_mass(pair.m_i, pair.m_j)[0], e, w)
+        return ew, st, pa, 0.0, True
     return _piecewise(pair, w, n, det, _collision_parts(pair))
 
 
@@ -422,30 +402,23 @@ def _piecewise(pair, w, n, det, parts, indicator=True):
     """:func:`piecewise_kernel` with ``H0 > Ha`` from the collision's ``parts``
     (:func:`_collision_parts`); ``indicator`` False: the outcome only (``g`` and ``clear``
     then mean nothing; :func:`_stage_pieces`)."""
-    H0, Ha, mu_l, gamma, theta, e = pair.H0, pair.Ha, pair.mu_l, pair.gamma, pair.theta, pair.e
+    H0, Ha, e = pair.H0, pair.Ha, pair.e
     (m_r, frac_i, frac_j, a2, c, kcap, f_b, a, k_h0, v_h0, s_h0, om_h0, k_ha, v_ha, s_ha,
      om_ha, vol3) = parts
     law = (a2, m_r, c, kcap, f_b, a)
     gap_ha = Gap(Ha, s_ha, k_ha, v_ha)
     nan = math.nan
-    want = det.shape[0] > 0
-    if want:
-        for q in range(det.shape[0]):
-            det[q] = nan
+    want = stages.fresh_details(det)
     k0 = 0.5 * m_r * w * w
     h_rupt = nan
     if want:
-        det[codes.K_INI_I] = frac_j * k0
-        det[codes.K_INI_J] = frac_i * k0
+        stages.split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, k0)
         det[codes.ST_APP] = m_r * w / c
     k_app, code, l_cap, l_vis, l_bdw, eta, clear = _stage_pieces(
         k0, w, Gap(H0, s_h0, k_h0, v_h0), om_h0, gap_ha, law, n, indicator)
     if want:
-        det[codes.L_CAP_APP] = l_cap
-        det[codes.L_BDW_APP_I] = frac_j * l_bdw
-        det[codes.L_BDW_APP_J] = frac_i * l_bdw
-        if code != 1:
-            det[codes.L_VIS_APP] = l_vis
+        # a viscous stop leaves the viscous loss NaN, as in relative_kernel
+        stages.stage_details(det, False, l_cap, l_vis if code != 1 else nan, l_bdw, frac_i, frac_j)
     stage = codes.REBOUND
     path = 0
     k_end = 0.0
@@ -454,25 +427,11 @@ def _piecewise(pair, w, n, det, parts, indicator=True):
     elif code == 2:
         stage = codes.APP_EN
     else:
-        w_c = math.sqrt(2.0 * k_app / m_r)
-        w_s = e * w_c
-        if want:
-            det[codes.K_APP_I] = frac_j * k_app
-            det[codes.K_APP_J] = frac_i * k_app
-            det[codes.W_CONTACT] = w_c
-            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+        w_s = stages.relative_contact(det, frac_i, frac_j, m_r, e, k_app)
         if not w_s > 0.0:
             stage = codes.CONTACT
         else:
-            k_s = 0.5 * m_r * w_s * w_s
-            ca = mu_l * w_s / gamma
-            # rupture_distance(theta, ca, bridge_volume(r, a2)), its cube root done once
-            h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * vol3
-            if want:
-                det[codes.K_SEP_I] = frac_j * k_s
-                det[codes.K_SEP_J] = frac_i * k_s
-                det[codes.CA] = ca
-                det[codes.H_RUPT] = h_rupt
+            k_s, h_rupt = stages.separation_start(det, pair, frac_i, frac_j, m_r, w_s, vol3)
             if not h_rupt > Ha:
                 path |= codes.P_BROKEN
                 k_end = k_s
@@ -483,22 +442,16 @@ def _piecewise(pair, w, n, det, parts, indicator=True):
                 eta = eta + eta_s
                 clear = clear and clear_s
                 if want:
-                    det[codes.L_CAP_SEP] = l_cap
-                    det[codes.L_BDW_SEP_I] = frac_j * l_bdw
-                    det[codes.L_BDW_SEP_J] = frac_i * l_bdw
-                    if code != 1:
-                        det[codes.L_VIS_SEP] = l_vis
+                    stages.stage_details(det, True, l_cap, l_vis if code != 1 else nan, l_bdw,
+                                         frac_i, frac_j)
                 if code == 1:
                     stage = codes.SEP_VIS
                 elif code == 2:
                     stage = codes.SEP_EN
             if stage == codes.REBOUND and want:
-                det[codes.K_FIN_I] = frac_j * k_end
-                det[codes.K_FIN_J] = frac_i * k_end
+                stages.split_details(det, codes.K_FIN_I, codes.K_FIN_J, frac_i, frac_j, k_end)
     if want:
-        body, vol = term_work_fractions(WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
-        det[codes.W_BODY] = body
-        det[codes.W_VOLCORR] = vol
+        stages.work_details(det, WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
     if stage != codes.REBOUND:
         return 0.0, stage, path, math.inf, False
     ew = math.sqrt(k_end / k0)
@@ -528,9 +481,7 @@ def piecewise_batch(ins: TierInputs, n_pieces):
         raise ValueError(f"n_pieces = {n_pieces!r} must be at least 1")
     ins = tier_inputs(ins)
     size = ins.w.shape[0]
-    e_w = np.empty(size)
-    stage = np.empty(size, dtype=np.int8)
-    path = np.empty(size, dtype=np.int8)
+    e_w, stage, path, _ = stages.tier_outputs(size, False)
     g = np.empty(size)
     clear = np.empty(size, dtype=np.bool_)
     parallel_launch(_piecewise_batch, ins, n_pieces, e_w, stage, path, g, clear)
@@ -553,9 +504,8 @@ def _decide_inline(pair, w, tol, empty):
     (:func:`_decide_beyond`, 15 % of the collisions on the benchmark batch) called."""
     e = pair.e
     if not pair.H0 > pair.Ha:
-        if e > 0.0:
-            return e, codes.REBOUND, codes.P_NO_BRIDGE, 1, 0.0
-        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 1, 0.0
+        ew, st, pa = stages.no_bridge(e)
+        return ew, st, pa, 1, 0.0
     # closed_form_indicator_lean, its speed-independent part kept for a second speed
     whole = _whole_parts(pair)
     first = _whole_at(w, e, pair.theta, pair.mu_l, pair.gamma, whole)
@@ -735,9 +685,7 @@ def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, *, return_pi
     :func:`~.fused.fused_batch`; a caller must raise on a nonzero code (the collisions
     that break rule 3 or 4 are not computed)."""
     tol = _check_tol(tol)
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
+    e_w, stage, path, _ = stages.tier_outputs(n, False)
     w = np.empty(n)
     pieces = np.empty(n, dtype=np.int8)
     o = ode_options(ode_rtol(tol))
@@ -831,12 +779,9 @@ def auto_batch(ins: TierInputs, *, details=False, tol=DEFAULT_TOL, return_pieces
     tol = _check_tol(tol)
     ins = tier_inputs(ins)
     n = ins.w.shape[0]
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
+    e_w, stage, path, det = stages.tier_outputs(n, details)
     pieces = np.empty(n, dtype=np.int8)
     bound = np.empty(n)
-    det = np.empty((n, len(DETAIL_NAMES) if details else 0))
     parallel_launch(_choose, ins, tol, e_w, stage, path, pieces, bound, det)
     idx = np.flatnonzero(pieces == 0)
     if idx.size:

@@ -30,7 +30,12 @@ __all__ = [
     "gap_parts",
     "g_diff_s",
     "rupture_distance",
+    "rupture_gap",
     "bridge_volume",
+    "ln_f_change",
+    "g_change",
+    "viscous_constant",
+    "capillary_constant",
 ]
 
 
@@ -135,7 +140,45 @@ def rupture_distance(theta, capillary_number, volume):
 
     ``h_rupt = (1 + theta/2) (1 + Ca^(1/2)) V_b^(1/3)``, ``theta`` in radians.
     """
-    return (1.0 + 0.5 * theta) * (1.0 + math.sqrt(capillary_number)) * volume ** (1.0 / 3.0)
+    return rupture_gap(theta, capillary_number, volume ** (1.0 / 3.0))
+
+
+@njit(cache=CACHE, inline="always")
+def rupture_gap(theta, capillary_number, vol3):
+    """:func:`rupture_distance` [m] from the cube root ``vol3`` [m] of the bridge volume,
+    for the kernels that take it once per collision and the rupture gap at several speeds
+    (the same operations, so the same number)."""
+    return (1.0 + 0.5 * theta) * (1.0 + math.sqrt(capillary_number)) * vol3
+
+
+@njit(cache=CACHE, inline="always")
+def ln_f_change(start, end):
+    """``ln f(end.d) - ln f(start.d)`` [-] of two gaps given with their parts (records with
+    the fields ``d, s, kind, val`` of :class:`~.records.Gap`), formed as
+    :func:`ln_f_diff_from` forms it (bitwise)."""
+    return (end.val - start.val) + (start.kind - end.kind) * _LN4
+
+
+@njit(cache=CACHE, inline="always")
+def g_change(start, end, a2):
+    """``g(end.d) - g(start.d)`` [m] (:func:`g_diff`) of two gaps given with their square
+    roots (:class:`~.records.Gap` records), bitwise as :func:`g_diff`."""
+    return g_diff_s(start.d, start.s, end.d, end.s, a2)
+
+
+@njit(cache=CACHE, inline="always")
+def viscous_constant(mu_l, r):
+    """The viscous constant ``c = (3/2) pi mu_l r^2`` [kg m] (Eq. 26) of the lubrication
+    force ``c X_v^2 v / D``: liquid viscosity ``mu_l`` [Pa s], radius ``r`` [m]."""
+    return 1.5 * math.pi * mu_l * r * r
+
+
+@njit(cache=CACHE, inline="always")
+def capillary_constant(gamma, r, cos_t):
+    """The capillary constant ``kcap = 2 pi gamma r cos(theta)`` [N] (Eq. 25) of the
+    capillary force ``kcap X_v``: surface tension ``gamma`` [N/m], radius ``r`` [m],
+    ``cos_t`` the cosine of the contact angle."""
+    return 2.0 * math.pi * gamma * r * cos_t
 
 
 #: :func:`ln_f` as a numpy ufunc, for array code outside the kernels.

@@ -49,7 +49,18 @@ from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from . import _codes as codes
-from .bridge import _LN4, bridge_volume, g_diff, g_diff_s, ln_f, ln_f_parts_s, rupture_distance
+from . import stages
+from .bridge import (
+    _LN4,
+    bridge_volume,
+    g_diff,
+    g_diff_s,
+    ln_f,
+    ln_f_parts_s,
+    rupture_distance,
+    rupture_gap,
+)
+from .physics import reduced_mass, relative_body_force
 from .records import (
     OdeForces,
     OdeOptions,
@@ -61,7 +72,6 @@ from .records import (
     pair_at,
     tier_inputs,
 )
-from .relative import reduced_mass, relative_body_force, term_work_fractions
 
 __all__ = [
     "run_ode",
@@ -357,25 +367,16 @@ def ode_kernel(pair, w, det, opts):
     rupture only): the separation stops as a stick where :func:`_must_stick` holds for
     ``k + stick_margin``.
     """
-    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e = pair
+    m_i, m_j, r, H0, Ha, mu_l, gamma, _, theta, fn_i, fn_j, e = pair
     self_consistent = opts.self_consistent
     stick_margin = opts.stick_margin
     nan = math.nan
-    want = det.shape[0] > 0
-    if want:
-        for q in range(det.shape[0]):
-            det[q] = nan
+    want = stages.fresh_details(det)
     m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if not H0 > Ha:
-        if want:
-            det[codes.W_CONTACT] = w
-            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
-        if e > 0.0:
-            return e, codes.REBOUND, codes.P_NO_BRIDGE, 0, 0
-        return 0.0, codes.CONTACT, codes.P_NO_BRIDGE, 0, 0
-    a2 = (H0 - Ha) * (H0 + Ha)
-    c = 1.5 * math.pi * mu_l * r * r
-    kcap = 2.0 * math.pi * gamma * r * cos_t
+        e_w, stage, path = stages.dry_contact(det, m_r, e, w)
+        return e_w, stage, path, 0, 0
+    c, kcap, a2 = stages.bridge_constants(pair)
     f_b = relative_body_force(m_i, m_j, fn_i, fn_j)
     k0 = 0.5 * m_r * w * w
     kc = kcap / k0
@@ -387,9 +388,10 @@ def ode_kernel(pair, w, det, opts):
     vol3 = vol ** (1.0 / 3.0)
     e2 = e * e
     if want:
-        det[codes.K_INI_I] = frac_j * k0
-        det[codes.K_INI_J] = frac_i * k0
+        stages.split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, k0)
         det[codes.ST_APP] = m_r * w / c
+        # (the approach's body-force loss in the order of its own products, and its viscous
+        # loss below, are ode's: the stage is integrated, not taken in closed form)
         det[codes.L_CAP_APP] = kcap * g_diff(H0, Ha, a2)
         det[codes.L_BDW_APP_I] = -frac_j * f_b * (H0 - Ha)
         det[codes.L_BDW_APP_J] = -frac_i * f_b * (H0 - Ha)
@@ -400,7 +402,7 @@ def ode_kernel(pair, w, det, opts):
     # stretched to h_min = h_rupt(Ca = 0). Capillary and (if F_b >= 0) body forces and
     # viscosity all slow the opening; with F_b >= 0 the viscous-only speed loss alone is a
     # bound, and in any case the potential barrier at h_min.
-    h_min = (1.0 + 0.5 * theta) * vol3  # Ca = 0
+    h_min = rupture_gap(theta, 0.0, vol3)  # Ca = 0
     need = -1.0
     if h_min > Ha:
         barrier = kc * g_diff(Ha, h_min, a2) + fb * (h_min - Ha)
@@ -426,16 +428,14 @@ def ode_kernel(pair, w, det, opts):
         det[codes.K_APP_I] = frac_j * k_c * k0
         det[codes.K_APP_J] = frac_i * k_c * k0
         det[codes.L_VIS_APP] = k0 * (1.0 - k_c) - det[codes.L_CAP_APP] + f_b * (H0 - Ha)
-        det[codes.W_CONTACT] = w_c
-        det[codes.L_C] = 0.5 * m_r * (1.0 - e2) * w_c * w_c
+        stages.contact_details(det, m_r, e, w_c)
     if not e > 0.0:
         return 0.0, codes.CONTACT, 0, steps, 0
 
     # ---- separation
     k_s = e2 * k_c
     w_s = e * w_c
-    ca = mu_l * w_s / gamma
-    h_rupt = (1.0 + 0.5 * theta) * (1.0 + math.sqrt(ca)) * vol3
+    ca, h_rupt = stages.rupture_at(w_s, mu_l, gamma, theta, vol3)
     path = 0
     if not h_rupt > Ha:
         path |= codes.P_BROKEN
@@ -458,20 +458,13 @@ def ode_kernel(pair, w, det, opts):
             h_rupt = math.exp(y_stop)
             ca = mu_l * w * math.sqrt(k_end) / gamma
     if want:
-        det[codes.K_SEP_I] = frac_j * k_s * k0
-        det[codes.K_SEP_J] = frac_i * k_s * k0
-        det[codes.CA] = ca
-        det[codes.H_RUPT] = h_rupt
-        body, volc = term_work_fractions(WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
-        det[codes.W_BODY] = body
-        det[codes.W_VOLCORR] = volc
+        stages.rupture_details(det, frac_j * k_s * k0, frac_i * k_s * k0, ca, h_rupt)
+        stages.work_details(det, WorkScale(k0, w, c, kcap, f_b, H0, Ha, a2), h_rupt)
         if h_rupt > Ha and status != _STOPPED:
             l_cap = kcap * g_diff(Ha, h_rupt, a2)
             l_bdw = f_b * (h_rupt - Ha)
-            det[codes.L_CAP_SEP] = l_cap
-            det[codes.L_BDW_SEP_I] = frac_j * l_bdw
-            det[codes.L_BDW_SEP_J] = frac_i * l_bdw
-            det[codes.L_VIS_SEP] = k0 * (k_s - k_end) - l_cap - l_bdw
+            stages.stage_details(det, True, l_cap, k0 * (k_s - k_end) - l_cap - l_bdw, l_bdw,
+                                 frac_i, frac_j)
     if status == _STOPPED:
         return 0.0, codes.SEP_EN, path, steps, 0
     if want:
@@ -538,12 +531,9 @@ def ode_batch(ins: TierInputs, *, details=False, rtol=DEFAULT_RTOL, atol=DEFAULT
             raise ValueError(f"stick_margin = {stick_margin!r} must be >= 0 (or None)")
     ins = tier_inputs(ins)
     n = ins.w.shape[0]
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
+    e_w, stage, path, det = stages.tier_outputs(n, details)
     steps = np.empty(n, dtype=np.int64)
     status = np.empty(n, dtype=np.int8)
-    det = np.empty((n, codes.N_DETAILS if details else 0))
     opts = OdeOptions(float(rtol), float(atol), rupture == "self-consistent",
                       bool(volume_corrected), float(first_step), float(max_step),
                       float(first_change), margin)

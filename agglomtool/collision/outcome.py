@@ -110,7 +110,7 @@ DETAIL_NAMES = (
     "K_fin_i", "K_fin_j",          # Eqs. 58-59
     "St_app",                      # viscous Stokes number of the approach, m v0 / c
     # Modes other than "paper": work bounds of optional terms over the initial relative
-    # kinetic energy [-] (agglomtool.collision.relative.term_work_fractions); a term is
+    # kinetic energy [-] (agglomtool.collision.stages.term_work_fractions); a term is
     # negligible below relative.NEGLIGIBLE_FRACTION. Taken at the impact speed over the whole
     # gap, a bound can exceed 1 (by ~1/St_app where viscosity stops the pair first): it then
     # says only "not negligible" (CollisionResult.explain prints it so).

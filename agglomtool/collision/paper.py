@@ -37,21 +37,21 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from . import _codes as codes
+from . import stages
 from .bridge import (
-    _LN4,
     bridge_volume,
+    g_change,
     g_diff,
-    g_diff_s,
     gap_parts,
+    ln_f_change,
     ln_f_diff_from,
-    rupture_distance,
 )
-from .records import Bridge, Gap, Mover, StageResult, TierInputs, pair_at, tier_inputs
+from .physics import reduced_mass
+from .records import Gap, Mover, StageResult, TierInputs, pair_at, tier_inputs
 
 __all__ = ["paper_kernel", "run_paper"]
 
@@ -62,13 +62,6 @@ __all__ = ["paper_kernel", "run_paper"]
 #: bracketed solve (Eq. 136 need not be monotonic). Adjacent points differ by the factor
 #: ``(D_end / D_start)^(1/32)``: a dip below zero narrower than that can be missed.
 SCAN_POINTS = 32
-
-
-@njit(cache=CACHE)
-def _viscous_loss(v, m, c_delta):
-    """Energy a particle of mass ``m`` [kg] entering at ``v`` [m/s] loses to viscosity over a
-    stretch with ``c Delta`` = ``c_delta`` [kg/s * -]; ``m = inf`` gives ``c_delta v``."""
-    return c_delta * (v - 0.5 * c_delta / m)
 
 
 @njit(cache=CACHE)
@@ -85,7 +78,7 @@ def _running_energy(D, start, mover, bridge):
     k, v, share, m, force = mover
     c, kcap, a2 = bridge
     cap = share * kcap * g_diff(d_start, D, a2)
-    vis = _viscous_loss(v, m, c * abs(ln_f_diff_from(start_kind, start_val, D, a2)))
+    vis = stages.viscous_loss(v, m, c * abs(ln_f_diff_from(start_kind, start_val, D, a2)))
     return k - cap - vis + force * share * abs(D - d_start)
 
 
@@ -94,13 +87,11 @@ def _cap_vis(D, start, mover, bridge):
     """The capillary and viscous terms of :func:`_running_energy` at ``D`` [J], bitwise as
     there, with ``start.s = sqrt(d_start^2 + a^2)`` given and ``sqrt(D^2 + a^2)`` taken once
     for both (:func:`~.bridge.g_diff` and :func:`~.bridge.ln_f_parts` each take it)."""
-    d_start, s_start, start_kind, start_val = start
     _, v, share, m, _ = mover
     c, kcap, a2 = bridge
-    s, kind, val = gap_parts(D, a2)
-    g = g_diff_s(d_start, s_start, D, s, a2)
-    delta = (val - start_val) + (start_kind - kind) * _LN4
-    return share * kcap * g, _viscous_loss(v, m, c * abs(delta))
+    at = Gap(D, *gap_parts(D, a2))
+    return (share * kcap * g_change(start, at, a2),
+            stages.viscous_loss(v, m, c * abs(ln_f_change(start, at))))
 
 
 @njit(cache=CACHE)
@@ -246,11 +237,12 @@ def _narrow(lo, f_lo, hi, f_hi, start, mover, bridge):
 @njit(cache=CACHE)
 def _stop_residual(D, start, p, two_p_vs, force, bridge):
     """:func:`_stop_gap` 's residual ``G`` at the gap ``D`` [kg m/s] and ``dG / d ln D``."""
-    d_start, s_start, start_kind, start_val = start
+    d_start = start.d
     c, kcap, a2 = bridge
-    s, kind, val = gap_parts(D, a2)
-    g = g_diff_s(d_start, s_start, D, s, a2)
-    c_delta = c * abs((val - start_val) + (start_kind - kind) * _LN4)
+    at = Gap(D, *gap_parts(D, a2))
+    s = at.s
+    g = g_change(start, at, a2)
+    c_delta = c * abs(ln_f_change(start, at))
     gp = a2 / (s * (D + s))
     qq = two_p_vs * (kcap * g - force * (D - d_start))
     if qq > 0.0:
@@ -383,19 +375,21 @@ def _stage(start, end, mover_i, mover_j, p, bridge):
     i stopped first, 2 if j did; ``d_stop`` NaN when nobody stopped. Losses are those of the
     ordinary path (both moving over the whole stage).
     """
-    d_start, s_start, start_kind, start_val = start
-    d_end, s_end, end_kind, end_val = end
+    d_start, d_end = start.d, end.d
     k_i, v_i, share_i, m_i, f_i = mover_i
     k_j, v_j, share_j, m_j, f_j = mover_j
     c, kcap, a2 = bridge
     nan = math.nan
-    # ln f differences are formed from the gaps' parts as ln_f_diff_from forms them (bitwise).
-    c_delta = c * abs((end_val - start_val) + (start_kind - end_kind) * _LN4)
+    # ln f differences are formed from the gaps' parts as ln_f_diff_from forms them (bitwise);
+    # |Delta ln f| for either direction in one expression (the relative-motion tiers sign it
+    # by the direction, stages.stage_losses); each particle's share of the losses and its
+    # own stop are the paper's frame (stages module docstring).
+    c_delta = c * abs(ln_f_change(start, end))
     dist = abs(d_end - d_start)
-    l_cap = kcap * g_diff_s(d_start, s_start, d_end, s_end, a2)
+    l_cap = kcap * g_change(start, end, a2)
     if not c_delta < p:  # viscosity alone stops both (Eqs. 73, 80 / 75, 82); also Delta = inf
         return StageResult(1, 0.0, 0.0, nan, 0, l_cap, nan, nan, nan)
-    # Each particle carries the CM momentum p = m v, so its viscous loss (_viscous_loss)
+    # Each particle carries the CM momentum p = m v, so its viscous loss (viscous_loss)
     # is c Delta v (1 - c Delta / (2 p)): one division for both, and the keep factor lies in
     # (1/2, 1] (no cancellation). A plate (v = 0) loses nothing, as there.
     keep = 1.0 - 0.5 * c_delta / p
@@ -445,25 +439,48 @@ def _stage(start, end, mover_i, mover_j, p, bridge):
     dist_1 = abs(d_stop - d_start)
     dist_2 = abs(d_end - d_stop)
     # Eqs. 39-42, 140-142 (Eq. 142 read as Eq. 140: particle j's own share and force).
-    s_stop, stop_kind, stop_val = gap_parts(d_stop, a2)
+    stop = Gap(d_stop, *gap_parts(d_stop, a2))
     k_mid = (
         k_y
-        - (share_y * kcap * g_diff_s(d_start, s_start, d_stop, s_stop, a2)
-           + kcap * g_diff_s(d_stop, s_stop, d_end, s_end, a2))
-        - _viscous_loss(v_y, m_y, c * abs((stop_val - start_val) + (start_kind - stop_kind)
-                                          * _LN4))
+        - (share_y * kcap * g_change(start, stop, a2) + kcap * g_change(stop, end, a2))
+        - stages.viscous_loss(v_y, m_y, c * abs(ln_f_change(start, stop)))
         + f_y * (share_y * dist_1 + dist_2)
     )
     if k_mid <= 0.0:
         return StageResult(3, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
     v_mid = math.sqrt(2.0 * k_mid / m_y)  # Eqs. 40-41
-    c_delta_2 = c * abs((end_val - stop_val) + (stop_kind - end_kind) * _LN4)
+    c_delta_2 = c * abs(ln_f_change(stop, end))
     if not c_delta_2 < m_y * v_mid:  # Eq. 144
         return StageResult(4, 0.0, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
-    k_end_y = k_mid - _viscous_loss(v_mid, m_y, c_delta_2)  # Eqs. 37b, 145
+    k_end_y = k_mid - stages.viscous_loss(v_mid, m_y, c_delta_2)  # Eqs. 37b, 145
     if flag == 1:
         return StageResult(0, 0.0, k_end_y, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
     return StageResult(0, k_end_y, 0.0, d_stop, flag, l_cap, l_vis, l_bdw_i, l_bdw_j)
+
+
+@njit(cache=CACHE, inline="always")
+def _stage_path(det, separation, res):
+    """The path flag of the stage ``res`` (a :class:`~.records.StageResult` of the approach,
+    or of the separation where ``separation``): which particle stopped first, if one did;
+    its losses and stop gap written to the details where ``det`` has length."""
+    if det.shape[0] > 0:
+        if separation:
+            det[codes.L_CAP_SEP] = res.l_cap
+            det[codes.L_VIS_SEP] = res.l_vis
+            det[codes.L_BDW_SEP_I] = res.l_bdw_i
+            det[codes.L_BDW_SEP_J] = res.l_bdw_j
+            det[codes.D_STOP_SEP] = res.d_stop
+        else:
+            det[codes.L_CAP_APP] = res.l_cap
+            det[codes.L_VIS_APP] = res.l_vis
+            det[codes.L_BDW_APP_I] = res.l_bdw_i
+            det[codes.L_BDW_APP_J] = res.l_bdw_j
+            det[codes.D_STOP_APP] = res.d_stop
+    if res.flags == 1:
+        return codes.P_SEP_I if separation else codes.P_APP_I
+    if res.flags == 2:
+        return codes.P_SEP_J if separation else codes.P_APP_J
+    return 0
 
 
 @njit(cache=CACHE)
@@ -473,35 +490,17 @@ def paper_kernel(pair, w, det):
 
     ``det`` is a float64 array of length ``len(DETAIL_NAMES)`` to fill, or of length 0.
     """
-    m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, theta, fn_i, fn_j, e = pair
-    nan = math.nan
-    want = det.shape[0] > 0
-    if want:
-        for k in range(det.shape[0]):
-            det[k] = nan
+    m_i, m_j, r, H0, Ha, mu_l, gamma, _, theta, fn_i, fn_j, e = pair
+    want = stages.fresh_details(det)
     # Mass fractions and reduced mass, exact for a plate on either side.
-    if math.isinf(m_j):
-        frac_i, frac_j, m_r = 0.0, 1.0, m_i
-    elif math.isinf(m_i):
-        frac_i, frac_j, m_r = 1.0, 0.0, m_j
-    else:
-        frac_i = m_i / (m_i + m_j)
-        frac_j = m_j / (m_i + m_j)
-        m_r = m_i * frac_j
+    m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     path = 0
     # No bridge can form: a dry collision, no liquid losses at all.
     if not H0 > Ha:
-        path |= codes.P_NO_BRIDGE
-        if want:
-            det[codes.W_CONTACT] = w
-            det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w * w
-        if e > 0.0:
-            return e, codes.REBOUND, path
-        return 0.0, codes.CONTACT, path
+        return stages.dry_contact(det, m_r, e, w)
 
-    a2 = (H0 - Ha) * (H0 + Ha)  # Eq. 29-30, without cancellation
-    c = 1.5 * math.pi * mu_l * r * r  # Eq. 26
-    kcap = 2.0 * math.pi * gamma * r * cos_t  # Eq. 25
+    bridge = stages.bridge_constants(pair)  # Eqs. 25-26, 29-30
+    c, kcap, a2 = bridge
 
     # ---- approach, H0 -> Ha (Eqs. 34-45, 72-73, 79-80, 88-90, 100-103, 112-119, 126-127)
     p = m_r * w
@@ -511,25 +510,14 @@ def paper_kernel(pair, w, det):
         det[codes.K_INI_I] = k_i
         det[codes.K_INI_J] = k_j
         det[codes.ST_APP] = p / c
-    bridge = Bridge(c, kcap, a2)
     gap_h0 = Gap(H0, *gap_parts(H0, a2))
     gap_ha = Gap(Ha, *gap_parts(Ha, a2))
-    code, ka_i, ka_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
-        gap_h0, gap_ha, Mover(k_i, frac_j * w, frac_j, m_i, fn_i),
-        Mover(k_j, frac_i * w, frac_i, m_j, -fn_j), p, bridge
-    )
-    if flags == 1:
-        path |= codes.P_APP_I
-    elif flags == 2:
-        path |= codes.P_APP_J
-    if want:
-        det[codes.L_CAP_APP] = l_cap
-        det[codes.L_VIS_APP] = l_vis
-        det[codes.L_BDW_APP_I] = lb_i
-        det[codes.L_BDW_APP_J] = lb_j
-        det[codes.D_STOP_APP] = d_stop
-    if code != 0:
-        return 0.0, code, path  # codes 1-4 are the approach stages
+    res = _stage(gap_h0, gap_ha, Mover(k_i, frac_j * w, frac_j, m_i, fn_i),
+                 Mover(k_j, frac_i * w, frac_i, m_j, -fn_j), p, bridge)
+    path |= _stage_path(det, False, res)
+    if res.code != 0:
+        return 0.0, res.code, path  # codes 1-4 are the approach stages
+    ka_i, ka_j = res.k_end_i, res.k_end_j
     if want:
         det[codes.K_APP_I] = ka_i
         det[codes.K_APP_J] = ka_j
@@ -538,8 +526,7 @@ def paper_kernel(pair, w, det):
     w_c = math.sqrt(2.0 * ka_i / m_i) + math.sqrt(2.0 * ka_j / m_j)
     w_s = e * w_c
     if want:
-        det[codes.W_CONTACT] = w_c
-        det[codes.L_C] = 0.5 * m_r * (1.0 - e * e) * w_c * w_c
+        stages.contact_details(det, m_r, e, w_c)
     if not w_s > 0.0:
         return 0.0, codes.CONTACT, path
     p_s = m_r * w_s
@@ -547,34 +534,21 @@ def paper_kernel(pair, w, det):
     ks_j = 0.5 * p_s * frac_i * w_s
 
     # ---- separation, Ha -> h_rupt (Eqs. 56-66, 74-75, 81-82, 91-97, 101, 104-105, 120-129)
-    ca = mu_l * w_s / gamma
-    h_rupt = rupture_distance(theta, ca, bridge_volume(r, a2))
+    vol3 = bridge_volume(r, a2) ** (1.0 / 3.0)  # as rupture_distance takes it
+    ca, h_rupt = stages.rupture_at(w_s, mu_l, gamma, theta, vol3)
     if want:
-        det[codes.K_SEP_I] = ks_i
-        det[codes.K_SEP_J] = ks_j
-        det[codes.CA] = ca
-        det[codes.H_RUPT] = h_rupt
+        stages.rupture_details(det, ks_i, ks_j, ca, h_rupt)
     if not h_rupt > Ha:
         path |= codes.P_BROKEN
         kf_i, kf_j = ks_i, ks_j
     else:
-        code, kf_i, kf_j, d_stop, flags, l_cap, l_vis, lb_i, lb_j = _stage(
-            gap_ha, Gap(h_rupt, *gap_parts(h_rupt, a2)),
-            Mover(ks_i, frac_j * w_s, frac_j, m_i, -fn_i),
-            Mover(ks_j, frac_i * w_s, frac_i, m_j, fn_j), p_s, bridge,
-        )
-        if flags == 1:
-            path |= codes.P_SEP_I
-        elif flags == 2:
-            path |= codes.P_SEP_J
-        if want:
-            det[codes.L_CAP_SEP] = l_cap
-            det[codes.L_VIS_SEP] = l_vis
-            det[codes.L_BDW_SEP_I] = lb_i
-            det[codes.L_BDW_SEP_J] = lb_j
-            det[codes.D_STOP_SEP] = d_stop
-        if code != 0:
-            return 0.0, codes.SEP_VIS + code - 1, path
+        res = _stage(gap_ha, Gap(h_rupt, *gap_parts(h_rupt, a2)),
+                     Mover(ks_i, frac_j * w_s, frac_j, m_i, -fn_i),
+                     Mover(ks_j, frac_i * w_s, frac_i, m_j, fn_j), p_s, bridge)
+        path |= _stage_path(det, True, res)
+        if res.code != 0:
+            return 0.0, codes.SEP_VIS + res.code - 1, path
+        kf_i, kf_j = res.k_end_i, res.k_end_j
     if want:
         det[codes.K_FIN_I] = kf_i
         det[codes.K_FIN_J] = kf_j
@@ -606,9 +580,6 @@ def run_paper(ins: TierInputs, *, details=False):
     """
     ins = tier_inputs(ins)
     n = ins.w.shape[0]
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
-    det = np.empty((n, codes.N_DETAILS if details else 0))
+    e_w, stage, path, det = stages.tier_outputs(n, details)
     parallel_launch(_run_paper_batch, ins, e_w, stage, path, det)
     return e_w, stage, path, det

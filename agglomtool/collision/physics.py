@@ -16,6 +16,10 @@ public numpy functions, which answer ``inf`` or NaN there rather than raise. A p
 (``d = inf``) takes finite stand-ins before its answer is set: compiled over arrays, both
 sides of a branch are evaluated on every element, and an ``inf / inf`` on the side not
 taken would raise numpy's "invalid value" warning on good inputs.
+
+:func:`reduced_mass` and :func:`relative_body_force` are the pair physics of the tier
+kernels (every tier takes them, :mod:`.stages`): scalars in, a tuple or a scalar out, with
+the kernels' error model.
 """
 
 from __future__ import annotations
@@ -28,7 +32,7 @@ from .._jit import CACHE
 from ..constants import GRAVITY
 
 __all__ = ["WEN_YU_C1", "WEN_YU_C2", "EPS_SWITCH", "U_E_PER_UMF", "wet_mass", "umf_wen_yu",
-           "wet_umf", "drag_gidaspow"]
+           "wet_umf", "drag_gidaspow", "reduced_mass", "relative_body_force"]
 
 #: Wen and Yu's constants of ``Re_mf = sqrt(C1^2 + C2 Ar) - C1`` (1966).
 WEN_YU_C1, WEN_YU_C2 = 33.7, 0.0408
@@ -109,3 +113,27 @@ def drag_gidaspow(slip, d, volume, eps, mu_g, rho_g):
         cd_re = 0.44 * re
     cd_speed = cd_re * mu_g / (rho_g * eps * d)
     return 0.75 * cd_speed * rho_g * slip * eps**-1.65 * volume / d
+
+
+@njit(cache=CACHE)
+def reduced_mass(m_i, m_j):
+    """Reduced mass [kg] and the mass fractions ``(m_r, frac_i, frac_j)``; exact for a plate
+    on either side (``frac = m / (m_i + m_j)``). Every tier takes its masses from here."""
+    if math.isinf(m_j):
+        return m_i, 0.0, 1.0
+    if math.isinf(m_i):
+        return m_j, 1.0, 0.0
+    # Both fractions divided out directly: 1 - frac_i would cancel at extreme mass ratios.
+    frac_i = m_i / (m_i + m_j)
+    frac_j = m_j / (m_i + m_j)
+    return m_i * frac_j, frac_i, frac_j
+
+
+@njit(cache=CACHE)
+def relative_body_force(m_i, m_j, fn_i, fn_j):
+    """Body force on the relative motion [N], positive when it pushes the pair together:
+    ``m_r (fn_i / m_i - fn_j / m_j)``; a plate (infinite mass, held) contributes 0."""
+    m_r, _, _ = reduced_mass(m_i, m_j)
+    acc_i = 0.0 if math.isinf(m_i) else fn_i / m_i
+    acc_j = 0.0 if math.isinf(m_j) else fn_j / m_j
+    return m_r * (acc_i - acc_j)

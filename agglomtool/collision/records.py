@@ -265,7 +265,7 @@ class StageResult(NamedTuple):
 
 
 class WorkScale(NamedTuple):
-    """What the work bounds of the optional terms need (:func:`.relative.term_work_fractions`)."""
+    """What the work bounds of the optional terms need (:func:`.stages.term_work_fractions`)."""
 
     #: initial relative kinetic energy [J]
     k0: float

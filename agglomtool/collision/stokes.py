@@ -23,26 +23,16 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
-from .outcome import DETAIL_NAMES, Path, Stage
+from . import _codes as codes
+from . import stages
+from .bridge import viscous_constant
+from .physics import reduced_mass
 from .records import Pair, TierInputs, tier_inputs
-from .relative import reduced_mass
 
 __all__ = ["run_stokes", "stokes_kernel"]
-
-_REBOUND = int(Stage.REBOUND)
-_APP_VIS = int(Stage.APPROACH_VISCOUS)
-_CONTACT = int(Stage.CONTACT)
-_SEP_VIS = int(Stage.SEPARATION_VISCOUS)
-_P_NO_BRIDGE = int(Path.NO_BRIDGE)
-N_DETAILS = len(DETAIL_NAMES)
-_DI = {name: k for k, name in enumerate(DETAIL_NAMES)}
-_ST_APP, _W_CONTACT, _K_INI_I, _K_INI_J = (
-    _DI["St_app"], _DI["w_contact"], _DI["K_ini_i"], _DI["K_ini_j"]
-)
 
 
 @njit(cache=CACHE)
@@ -51,34 +41,28 @@ def stokes_kernel(pair, w, det):
     angle and body forces are not used) at the relative normal impact speed ``w`` [m/s] by
     the Ennis criterion. Returns ``(e_w, stage, path)``."""
     m_i, m_j, r, H0, Ha, mu_l, e = pair.m_i, pair.m_j, pair.r, pair.H0, pair.Ha, pair.mu_l, pair.e
-    want = det.shape[0] > 0
-    if want:
-        for q in range(det.shape[0]):
-            det[q] = math.nan
+    want = stages.fresh_details(det)
     m_r, frac_i, frac_j = reduced_mass(m_i, m_j)
     if want:
-        k0 = 0.5 * m_r * w * w
-        det[_K_INI_I] = frac_j * k0
-        det[_K_INI_J] = frac_i * k0
+        stages.split_details(det, codes.K_INI_I, codes.K_INI_J, frac_i, frac_j, 0.5 * m_r * w * w)
     if not H0 > Ha:
+        # (no contact loss in the details: Ennis' criterion has no energy balance)
         if want:
-            det[_W_CONTACT] = w
-        if e > 0.0:
-            return e, _REBOUND, _P_NO_BRIDGE
-        return 0.0, _CONTACT, _P_NO_BRIDGE
-    st = m_r * w / (1.5 * math.pi * mu_l * r * r)
+            det[codes.W_CONTACT] = w
+        return stages.no_bridge(e)
+    st = m_r * w / viscous_constant(mu_l, r)
     ln_gap = math.log(H0 / Ha) if Ha > 0.0 else math.inf
     if want:
-        det[_ST_APP] = st
+        det[codes.ST_APP] = st
     if not st > ln_gap:
-        return 0.0, _APP_VIS, 0
+        return 0.0, codes.APP_VIS, 0
     if want:
-        det[_W_CONTACT] = w * (1.0 - ln_gap / st)
+        det[codes.W_CONTACT] = w * (1.0 - ln_gap / st)
     if not e > 0.0:
-        return 0.0, _CONTACT, 0
+        return 0.0, codes.CONTACT, 0
     if not st > (1.0 + 1.0 / e) * ln_gap:
-        return 0.0, _SEP_VIS, 0
-    return e - (1.0 + e) * ln_gap / st, _REBOUND, 0
+        return 0.0, codes.SEP_VIS, 0
+    return e - (1.0 + e) * ln_gap / st, codes.REBOUND, 0
 
 
 @njit(parallel=True, cache=CACHE)
@@ -104,9 +88,6 @@ def run_stokes(ins: TierInputs, *, details=False):
     """
     ins = tier_inputs(ins)
     n = ins.w.shape[0]
-    e_w = np.empty(n)
-    stage = np.empty(n, dtype=np.int8)
-    path = np.empty(n, dtype=np.int8)
-    det = np.empty((n, N_DETAILS if details else 0))
+    e_w, stage, path, det = stages.tier_outputs(n, details)
     parallel_launch(_run_stokes_batch, ins, e_w, stage, path, det)
     return e_w, stage, path, det
