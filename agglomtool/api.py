@@ -364,14 +364,14 @@ def collide(
     if mode in _FUSED:
         # The speed rules are checked in the kernel's own pass (no separate scan).
         e_w, stage, path, w, det, (code, index) = fused_batch(
-            ins, steps, n, _FUSED[mode], body_forces, particle, details=details, check=True
-        )
+            ins, steps, n, _FUSED[mode], body=body_forces, particle_slip=particle,
+            details=details, check=True)
         if code:
             raise _speed_error(code, index, ins, steps, shape)
     elif mode == "auto" and not details:
         e_w, stage, path, w, (code, index) = auto_fused(
-            ins, steps, n, body_forces, particle, DEFAULT_TOL if tol is None else tol,
-            check=True)
+            ins, steps, n, body=body_forces, particle_slip=particle,
+            tol=DEFAULT_TOL if tol is None else tol, check=True)
         if code:
             raise _speed_error(code, index, ins, steps, shape)
         det = None

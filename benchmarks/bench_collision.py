@@ -141,7 +141,7 @@ def main(n=1_000_000, n_pool=20_000, n_crit=10_000):
             lambda m=mode: at.collide(**kw, u0=u0, mode=m, details=False), floor_fn)
         line(f"collide mode={mode}, 1e6 mixed, details off", n / med / 1e6, "M coll/s", best,
              med, f_med, f"goal >= 10 M/s idle, ratio <= {goal}", ratio)
-    pieces = auto_fused(ins, steps, n, True, False, return_pieces=True)[4]
+    pieces = auto_fused(ins, steps, n, body=True, particle_slip=False, return_pieces=True)[4]
     shares = ", ".join(f"{label} {np.mean(pieces == v):.1%}" for v, label in
                        [(1, "whole-stage closed forms")]
                        + [(p, f"{p} pieces") for p in PIECES] + [(0, "ode")])

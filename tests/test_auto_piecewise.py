@@ -176,7 +176,8 @@ def test_fused_auto_chooses_as_auto_batch(size):
     u0 = u_star * rng.uniform(0.5, 3.0, u_star.shape)
     _, ins, steps, n = _fused_inputs(kw["p_i"], kw["p_j"], kw["liquid"], kw["gas"],
                                      kw["bed"], kw["beta_deg"], 0.9, u0, None)
-    e_f, st_f, pa_f, _, pc_f = auto_fused(ins, steps, n, True, False, return_pieces=True)
+    e_f, st_f, pa_f, _, pc_f = auto_fused(ins, steps, n, body=True, particle_slip=False,
+                                              return_pieces=True)
     k = fused.prepare_flat(ins, steps, n, True, False)
     e_b, st_b, pa_b, _, _, _, pc_b = auto_batch(k[:13], return_pieces=True)
     np.testing.assert_array_equal(pc_f, pc_b)

@@ -107,18 +107,18 @@ def test_the_kernels_own_pass_names_the_same_offender(n, given, seed):
                 for k, a in enumerate(ins))
     expect = reference(d_i, d_j, u0, np.empty(0) if u0_j is None else u0_j, n)
     for tier in (TIER_PAPER, TIER_RELATIVE):
-        *out, first = fused_batch(ins, steps, n, tier, True, False, check=True)
+        *out, first = fused_batch(ins, steps, n, tier, body=True, particle_slip=False, check=True)
         assert first == expect
-        plain = fused_batch(ins, steps, n, tier, True, False)
+        plain = fused_batch(ins, steps, n, tier, body=True, particle_slip=False)
         with np.errstate(invalid="ignore"):
             w = np.where(np.isinf(d_i), 0.0, u0) + (
                 np.where(np.isinf(d_j), 0.0, u0) if u0_j is None else u0_j)
             good = (w > 0.0) & np.isfinite(w)
         for a, b in zip(out[:4], plain[:4], strict=True):
             np.testing.assert_array_equal(a[good], b[good])
-    *out, first = auto_fused(ins, steps, n, True, False, check=True)
+    *out, first = auto_fused(ins, steps, n, body=True, particle_slip=False, check=True)
     assert first == expect
     if not expect[0]:
-        plain = auto_fused(ins, steps, n, True, False)
+        plain = auto_fused(ins, steps, n, body=True, particle_slip=False)
         for a, b in zip(out, plain, strict=True):
             np.testing.assert_array_equal(a, b)

@@ -143,8 +143,8 @@ def _check(p_i, p_j, liq, gas, bed, beta, e, u0, u0_j=None, mode="paper", body=T
         old = fused.SERIAL_BELOW
         fused.SERIAL_BELOW = n_serial
         try:
-            e_f, st_f, pa_f, w_f, _ = fused.fused_batch(ins, steps, n, tier, body,
-                                                        slip == "particle")
+            e_f, st_f, pa_f, w_f, _ = fused.fused_batch(ins, steps, n, tier, body=body,
+                                                        particle_slip=slip == "particle")
         finally:
             fused.SERIAL_BELOW = old
         np.testing.assert_array_equal(e_f, e_k)
@@ -227,7 +227,8 @@ def test_repeated_angles(body, slip):
             np.testing.assert_array_equal(fused.prepare_flat(ins, steps, n, body, slip), alone)
             for tier, runner in ((fused.TIER_PAPER, run_paper),
                                  (fused.TIER_RELATIVE, run_relative)):
-                e_f, st_f, pa_f, _, _ = fused.fused_batch(ins, steps, n, tier, body, slip)
+                e_f, st_f, pa_f, _, _ = fused.fused_batch(ins, steps, n, tier, body=body,
+                                                          particle_slip=slip)
                 e_k, st_k, pa_k, _ = runner(alone[:13])
                 np.testing.assert_array_equal(e_f, e_k)
                 np.testing.assert_array_equal(st_f, st_k)

@@ -129,7 +129,8 @@ def test_the_kernels_stopping_gaps_are_the_scans():
     u0 = np.maximum(u_star, 0.01) * rng.uniform(1.0, 3.0, n)
     _, ins, steps, _ = _fused_inputs(p_i, p_j, liquid, gas, at.Bed(eps=0.55), beta, 0.9, u0,
                                      None)
-    _, _, path, _, det = fused_batch(ins, steps, n, TIER_PAPER, True, False, details=True)
+    _, _, path, _, det = fused_batch(ins, steps, n, TIER_PAPER, body=True, particle_slip=False,
+                                  details=True)
     sel = np.flatnonzero((path & (C.P_SEP_I | C.P_SEP_J)) != 0)
     assert sel.size > 500
     m_i, m_j, r, H0, Ha, mu_l, gamma, cos_t, _, _, fn_i, fn_j, e, _ = prepare_flat(

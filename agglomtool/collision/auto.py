@@ -674,7 +674,7 @@ def _choose_parallel(ins, st, flags, opts, out):
     return f1, f2, f3, f4
 
 
-def auto_fused(ins, steps, n, body, particle_slip, tol=DEFAULT_TOL, *, return_pieces=False,
+def auto_fused(ins, steps, n, *, body, particle_slip, tol=DEFAULT_TOL, return_pieces=False,
                check=False):
     """Mode "auto" without details from the fused kernels' inputs (:mod:`.fused`): the
     preparation, the choice and "ode" where it is chosen in one compiled loop (no details

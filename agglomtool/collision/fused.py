@@ -671,7 +671,7 @@ def flat_inputs(values, shape):
     return tuple(arrays), steps
 
 
-def fused_batch(ins, steps, n, tier, body, particle_slip, details=False, check=False):
+def fused_batch(ins, steps, n, tier, *, body, particle_slip, details=False, check=False):
     """Run the fused preparation and the ``tier`` kernel (:data:`TIER_PAPER` or
     :data:`TIER_RELATIVE`) on ``n`` collisions.
 
