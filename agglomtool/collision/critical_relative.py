@@ -405,23 +405,52 @@ def relative_threshold(p, max_iter, early_rtol=EARLY_RTOL):
                           NewtonOptions(max_iter=max_iter, early_rtol=early_rtol))
 
 
+@njit(cache=CACHE, inline="always")
+def approach(kc, H0, Ha, mu_l, gamma, theta, e):
+    """The approach and the start of the separation of a collision, from its
+    :func:`kernel_constants` ``kc``: ``(c_m, w_v, e_a, wc_min, w_app, kappa, hb, t_min)``.
+
+    The approach's contact speed is ``w_c = sqrt((w - w_v)^2 - 2 E_a / m_r)`` for
+    ``w > w_v`` (``c_m = c / m_r`` [1/s], ``w_v`` [m/s] its viscous loss, ``e_a`` [J] its
+    capillary and body work, ``wc_min`` [m/s] the smallest contact speed, ``w_app`` [m/s]
+    the speed up to which every approach sticks); the separation is taken in
+    ``t = sqrt(Ca)`` with ``h(t) = hb (1 + t)`` (``kappa = mu_l / gamma`` [s/m], ``hb``
+    [m]), from ``t_min`` at the smallest contact speed. Shared by the threshold
+    (:func:`threshold_from`) and the sticking sets (:mod:`.sticking`)."""
+    m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
+    c_m = c / m_r
+    w_v = c_m * d_app
+    e_a = kcap * g_app - f_b * (H0 - Ha)
+    wc_min = math.sqrt(-2.0 * e_a / m_r) if e_a < 0.0 else 0.0
+    w_app = w_v + (0.0 if e_a < 0.0 else math.sqrt(2.0 * e_a / m_r))
+    kappa = mu_l / gamma
+    hb = (1.0 + 0.5 * theta) * v13
+    t_min = math.sqrt(kappa * e * wc_min)
+    return c_m, w_v, e_a, wc_min, w_app, kappa, hb, t_min
+
+
+@njit(cache=CACHE)
+def speed_of_separation(t, kappa, e, e_a, m_r, w_v, wc_min, w_app):
+    """Relative impact speed [m/s] at which the separation starts at ``t = sqrt(Ca)``: back
+    through contact and the approach of :func:`approach` (``w_app`` where the contact
+    speed is not above the approach's smallest)."""
+    w_c = (t * t / kappa) / e
+    if e_a < 0.0:
+        if not w_c > wc_min:
+            return w_app
+        return w_v + math.sqrt((w_c - wc_min) * (w_c + wc_min))
+    return w_v + math.sqrt(w_c * w_c + 2.0 * e_a / m_r)
+
+
 @njit(cache=CACHE)
 def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, newton):
     """:func:`relative_threshold` from the collision's :func:`kernel_constants` ``kc`` (a
     :class:`KernelConstants`); ``newton``: :class:`NewtonOptions`."""
     m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
-    c_m = c / m_r
-    # Approach: contact speed w_c = sqrt((w - w_v)^2 - 2 E_a / m_r) for w > w_v.
-    w_v = c_m * d_app
-    e_a = kcap * g_app - f_b * (H0 - Ha)
-    wc_min = math.sqrt(-2.0 * e_a / m_r) if e_a < 0.0 else 0.0
-    w_app = w_v + (0.0 if e_a < 0.0 else math.sqrt(2.0 * e_a / m_r))
+    c_m, w_v, e_a, wc_min, w_app, kappa, hb, t_min = approach(kc, H0, Ha, mu_l, gamma,
+                                                              theta, e)
     if math.isinf(w_app) or math.isnan(w_app):
         return math.inf, NEVER if math.isinf(w_app) else FAILED
-    # Separation in t = sqrt(Ca): h(t) = hb (1 + t).
-    kappa = mu_l / gamma
-    hb = (1.0 + 0.5 * theta) * v13
-    t_min = math.sqrt(kappa * e * wc_min)
     if hb * (1.0 + t_min) <= Ha:
         return w_app, OK  # the bridge is broken at contact: every contact rebounds
     sp = Separation(kappa=kappa, hb=hb, Ha=Ha, a2=a2, c_m=c_m, kcap=kcap, f_b=f_b, m_r=m_r,
@@ -448,14 +477,7 @@ def threshold_from(kc, H0, Ha, mu_l, gamma, theta, e, newton):
     t, ok = _root_in_piece(a, f_a, df_a, b, sp, newton)
     if not ok:
         return math.inf, FAILED
-    # Back through contact and the approach.
-    w_c = (t * t / kappa) / e
-    if e_a < 0.0:
-        if not w_c > wc_min:
-            return w_app, OK
-        w = w_v + math.sqrt((w_c - wc_min) * (w_c + wc_min))
-    else:
-        w = w_v + math.sqrt(w_c * w_c + 2.0 * e_a / m_r)
+    w = speed_of_separation(t, kappa, e, e_a, m_r, w_v, wc_min, w_app)
     if math.isinf(w):
         return math.inf, NEVER
     return w, OK

@@ -52,7 +52,14 @@ from numba import njit, prange
 
 from .._jit import CACHE, parallel_launch
 from .critical import _raw
-from .critical_relative import Separation, _e_zero, _sep, kernel_constants
+from .critical_relative import (
+    Separation,
+    _e_zero,
+    _sep,
+    approach,
+    kernel_constants,
+    speed_of_separation,
+)
 from .fused import SERIAL_BELOW, TIER_PAPER, launch_blocks, prepare_one, tier_kernel
 from .records import Pair
 
@@ -135,18 +142,6 @@ class SpeedLaw(NamedTuple):
     p2: np.ndarray
     #: how ``p2`` is read
     how2: int
-
-
-@njit(cache=CACHE)
-def _w_of_t(t, kappa, e, e_a, m_r, w_v, wc_min, w_app):
-    """Relative impact speed [m/s] at which the separation starts at ``t = sqrt(Ca)``
-    (:func:`.critical_relative.threshold_from`'s way back through contact and approach)."""
-    w_c = (t * t / kappa) / e
-    if e_a < 0.0:
-        if not w_c > wc_min:
-            return w_app
-        return w_v + math.sqrt((w_c - wc_min) * (w_c + wc_min))
-    return w_v + math.sqrt(w_c * w_c + 2.0 * e_a / m_r)
 
 
 @njit(cache=CACHE)
@@ -312,16 +307,10 @@ def _windows_one(raw, u_star, flags, lo, hi, empty):
     kc = kernel_constants(Pair(m_i=m_i, m_j=m_j, r=r, H0=H0, Ha=Ha, mu_l=mu_l, gamma=gamma,
                                cos_t=cos_t, theta=theta, fn_i=fn_i, fn_j=fn_j, e=e))
     m_r, a2, c, kcap, f_b, d_app, g_app, v13, k_ha, v_ha, s_ha = kc
-    c_m = c / m_r
-    w_v = c_m * d_app
-    e_a = kcap * g_app - f_b * (H0 - Ha)
-    wc_min = math.sqrt(-2.0 * e_a / m_r) if e_a < 0.0 else 0.0
-    w_app = w_v + (0.0 if e_a < 0.0 else math.sqrt(2.0 * e_a / m_r))
+    c_m, w_v, e_a, wc_min, w_app, kappa, hb, t_min = approach(kc, H0, Ha, mu_l, gamma,
+                                                              theta, e)
     if not math.isfinite(w_app):
         return 0, FALLBACK
-    kappa = mu_l / gamma
-    hb = (1.0 + 0.5 * theta) * v13
-    t_min = math.sqrt(kappa * e * wc_min)
     args = Separation(kappa, hb, Ha, a2, c_m, kcap, f_b, m_r, k_ha, v_ha, s_ha)
     w_lo = u_star * wpu
     count = 0
@@ -358,8 +347,8 @@ def _windows_one(raw, u_star, flags, lo, hi, empty):
         if not ok:
             return 0, FALLBACK
         if found:
-            wa = _w_of_t(t_a, kappa, e, e_a, m_r, w_v, wc_min, w_app)
-            wb = _w_of_t(t_b, kappa, e, e_a, m_r, w_v, wc_min, w_app)
+            wa = speed_of_separation(t_a, kappa, e, e_a, m_r, w_v, wc_min, w_app)
+            wb = speed_of_separation(t_b, kappa, e, e_a, m_r, w_v, wc_min, w_app)
             if count > 0 and wa <= hi[count - 1]:
                 hi[count - 1] = max(hi[count - 1], wb)  # adjoins the previous window
             else:
