@@ -5,7 +5,6 @@ import os
 import shutil
 import subprocess
 import sys
-import textwrap
 import time
 import warnings
 from pathlib import Path
@@ -13,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from _user_materials import MY_SAND
 
 from agglomtool import materials
 from agglomtool.maps import sweep
@@ -116,21 +116,12 @@ def test_unreadable_record_is_named_and_rebuilt(ref, tmp_path):
 def test_user_material_edited_between_runs_is_refused(tmp_path, monkeypatch):
     d = tmp_path / "mat"
     d.mkdir()
-    entry = textwrap.dedent("""
-        [solid.my-sand]
-        density = {}
-        asperity_height = 1e-6
-        restitution_dry = 0.8
-        size_range = [2e-4, 6e-4]
-        source = "my lab"
-        confidence = "measured once"
-        """)
-    (d / "mine.toml").write_text(entry.format(2650.0))
+    (d / "mine.toml").write_text(MY_SAND.format(2650.0))
     monkeypatch.setenv(materials.ENV_VAR, str(d))
     scene = SCENE.replace(solid_i="my-sand")
     store = tmp_path / "s"
     sweep(scene, chunks=CHUNKS, store=store, T=GRID["T"], h0=GRID["h0"])
-    (d / "mine.toml").write_text(entry.format(1500.0))
+    (d / "mine.toml").write_text(MY_SAND.format(1500.0))
     with pytest.raises(ValueError, match=r"materials solid my-sand: .*mine.toml has changed"):
         sweep(scene, chunks=CHUNKS, store=store, T=GRID["T"], h0=GRID["h0"])
 

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from _user_materials import MY_SAND
 
 import agglomtool as at
 from agglomtool.maps import sweep
@@ -386,15 +387,7 @@ def test_cli_runs_started_together_on_one_store_and_output_never_write_a_wrong_m
 # ---------------------------------------------------------------------------------------
 # Inputs read once per run
 
-SAND = """
-[solid.my-sand]
-density = {}
-asperity_height = 1e-6
-restitution_dry = 0.8
-size_range = [2e-4, 6e-4]
-source = "my lab"
-confidence = "measured once"
-"""
+SAND = MY_SAND
 MY_GRID = dict(T=[950.0, 1250.0], h0=[0.15e-6, 0.6e-6], U_Umf=[2.0, 4.0, 6.0])
 
 
