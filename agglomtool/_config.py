@@ -39,6 +39,20 @@ def _number(where: str, key: str, value):
     return float(value)
 
 
+def _same_kind(where: str, key: str, values: list) -> None:
+    """A list of values of a numeric field holds quantities with units or bare SI numbers, not
+    both: ``["20 degC", "80 degC", 5]`` reads as a range written as a list (5 would be 5 K)."""
+    texts = [v for v in values if isinstance(v, str)]
+    bare = [v for v in values if isinstance(v, int | float) and not isinstance(v, bool)]
+    if texts and bare:
+        unit = FIELD_META[key][0]
+        raise ConfigError(
+            f"{where}: {key} = {values!r} mixes quantities with units ({texts[0]!r}) and bare "
+            f"numbers ({bare[0]!r}, read as {bare[0]!r} {unit}); a list holds the values "
+            f"themselves. Give every value with its unit, or a range: {key} = {{ start = "
+            f"{texts[0]!r}, stop = {texts[-1]!r}, num = ... }}".replace("'", '"'))
+
+
 def _axis(where: str, value, key: str = ""):
     numeric = key in FIELD_META
     if isinstance(value, list):
@@ -46,6 +60,7 @@ def _axis(where: str, value, key: str = ""):
             raise ConfigError(f"{where}: {key or 'the axis'} = [] is empty; allowed: a list "
                               "of one or more values")
         if numeric:
+            _same_kind(where, key, value)
             return np.asarray([_number(where, key, v) for v in value], dtype=float)
         if all(isinstance(v, str) for v in value):
             return list(value)

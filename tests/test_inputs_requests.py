@@ -108,6 +108,27 @@ def test_grid_errors_still_name_the_key():
         parse_config(tomllib.loads(WATER_OVER_T.replace('"2 um"', "-1e-6")))
 
 
+@pytest.mark.parametrize("axis, first_bare", [
+    ('T = ["20 degC", "80 degC", 5]', "5"),          # a range written as a list
+    ('h0 = [2e-6, "5 um"]', "2e-06"),
+])
+def test_a_grid_list_mixing_units_and_bare_numbers_is_refused(axis, first_bare):
+    # Without the check, T = ["20 degC", "80 degC", 5] swept 293.15 K, 353.15 K and 5 K
+    # (and failed on 5 K with an error about air's equation of state, not the list).
+    text = '[scene]\nliquid = "water"\nT = "50 degC"\n[grid]\n' + axis + "\n"
+    key = axis.split(" ")[0]
+    with pytest.raises(ConfigError, match=rf"\[grid\] {key}: .*mixes quantities with units "
+                                          rf".*bare numbers \({first_bare}, read as"):
+        parse_config(tomllib.loads(text))
+
+
+def test_a_grid_list_of_bare_numbers_or_of_quantities_is_taken():
+    text = '[scene]\nliquid = "water"\nT = "50 degC"\n[grid]\nT = ["20 degC", "80 degC"]\n'
+    assert parse_config(tomllib.loads(text)).grid["T"] == pytest.approx([293.15, 353.15])
+    text = text.replace('["20 degC", "80 degC"]', "[293.15, 353.15]")
+    assert parse_config(tomllib.loads(text)).grid["T"] == pytest.approx([293.15, 353.15])
+
+
 # --- pressures CoolProp cannot evaluate ----------------------------------------------------
 
 def test_pressure_below_water_triple_point_is_refused_naming_P():
