@@ -91,6 +91,20 @@ def test_not_fluidized_points_of_the_excess_gas_estimate_are_flagged():
     assert np.isnan(ds.propensity.values[:2]).all()
     assert np.isfinite(ds.propensity.values[2:]).all()
     assert len(said) == 1 and "not_fluidized" in str(said[0].message)
+    # the remedy fits the reason: a bed below U_mf needs more gas, not less
+    text = str(said[0].message)
+    assert "a U above U_mf" in text and "lower U" not in text
+
+
+def test_every_flag_has_its_remedy():
+    from agglomtool.maps.speed_flag import flag_text
+
+    for code in SPEED_FLAGS:
+        if code:  # a code added without its remedy raises a KeyError here
+            text = flag_text(np.array([0, code], dtype=np.int8))
+            assert text.startswith("the impact-speed model has no answer at 1 of 2 points")
+            assert SPEED_FLAGS[code][0] in text
+            assert ("a U above U_mf" if code == 1 else "another speed model") in text
 
 
 def test_a_map_that_answers_everywhere_says_nothing():

@@ -91,8 +91,16 @@ def flag_text(flag, what: str = "the map") -> str | None:
     return (f"the impact-speed model has no answer at {sum(counts.values())} of {total} "
             f"points of {what}: {reasons}. Their propensity and every output made of "
             "the impact speed are NaN, and speed_flag says why; the other points are "
-            "computed. Lower U, a smaller wake_fraction or another speed model gives an "
-            "answer there")
+            f"computed. {' '.join(_REMEDY[c] for c in counts)}")
+
+
+#: What gives the model an answer again, per flag code (a map may hold several).
+_REMEDY = {
+    1: "Where not fluidized: a U above U_mf (every model needs one).",
+    2: "Where bubbles are too slow: a lower U, or another speed model.",
+    3: "Where no emulsion is left: a lower U, a smaller wake_fraction, or another speed model.",
+    4: "Outside the model: inputs within its domain, or another speed model.",
+}
 
 
 def warn_flagged(ds, stacklevel: int = 4) -> None:
