@@ -368,7 +368,7 @@ def _default_text(name: str) -> str:
 
 
 #: An example quantity per unit, for help texts.
-_EXAMPLES = {"K": "850 degC", "Pa": "1.5 bar", "m": "5 um", "m/s": "30 cm/s", "-": "3",
+_EXAMPLES = {"K": "850 degC", "Pa": "1.5 bar", "m": "5 um", "m/s": "30 cm/s",
              "deg": "30 deg", "m2/s2": "0.01 m**2/s**2"}
 
 
@@ -390,10 +390,10 @@ def _add_scene_options(p: argparse.ArgumentParser) -> None:
         else:
             long_name = FIELD_META[name][1]
             unit = short_unit(name) or "-"
+            given = ("-" if unit == "-" else  # a number: no unit to write
+                     f"{unit}, or a quantity such as \"{_EXAMPLES.get(unit, '1 ' + unit)}\"")
             p.add_argument(flag, dest=f"scene_{name}", metavar=unit.upper(),
-                           help=f"{long_name} [{unit}, or a quantity such as "
-                                f"\"{_EXAMPLES.get(unit, '1 ' + unit)}\"] "
-                                f"(default: {_default_text(name)})")
+                           help=f"{long_name} [{given}] (default: {_default_text(name)})")
 
 
 def _add_progress_options(p: argparse.ArgumentParser) -> None:
