@@ -9,6 +9,7 @@ layers) so that the correlations can warn without importing the scene-level chec
 
 from __future__ import annotations
 
+import difflib
 import functools
 import math
 
@@ -17,6 +18,29 @@ import numpy as np
 
 class PlausibilityWarning(UserWarning):
     """Valid input that looks wrong (a unit slip, a size outside a solid's range, ...)."""
+
+
+def suggestion(value, known) -> str:
+    """``"; did you mean 'x'?"`` for the name of ``known`` closest to a mistyped ``value``
+    (a missing suffix, a swapped or missing letter), or ``""`` where none is close."""
+    if not isinstance(value, str):
+        return ""
+    key = "-".join(value.strip().lower().replace("_", " ").split())
+    known = [str(k) for k in known]
+    near = difflib.get_close_matches(key, known, n=1, cutoff=0.6)
+    if not near:  # a prefix: "k-silicate" for "k-silicate-ash-melt"
+        near = [k for k in known if k.startswith(key) and len(key) >= 3][:1]
+    return f"; did you mean {near[0]!r}?" if near else ""
+
+
+def unknown_name(field: str, value, kind: str, known) -> ValueError:
+    """The error of a name that is not in the materials database (``kind``: gas, solid or
+    liquid), naming the field, the value, the known names and the closest of them."""
+    plural = {"gas": "gases"}.get(kind, kind + "s")
+    known = sorted(str(k) for k in known)
+    hint = suggestion(value, known) or ";"
+    return ValueError(f"{field} = {value!r} is not in the materials database{hint} known "
+                      f"{plural}: {', '.join(known)}")
 
 
 def _first_bad(arr: np.ndarray, bad: np.ndarray) -> float:

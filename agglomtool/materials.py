@@ -41,6 +41,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any, cast
 
+from ._validate import unknown_name
 from .inputs import Liquid, Particle
 
 __all__ = [
@@ -711,9 +712,7 @@ def _get(kind: str, name: str, extra_dirs):
     entries = load(extra_dirs)[kind]
     key = _key(name)
     if key not in entries:
-        plural = {"gas": "gases"}.get(kind, kind + "s")
-        raise ValueError(f"{kind} = {name!r} is not in the materials database; known "
-                         f"{plural}: {', '.join(sorted(entries))}")
+        raise unknown_name(kind, name, kind, entries)
     return entries[key]
 
 

@@ -36,7 +36,7 @@ from ._fields import (
     short_unit,
 )
 from ._jit import CACHE
-from ._validate import check_range, check_typed
+from ._validate import check_range, check_typed, suggestion, unknown_name
 from .api import _FUSED, MODES, _fused_inputs, collide, critical_impact_speed
 from .bed.speed_models import IMPACT_SPEED_MODELS, mixed_law, speed_law
 from .bed.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
@@ -307,7 +307,8 @@ def field_names() -> list[str]:
 
 def _check_name(field_name, value, allowed):
     if not isinstance(value, str) or value not in allowed:
-        raise ValueError(f"{field_name} = {value!r} is not one of {sorted(allowed)}")
+        raise ValueError(f"{field_name} = {value!r} is not one of {sorted(allowed)}"
+                         f"{suggestion(value, allowed)}")
 
 
 def validate(values: dict) -> None:
@@ -322,9 +323,7 @@ def validate(values: dict) -> None:
         kind = "solid" if name.startswith("solid") else name
         known = materials.names(kind)
         if not isinstance(v, str) or materials._key(v) not in known:
-            plural = {"gas": "gases", "solid": "solids", "liquid": "liquids"}[kind]
-            raise ValueError(f"{name} = {v!r} is not in the materials database; known "
-                             f"{plural}: {', '.join(known)}")
+            raise unknown_name(name, v, kind, known)
     _check_name("speed", values.get("speed"), SPEED_FAMILIES)
     _check_name("mode", values.get("mode"), MODES)
     _check_name("drag_slip", values.get("drag_slip"), DRAG_SLIP_MODES)

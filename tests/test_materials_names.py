@@ -1,7 +1,11 @@
-"""User materials files: names normalised at load, clashes refused, unreadable files named."""
+"""User materials files: names normalised at load, clashes refused, unreadable files named;
+a mistyped name answered with the closest known one."""
+
+import re
 
 import pytest
 
+import agglomtool as at
 from agglomtool import materials
 
 SOLID = """
@@ -81,3 +85,25 @@ def test_an_edited_file_is_read_again(tmp_path):
     assert materials.solid("my-sand", extra_dirs=d).density == 1500.0
     (d / "user.toml").write_text("[solid.my-sand]" + SOLID.format(density=2650.0) + "\n")
     assert materials.solid("my-sand", extra_dirs=d).density == 2650.0
+
+
+@pytest.mark.parametrize("make, needle", [
+    (lambda: at.Scene(liquid="k-silicate"), "did you mean 'k-silicate-ash-melt'?"),
+    (lambda: at.Scene(solid_i="silica_snad"), "did you mean 'silica-sand'?"),
+    (lambda: at.Scene(speed="darton"), "did you mean 'bubble-darton'?"),
+    (lambda: materials.liquid("hypothetical slag "), None),  # normalised: found
+    (lambda: materials.liquid("hypotetical-slag"), "did you mean 'hypothetical-slag'?"),
+])
+def test_a_mistyped_name_is_answered_with_the_closest_known(make, needle):
+    if needle is None:
+        make()
+        return
+    with pytest.raises(ValueError, match=re.escape(needle)):
+        make()
+
+
+def test_a_name_near_nothing_gets_the_list_only():
+    with pytest.raises(ValueError, match=r"'honey' is not in the materials database; known "
+                                         r"liquids: .*water") as err:
+        at.Scene(liquid="honey")
+    assert "did you mean" not in str(err.value)
