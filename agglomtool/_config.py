@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ._fields import FIELD_META
+from ._validate import suggestion
 from .plausibility import PlausibilityWarning, scene_findings
 from .scene import Scene, field_names
 from .units import to_si
@@ -122,7 +123,8 @@ def parse_scene(scene_data, source: str = "config") -> Scene:
         raise ConfigError(f"{source}: [scene] must be a table of field = value")
     for key, value in scene_data.items():
         if key not in fields:
-            raise ConfigError(f"{source}: [scene] {key}: not a Scene field; fields: "
+            raise ConfigError(f"{source}: [scene] {key}: not a Scene field"
+                              f"{suggestion(key, fields, material=False)}; fields: "
                               f"{', '.join(fields)}")
         if isinstance(value, list | dict):
             raise ConfigError(f"{source}: [scene] {key} = {value!r} must be a single value; "

@@ -20,17 +20,20 @@ class PlausibilityWarning(UserWarning):
     """Valid input that looks wrong (a unit slip, a size outside a solid's range, ...)."""
 
 
-def suggestion(value, known) -> str:
-    """``"; did you mean 'x'?"`` for the name of ``known`` closest to a mistyped ``value``
-    (a missing suffix, a swapped or missing letter), or ``""`` where none is close."""
+def suggestion(value, known, *, material: bool = True) -> str:
+    """``" (did you mean 'x'?)"`` for the name of ``known`` closest to a mistyped ``value``
+    (a missing suffix, a swapped or missing letter), or ``""`` where none is close.
+    ``material``: ``value`` is a material's name, compared as the database spells names
+    (lower case, words joined by ``-``); otherwise a key, compared as written."""
     if not isinstance(value, str):
         return ""
-    key = "-".join(value.strip().lower().replace("_", " ").split())
+    key = ("-".join(value.strip().lower().replace("_", " ").split()) if material
+           else value.strip())
     known = [str(k) for k in known]
     near = difflib.get_close_matches(key, known, n=1, cutoff=0.6)
     if not near:  # a prefix: "k-silicate" for "k-silicate-ash-melt"
         near = [k for k in known if k.startswith(key) and len(key) >= 3][:1]
-    return f"; did you mean {near[0]!r}?" if near else ""
+    return f" (did you mean {near[0]!r}?)" if near else ""
 
 
 def unknown_name(field: str, value, kind: str, known) -> ValueError:
@@ -38,9 +41,8 @@ def unknown_name(field: str, value, kind: str, known) -> ValueError:
     liquid), naming the field, the value, the known names and the closest of them."""
     plural = {"gas": "gases"}.get(kind, kind + "s")
     known = sorted(str(k) for k in known)
-    hint = suggestion(value, known) or ";"
-    return ValueError(f"{field} = {value!r} is not in the materials database{hint} known "
-                      f"{plural}: {', '.join(known)}")
+    return ValueError(f"{field} = {value!r} is not in the materials database"
+                      f"{suggestion(value, known)}; known {plural}: {', '.join(known)}")
 
 
 def _first_bad(arr: np.ndarray, bad: np.ndarray) -> float:

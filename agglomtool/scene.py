@@ -229,7 +229,9 @@ class Scene:
         """A copy with some fields changed (validated)."""
         unknown = sorted(set(changes) - {f.name for f in dataclasses.fields(self)})
         if unknown:
-            raise ValueError(f"{unknown[0]!r} is not a Scene field; fields: {field_names()}")
+            raise ValueError(f"{unknown[0]!r} is not a Scene field"
+                             f"{suggestion(unknown[0], field_names(), material=False)}; "
+                             f"fields: {field_names()}")
         new = dataclasses.replace(self, **changes)
         if "speed" not in changes:  # the speed as this scene has it: named or derived
             object.__setattr__(new, "_speed_given", getattr(self, "_speed_given", True))
@@ -315,7 +317,9 @@ def validate(values: dict) -> None:
     """Check a mapping of field values; the ``ValueError`` names the field."""
     unknown = sorted(set(values) - set(field_names()))
     if unknown:
-        raise ValueError(f"{unknown[0]!r} is not a Scene field; fields: {field_names()}")
+        raise ValueError(f"{unknown[0]!r} is not a Scene field"
+                         f"{suggestion(unknown[0], field_names(), material=False)}; "
+                         f"fields: {field_names()}")
     for name in ("gas", "solid_i", "solid_j", "liquid"):
         v = values.get(name)
         if v is None and name == "solid_j":

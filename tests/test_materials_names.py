@@ -107,3 +107,25 @@ def test_a_name_near_nothing_gets_the_list_only():
                                          r"liquids: .*water") as err:
         at.Scene(liquid="honey")
     assert "did you mean" not in str(err.value)
+
+
+def test_a_mistyped_key_of_a_config_is_answered_with_the_closest_field():
+    import tomllib
+
+    from agglomtool.bed.config import parse_bed_config
+    from agglomtool.maps.config import ConfigError, parse_config
+
+    with pytest.raises(ConfigError, match=re.escape("[scene] h_0: not a Scene field (did you "
+                                                    "mean 'h0'?); fields: T, P")):
+        parse_config(tomllib.loads('[scene]\nh_0 = "5 um"\n[grid]\nT = [300.0]\n'))
+    with pytest.raises(ConfigError, match=re.escape("[grid] U_mf: not a Scene field (did you "
+                                                    "mean 'U_Umf'?)")):
+        parse_config(tomllib.loads('[grid]\nU_mf = [2.0, 3.0]\n'))
+    text = ('[scene]\nliquid = "water"\n[[component]]\nsolid = "silica-sand"\nfraction = 1.0\n'
+            'd_50 = "1 mm"\n')
+    with pytest.raises(ConfigError, match=re.escape("d_50: unknown (did you mean 'd50'?); "
+                                                    "allowed: solid")):
+        parse_bed_config(tomllib.loads(text))
+    with pytest.raises(ValueError, match=re.escape("'h_0' is not a Scene field (did you mean "
+                                                   "'h0'?)")):
+        at.Scene().replace(h_0=1e-6)

@@ -38,6 +38,7 @@ from __future__ import annotations
 import warnings
 
 from .._config import ConfigError, _axis, check_tables, parse_scene, read_toml, warn_scene_findings
+from .._validate import suggestion
 from ..plausibility import BED_OWN, PlausibilityWarning, scene_findings
 from .mixture import Component
 
@@ -68,7 +69,9 @@ def _component(where, table) -> Component:
         raise ConfigError(f"{where}: must be a table")
     unknown = sorted(set(table) - set(_COMPONENT_KEYS))
     if unknown:
-        raise ConfigError(f"{where} {unknown[0]}: unknown; allowed: {', '.join(_COMPONENT_KEYS)}")
+        raise ConfigError(f"{where} {unknown[0]}: unknown"
+                          f"{suggestion(unknown[0], _COMPONENT_KEYS, material=False)}; "
+                          f"allowed: {', '.join(_COMPONENT_KEYS)}")
     kw = dict(table)
     for key in _LENGTHS:
         if key in kw:

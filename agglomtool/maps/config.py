@@ -22,6 +22,7 @@ Every error names the file, the table and the key.
 from __future__ import annotations
 
 from .._config import ConfigError, _axis, check_tables, parse_scene, read_toml, warn_scene_findings
+from .._validate import suggestion
 from ..scene import CATEGORICAL_FIELDS, Scene, field_names
 
 __all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "parse_scene",
@@ -50,7 +51,9 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
     for key, value in grid_data.items():
         where = f"{source}: [grid] {key}"
         if key not in fields:
-            raise ConfigError(f"{where}: not a Scene field; fields: {', '.join(fields)}")
+            raise ConfigError(f"{where}: not a Scene field"
+                              f"{suggestion(key, fields, material=False)}; fields: "
+                              f"{', '.join(fields)}")
         axis = _axis(where, value, key)
         if key in CATEGORICAL_FIELDS and not isinstance(axis, list):
             raise ConfigError(f"{where}: {key} takes names, e.g. [\"silica-sand\"]")
