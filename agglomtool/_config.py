@@ -47,11 +47,12 @@ def _same_kind(where: str, key: str, values: list) -> None:
     bare = [v for v in values if isinstance(v, int | float) and not isinstance(v, bool)]
     if texts and bare:
         unit = FIELD_META[key][0]
+        ranged = (f", or a range: {key} = {{ start = {texts[0]!r}, stop = {texts[-1]!r}, "
+                  "num = ... }" if len(texts) > 1 else "")
         raise ConfigError(
-            f"{where}: {key} = {values!r} mixes quantities with units ({texts[0]!r}) and bare "
-            f"numbers ({bare[0]!r}, read as {bare[0]!r} {unit}); a list holds the values "
-            f"themselves. Give every value with its unit, or a range: {key} = {{ start = "
-            f"{texts[0]!r}, stop = {texts[-1]!r}, num = ... }}".replace("'", '"'))
+            (f"{where}: {key} = {values!r} mixes quantities with units ({texts[0]!r}) and bare "
+             f"numbers ({bare[0]!r}, read as {bare[0]!r} {unit}); a list holds the values "
+             f"themselves. Give every value with its unit{ranged}").replace("'", '"'))
 
 
 def _axis(where: str, value, key: str = ""):

@@ -105,7 +105,7 @@ def test_grid_errors_still_name_the_key():
     with pytest.raises(ConfigError, match=r"\[grid\] T: .*water.*T = 773.15"):
         parse_config(tomllib.loads(text))
     with pytest.raises(ConfigError, match=r"\[grid\] h0: .*h0 = -1e-06"):
-        parse_config(tomllib.loads(WATER_OVER_T.replace('"2 um"', "-1e-6")))
+        parse_config(tomllib.loads(WATER_OVER_T.replace('"2 um"', '"-1 um"')))
 
 
 @pytest.mark.parametrize("axis, first_bare", [
