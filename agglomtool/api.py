@@ -211,6 +211,36 @@ def _shaped(e_w, stage, path, det, shape, details):
     return e_w.reshape(shape), stage.reshape(shape), path.reshape(shape), out_details, shape
 
 
+#: The results :func:`collide` writes into ``out=``, with their dtypes.
+_OUT_DTYPES = {"e_w": np.dtype(np.float64), "stage": np.dtype(np.int8),
+               "agglomerated": np.dtype(np.bool_)}
+
+
+def _check_out(out, shape) -> dict:
+    """``out`` of :func:`collide` checked: a ``ValueError`` naming the key, what it got and
+    what is allowed."""
+    if out is None:
+        return {}
+    if not isinstance(out, dict):
+        raise ValueError(f"out = a {type(out).__name__} is not allowed: a dict of arrays "
+                         f"keyed {list(_OUT_DTYPES)}")
+    for key, a in out.items():
+        if key not in _OUT_DTYPES:
+            raise ValueError(f"out[{key!r}] is not allowed: out takes {list(_OUT_DTYPES)}")
+        if not (isinstance(a, np.ndarray) and a.dtype == _OUT_DTYPES[key]
+                and a.shape == tuple(shape) and a.flags.c_contiguous and a.flags.writeable):
+            got = (f"{a.dtype} {a.shape}" if isinstance(a, np.ndarray) else type(a).__name__)
+            raise ValueError(f"out[{key!r}] = {got} is not allowed: a writable C-contiguous "
+                             f"{_OUT_DTYPES[key]} array of the inputs' broadcast shape "
+                             f"{tuple(shape)}")
+    return out
+
+
+def _flat(a):
+    """A C-contiguous array as 1-D (a view), or None."""
+    return None if a is None else a.reshape(-1)
+
+
 def _check_tol_mode(tol, mode) -> None:
     if tol is not None:
         check_range("tol", tol, 1e-6, 0.5, unit="-")  # (auto's own range)
@@ -308,6 +338,7 @@ def collide(
     drag_slip: str = "emulsion",
     details: bool = True,
     tol: float | None = None,
+    out: dict | None = None,
 ) -> CollisionResult:
     """Outcome of a binary collision between two wet particles (or a particle and a plate).
 
@@ -342,6 +373,12 @@ def collide(
         Return the intermediate energies in ``result.details``.
     tol : float, optional
         Tolerance in ``e_w`` [-] of ``mode="auto"`` (default 0.01); other modes refuse it.
+    out : dict, optional
+        Arrays to write results into, keyed ``"e_w"`` (float64), ``"stage"`` (int8) and
+        ``"agglomerated"`` (bool), each C-contiguous with the inputs' broadcast shape (any
+        of the three may be left out): e.g. the blocks of a map's result, written once with
+        no array in between (modes ``"paper"`` and ``"relative"`` write ``e_w`` and
+        ``stage`` from the compiled loop itself). The result's fields are these arrays.
 
     Returns
     -------
@@ -360,12 +397,14 @@ def collide(
     in_kernel = mode in _FUSED or (mode == "auto" and not details)  # checks speeds itself
     shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j,
                                          check=not in_kernel)
+    into = _check_out(out, shape)
     particle = drag_slip == "particle"
     if mode in _FUSED:
         # The speed rules are checked in the kernel's own pass (no separate scan).
         e_w, stage, path, w, det, (code, index) = fused_batch(
             ins, steps, n, _FUSED[mode], body=body_forces, particle_slip=particle,
-            details=details, check=True)
+            details=details, check=True,
+            into=(_flat(into.get("e_w")), _flat(into.get("stage"))))
         if code:
             raise _speed_error(code, index, ins, steps, shape)
     elif mode == "auto" and not details:
@@ -380,9 +419,15 @@ def collide(
         w = k[9].copy()
         e_w, stage, path, det = evaluate(mode, *k[:13], details=details, tol=tol)
     e_w, stage, path, det, shape = _shaped(e_w, stage, path, det, shape, details)
+    for name, value in (("e_w", e_w), ("stage", stage)):
+        target = into.get(name)
+        if target is not None and not np.may_share_memory(target, value):
+            np.copyto(target, value)  # a tier that made its own array
+    if into:
+        e_w, stage = into.get("e_w", e_w), into.get("stage", stage)
     return CollisionResult(
         e_w=e_w,
-        agglomerated=e_w == 0.0,
+        agglomerated=np.equal(e_w, 0.0, out=into.get("agglomerated")),
         stage=stage,
         path=path,
         w=w.reshape(shape),

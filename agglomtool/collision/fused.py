@@ -671,7 +671,8 @@ def flat_inputs(values, shape):
     return tuple(arrays), steps
 
 
-def fused_batch(ins, steps, n, tier, *, body, particle_slip, details=False, check=False):
+def fused_batch(ins, steps, n, tier, *, body, particle_slip, details=False, check=False,
+                into=(None, None)):
     """Run the fused preparation and the ``tier`` kernel (:data:`TIER_PAPER` or
     :data:`TIER_RELATIVE`) on ``n`` collisions.
 
@@ -680,10 +681,14 @@ def fused_batch(ins, steps, n, tier, *, body, particle_slip, details=False, chec
     pass, by the rules of :func:`check_speeds` (``u0_j`` NaN meaning None), and a sixth
     item ``(code, index)`` is returned as there; collisions that break rule 3 or 4 are not
     computed (their outputs are NaN, stage -1), so a caller must raise on a nonzero code.
+    ``into``: ``(e_w, stage)``, 1-D arrays of ``n`` (float64, int8) to write those outputs
+    into (e.g. a map's result), or None for new ones.
     """
+    e_w, stage = into
     # FusedOutputs and FusedFlags, as plain tuples (the entry points make them records)
-    out = (np.empty(n), np.empty(n, dtype=np.int8), np.empty(n, dtype=np.int8), np.empty(n),
-           np.empty((n, N_DETAILS if details else 0)))
+    out = (np.empty(n) if e_w is None else e_w,
+           np.empty(n, dtype=np.int8) if stage is None else stage,
+           np.empty(n, dtype=np.int8), np.empty(n), np.empty((n, N_DETAILS if details else 0)))
     args = (ins, steps, (bool(body), slip_flag(particle_slip), bool(check)), out)
     if n < SERIAL_BELOW:
         first = _FUSED_ENTRY[int(tier), False](*args)
