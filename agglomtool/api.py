@@ -18,6 +18,7 @@ from .collision.fused import (
     check_speeds,
     flat_inputs,
     fused_batch,
+    materialize,
     prepare_flat,
 )
 from .collision.outcome import (
@@ -290,11 +291,13 @@ def _speed_error(code, index, ins, steps, shape=()):
 
 
 def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True,
-                  check=True):
+                  check=True, lazy=False):
     """Validated raw inputs in the order of :data:`INPUT_NAMES`, their broadcast shape, the
     flat arrays and steps of the fused kernels. ``speeds=False``: ``u0`` and ``u0_j`` are
     ignored (zero speed, no speed checks). ``check=False``: the lab-speed rules are left to
-    the caller (``fused_batch(check=True)`` applies them in its own pass)."""
+    the caller (``fused_batch(check=True)`` applies them in its own pass). ``lazy=True``
+    (with ``check=False``): broadcast inputs are not copied (:func:`.collision.fused.
+    flat_inputs`), and a fifth item is returned, their layout (for ``fused_batch``)."""
     if speeds:
         u0 = check_field("u0", u0, key="collide.u0")
         u0_j = np.nan if u0_j is None else check_field("u0_j", u0_j, key="collide.u0_j")
@@ -308,6 +311,9 @@ def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True
         check_field("e", e, key="collide.e"), u0, u0_j,
     )
     shape = broadcast_shape(INPUT_NAMES, values)
+    if lazy:
+        ins, steps, layout = flat_inputs(values, shape, lazy=True)
+        return shape, ins, steps, math.prod(shape), layout
     ins, steps = flat_inputs(values, shape)
     n = 1
     for s in shape:
@@ -395,8 +401,13 @@ def collide(
     _check_flags(body_forces, drag_slip, details)
     _check_tol_mode(tol, mode)
     in_kernel = mode in _FUSED or (mode == "auto" and not details)  # checks speeds itself
-    shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j,
-                                         check=not in_kernel)
+    layout = None
+    if mode in _FUSED:  # broadcast inputs read in place by the parallel loop, not copied
+        shape, ins, steps, n, layout = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e,
+                                                     u0, u0_j, check=False, lazy=True)
+    else:
+        shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0,
+                                             u0_j, check=not in_kernel)
     into = _check_out(out, shape)
     particle = drag_slip == "particle"
     if mode in _FUSED:
@@ -404,9 +415,11 @@ def collide(
         e_w, stage, path, w, det, (code, index) = fused_batch(
             ins, steps, n, _FUSED[mode], body=body_forces, particle_slip=particle,
             details=details, check=True,
-            into=(_flat(into.get("e_w")), _flat(into.get("stage"))))
+            into=(_flat(into.get("e_w")), _flat(into.get("stage"))), layout=layout,
+            shape=shape)
         if code:
-            raise _speed_error(code, index, ins, steps, shape)
+            full_ins, full_steps = materialize(ins, steps, layout, shape)
+            raise _speed_error(code, index, full_ins, full_steps, shape)
     elif mode == "auto" and not details:
         e_w, stage, path, w, (code, index) = auto_fused(
             ins, steps, n, body=body_forces, particle_slip=particle,

@@ -117,3 +117,105 @@ def test_U_computed_into_its_block():
     small = np.empty((3, 4, 1))  # not the product's shape: left alone, computed as before
     r2.U_into(small)
     assert r2.U is not small and r2.U.tobytes() == ref.tobytes()
+
+
+def _broadcast_block(seed=0, shape=(3, 7, 5)):
+    """Inputs of one collide over ``shape``, each varying along some of its axes only (as a
+    map's block hands them), some not C-contiguous, a plate and an impossible speed among
+    them on request."""
+    rng = np.random.default_rng(seed)
+
+    def along(*axes, lo=0.0, hi=1.0):
+        s = [n if k in axes else 1 for k, n in enumerate(shape)]
+        return rng.uniform(lo, hi, s)
+
+    h0 = along(1, lo=2e-6, hi=20e-6)
+    d = np.asfortranarray(along(0, 2, lo=200e-6, hi=600e-6))  # not C-contiguous
+    kw = dict(
+        p_i=at.Particle(d=d, rho=2650.0, h0=h0, ha=0.5e-6),
+        p_j=at.Particle(d=along(0, lo=200e-6, hi=600e-6), rho=2500.0, h0=h0, ha=0.5e-6),
+        liquid=at.Liquid(mu=along(0, lo=1e-3, hi=1e-1), gamma=along(0, lo=0.02, hi=0.07),
+                         rho=1000.0, theta_deg=along(2, lo=0.0, hi=60.0)),
+        gas=at.Gas(mu=18.48e-6, rho=along(0, 1, lo=0.3, hi=1.2)),
+        bed=at.Bed(eps=0.5, U=along(0, 1, lo=0.05, hi=0.3)),
+        beta_deg=along(1, 2, lo=0.0, hi=360.0), e=0.9)
+    return kw, rng.uniform(0.01, 1.5, shape)
+
+
+@pytest.mark.parametrize("mode", ["relative", "paper"])
+@pytest.mark.parametrize("body", [True, False])
+def test_broadcast_inputs_read_in_place(monkeypatch, mode, body):
+    """A collide whose inputs vary along some axes only (a map's block) is computed by the
+    parallel loop from their own values: no block-sized copy of any of them (numpy's copy
+    ran on the calling thread: the map's serial remainder), bitwise the same outcomes as
+    from copies."""
+    from agglomtool.collision import fused
+
+    kw, u0 = _broadcast_block(shape=(5, 40, 30))  # 6000 collisions: the parallel loop
+    full = {k: v for k, v in kw.items()}
+    shape = u0.shape
+
+    def copied(x):
+        return np.ascontiguousarray(np.broadcast_to(x, shape))
+
+    full["p_i"] = at.Particle(d=copied(kw["p_i"].d), rho=2650.0, h0=copied(kw["p_i"].h0),
+                              ha=0.5e-6)
+    full["p_j"] = at.Particle(d=copied(kw["p_j"].d), rho=2500.0, h0=copied(kw["p_j"].h0),
+                              ha=0.5e-6)
+    full["liquid"] = at.Liquid(mu=copied(kw["liquid"].mu), gamma=copied(kw["liquid"].gamma),
+                               rho=1000.0, theta_deg=copied(kw["liquid"].theta_deg))
+    full["gas"] = at.Gas(mu=18.48e-6, rho=copied(kw["gas"].rho))
+    full["bed"] = at.Bed(eps=0.5, U=copied(kw["bed"].U))
+    full["beta_deg"] = copied(kw["beta_deg"])
+    ref = at.collide(u0=u0, mode=mode, body_forces=body, details=True, **full)
+    sizes = []
+    real = fused._flat_input
+    monkeypatch.setattr(fused, "_flat_input",
+                        lambda a, s, n: (sizes.append(np.size(a)), real(a, s, n))[1])
+    got = at.collide(u0=u0, mode=mode, body_forces=body, details=True, **kw)
+    assert all(z in (1, u0.size) for z in sizes)  # only u0 itself, no broadcast copy
+    for f in ("e_w", "stage", "path", "w", "agglomerated"):
+        assert getattr(got, f).tobytes() == getattr(ref, f).tobytes(), f
+    for k, v in ref.details.items():
+        assert got.details[k].tobytes() == v.tobytes(), k
+
+
+@pytest.mark.parametrize("shape", [(4, 1, 600), (2, 3, 1, 5, 70), (1100, 1, 2), (1, 2, 1100)])
+def test_broadcast_layouts(shape):
+    """The in-place reading over layouts: size-1 axes, axes merged; the
+    outcomes those of the copies, bitwise."""
+    from agglomtool.collision import fused
+
+    kw, u0 = _broadcast_block(seed=len(shape), shape=shape)
+    p_i, p_j, liq, gas, bed = kw["p_i"], kw["p_j"], kw["liquid"], kw["gas"], kw["bed"]
+    values = (p_i.d, p_i.rho, p_i.h0, p_i.ha, p_j.d, p_j.rho, p_j.h0, p_j.ha, liq.mu,
+              liq.gamma, liq.rho, liq.theta_deg, gas.mu, gas.rho, bed.eps, bed.U,
+              kw["beta_deg"], np.float64(kw["e"]), u0, np.nan)
+    values = tuple(np.asarray(v, dtype=float) for v in values)
+    ins, steps = fused.flat_inputs(values, shape)
+    lz, lsteps, layout = fused.flat_inputs(values, shape, lazy=True)
+    assert layout is not None and (lsteps == fused.BROADCAST).any()
+    own = [lz[q].size for q in np.flatnonzero(lsteps == fused.BROADCAST)]
+    assert max(own) <= u0.size and min(own) < u0.size  # their own values, not copies
+    back, bsteps = fused.materialize(lz, lsteps, layout, shape)
+    for a, b in zip(back, ins, strict=True):
+        assert a.tobytes() == b.tobytes()
+    n = u0.size
+    for tier in (fused.TIER_PAPER, fused.TIER_RELATIVE):
+        a = fused.fused_batch(ins, steps, n, tier, body=True, particle_slip=False, check=True)
+        b = fused.fused_batch(lz, lsteps, n, tier, body=True, particle_slip=False, check=True,
+                              layout=layout, shape=shape)
+        for x, y in zip(a[:5], b[:5], strict=True):
+            assert x.tobytes() == y.tobytes()
+        assert a[5] == b[5]
+
+
+def test_broadcast_speed_error_names_the_collision():
+    """A speed rule broken inside a block read in place: the same error, at the same
+    index, as from copies (the first offender over the lanes' blocks)."""
+    kw, u0 = _broadcast_block(shape=(5, 40, 30))
+    u0 = u0.copy()
+    u0[3, 17, 4] = -2.0  # not approaching
+    u0[4, 39, 29] = -3.0
+    with pytest.raises(ValueError, match=r"not approaching: .* at index \(3, 17, 4\)"):
+        at.collide(u0=u0, details=False, **kw)
