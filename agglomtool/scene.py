@@ -659,6 +659,22 @@ class Resolved:
         return Liquid(mu=mu, gamma=gamma, rho=rho, theta_deg=theta, name=entry.name,
                       source=src["s"])
 
+    def take_properties(self, whole: Resolved, cut) -> None:
+        """The gas's and the liquid's properties from ``whole``, the same scene over axes
+        that hold this one's ``T`` and ``P`` values, each array cut to this one's elements
+        by ``cut``: a map computes them once over its whole T and P axes instead of once
+        per block (the same values: the property models are evaluated element by
+        element, :func:`_on_unique`)."""
+        mu, rho = whole._gas_arrays
+        self.__dict__["_gas_arrays"] = (cut(mu), cut(rho))
+        self._gas_source = whole._gas_source
+        liq = whole.liquid
+        entry = materials.liquid_entry(self.v["liquid"])
+        self.__dict__["liquid"] = Liquid(
+            mu=cut(liq.mu), gamma=cut(liq.gamma), rho=cut(liq.rho),
+            theta_deg=self.num("theta_deg", entry.theta_deg), name=liq.name,
+            source=liq.source)
+
     def _drawn_melt(self, entry, composition) -> Liquid:
         """The melt at drawn compositions (oxide -> wt % arrays, broadcast against ``T``):
         one vectorised pass of the melt models, no table of unique states."""

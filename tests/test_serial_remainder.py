@@ -219,3 +219,39 @@ def test_broadcast_speed_error_names_the_collision():
     u0[4, 39, 29] = -3.0
     with pytest.raises(ValueError, match=r"not approaching: .* at index \(3, 17, 4\)"):
         at.collide(u0=u0, details=False, **kw)
+
+
+@pytest.mark.parametrize("liquid, T", [("water", np.linspace(283.15, 363.15, 12)),
+                                       ("hypothetical-slag", np.linspace(900.0, 1300.0, 12))])
+def test_properties_once_per_map(monkeypatch, liquid, T):
+    """The gas's and the liquid's properties of a map's blocks are computed once over the
+    grid's T (and P) axes, not once per block; every block's values as computed alone."""
+    import agglomtool.scene as scene_mod
+
+    sc = Scene(liquid=liquid, T=float(T[0]), d_i=300e-6 if liquid == "water" else 1e-3,
+               h0=2e-6 if liquid == "water" else 0.3e-6)
+    axes = dict(T=T, P=np.array([1.0e5, 1.5e5]), U_Umf=np.linspace(1.2, 4.0, 5))
+    plan = _plan(sc, {"T": 3, "P": 1, "U_Umf": 5}, 16, axes)
+    assert plan.n_blocks == 8
+    calls = {"gas": 0, "liquid": 0}
+    real_gas, real_liquid = scene_mod.gas_properties, scene_mod.materials.liquid
+
+    def gas(*a, **k):
+        calls["gas"] += 1
+        return real_gas(*a, **k)
+
+    def liq(*a, **k):
+        calls["liquid"] += 1
+        return real_liquid(*a, **k)
+
+    monkeypatch.setattr(scene_mod, "gas_properties", gas)
+    monkeypatch.setattr(scene_mod.materials, "liquid", liq)
+    got = {idx: plan.evaluate(sl, plan.owned(idx)) for idx, sl in plan.blocks()}
+    assert calls["gas"] == 1 and calls["liquid"] <= 1
+    monkeypatch.undo()
+    for idx, sl in plan.blocks():  # each block alone, its own properties
+        alone = _plan(sc, {"T": 3, "P": 1, "U_Umf": 5}, 16, axes)
+        alone.__dict__["_whole_properties"] = None
+        ref = alone.evaluate(sl, alone.owned(idx))
+        for k, v in ref.items():
+            assert np.asarray(got[idx][k]).tobytes() == np.asarray(v).tobytes(), (idx, k)
