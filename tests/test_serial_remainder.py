@@ -255,3 +255,17 @@ def test_properties_once_per_map(monkeypatch, liquid, T):
         ref = alone.evaluate(sl, alone.owned(idx))
         for k, v in ref.items():
             assert np.asarray(got[idx][k]).tobytes() == np.asarray(v).tobytes(), (idx, k)
+
+
+def test_broadcast_read_only_inputs():
+    """Read-only inputs (numpy's broadcast views, as a caller may pass them) are read in
+    place as the others (the loops take one array type)."""
+    kw, u0 = _broadcast_block(shape=(5, 40, 30))
+    ref = at.collide(u0=u0, details=False, **kw)
+    ro = np.broadcast_to(u0, u0.shape)  # read-only, C-contiguous, every collision
+    h0 = np.broadcast_to(kw["p_i"].h0, (1, 40, 1))  # read-only, broadcast
+    kw["p_i"] = at.Particle(d=kw["p_i"].d, rho=2650.0, h0=h0, ha=0.5e-6)
+    kw["p_j"] = at.Particle(d=kw["p_j"].d, rho=2500.0, h0=h0, ha=0.5e-6)
+    got = at.collide(u0=ro, details=False, **kw)
+    for f in ("e_w", "stage", "path", "w"):
+        assert getattr(got, f).tobytes() == getattr(ref, f).tobytes(), f

@@ -794,6 +794,8 @@ def _own_values(a, shape, n):
     if a.size == 1 or (a.size == n and a.flags.c_contiguous and a.flags.writeable):
         return None
     own = np.ascontiguousarray(a)
+    if not own.flags.writeable:  # (the loops take one array type: writable, as the copies)
+        own = own.copy()
     return own.reshape(-1), [s // 8 for s in np.broadcast_to(own, shape).strides]
 
 
