@@ -18,6 +18,7 @@ from .collision.fused import (
     check_speeds,
     flat_inputs,
     fused_batch,
+    materialize,
     prepare_flat,
 )
 from .collision.outcome import (
@@ -211,6 +212,36 @@ def _shaped(e_w, stage, path, det, shape, details):
     return e_w.reshape(shape), stage.reshape(shape), path.reshape(shape), out_details, shape
 
 
+#: The results :func:`collide` writes into ``out=``, with their dtypes.
+_OUT_DTYPES = {"e_w": np.dtype(np.float64), "stage": np.dtype(np.int8),
+               "agglomerated": np.dtype(np.bool_)}
+
+
+def _check_out(out, shape) -> dict:
+    """``out`` of :func:`collide` checked: a ``ValueError`` naming the key, what it got and
+    what is allowed."""
+    if out is None:
+        return {}
+    if not isinstance(out, dict):
+        raise ValueError(f"out = a {type(out).__name__} is not allowed: a dict of arrays "
+                         f"keyed {list(_OUT_DTYPES)}")
+    for key, a in out.items():
+        if key not in _OUT_DTYPES:
+            raise ValueError(f"out[{key!r}] is not allowed: out takes {list(_OUT_DTYPES)}")
+        if not (isinstance(a, np.ndarray) and a.dtype == _OUT_DTYPES[key]
+                and a.shape == tuple(shape) and a.flags.c_contiguous and a.flags.writeable):
+            got = (f"{a.dtype} {a.shape}" if isinstance(a, np.ndarray) else type(a).__name__)
+            raise ValueError(f"out[{key!r}] = {got} is not allowed: a writable C-contiguous "
+                             f"{_OUT_DTYPES[key]} array of the inputs' broadcast shape "
+                             f"{tuple(shape)}")
+    return out
+
+
+def _flat(a):
+    """A C-contiguous array as 1-D (a view), or None."""
+    return None if a is None else a.reshape(-1)
+
+
 def _check_tol_mode(tol, mode) -> None:
     if tol is not None:
         check_range("tol", tol, 1e-6, 0.5, unit="-")  # (auto's own range)
@@ -260,11 +291,13 @@ def _speed_error(code, index, ins, steps, shape=()):
 
 
 def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True,
-                  check=True):
+                  check=True, lazy=False):
     """Validated raw inputs in the order of :data:`INPUT_NAMES`, their broadcast shape, the
     flat arrays and steps of the fused kernels. ``speeds=False``: ``u0`` and ``u0_j`` are
     ignored (zero speed, no speed checks). ``check=False``: the lab-speed rules are left to
-    the caller (``fused_batch(check=True)`` applies them in its own pass)."""
+    the caller (``fused_batch(check=True)`` applies them in its own pass). ``lazy=True``
+    (with ``check=False``): broadcast inputs are not copied (:func:`.collision.fused.
+    flat_inputs`), and a fifth item is returned, their layout (for ``fused_batch``)."""
     if speeds:
         u0 = check_field("u0", u0, key="collide.u0")
         u0_j = np.nan if u0_j is None else check_field("u0_j", u0_j, key="collide.u0_j")
@@ -278,6 +311,9 @@ def _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j, speeds=True
         check_field("e", e, key="collide.e"), u0, u0_j,
     )
     shape = broadcast_shape(INPUT_NAMES, values)
+    if lazy:
+        ins, steps, layout = flat_inputs(values, shape, lazy=True)
+        return shape, ins, steps, math.prod(shape), layout
     ins, steps = flat_inputs(values, shape)
     n = 1
     for s in shape:
@@ -308,6 +344,7 @@ def collide(
     drag_slip: str = "emulsion",
     details: bool = True,
     tol: float | None = None,
+    out: dict | None = None,
 ) -> CollisionResult:
     """Outcome of a binary collision between two wet particles (or a particle and a plate).
 
@@ -342,6 +379,12 @@ def collide(
         Return the intermediate energies in ``result.details``.
     tol : float, optional
         Tolerance in ``e_w`` [-] of ``mode="auto"`` (default 0.01); other modes refuse it.
+    out : dict, optional
+        Arrays to write results into, keyed ``"e_w"`` (float64), ``"stage"`` (int8) and
+        ``"agglomerated"`` (bool), each C-contiguous with the inputs' broadcast shape (any
+        of the three may be left out): e.g. the blocks of a map's result, written once with
+        no array in between (modes ``"paper"`` and ``"relative"`` write ``e_w`` and
+        ``stage`` from the compiled loop itself). The result's fields are these arrays.
 
     Returns
     -------
@@ -358,16 +401,25 @@ def collide(
     _check_flags(body_forces, drag_slip, details)
     _check_tol_mode(tol, mode)
     in_kernel = mode in _FUSED or (mode == "auto" and not details)  # checks speeds itself
-    shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0, u0_j,
-                                         check=not in_kernel)
+    layout = None
+    if mode in _FUSED:  # broadcast inputs read in place by the parallel loop, not copied
+        shape, ins, steps, n, layout = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e,
+                                                     u0, u0_j, check=False, lazy=True)
+    else:
+        shape, ins, steps, n = _fused_inputs(p_i, p_j, liquid, gas, bed, beta_deg, e, u0,
+                                             u0_j, check=not in_kernel)
+    into = _check_out(out, shape)
     particle = drag_slip == "particle"
     if mode in _FUSED:
         # The speed rules are checked in the kernel's own pass (no separate scan).
         e_w, stage, path, w, det, (code, index) = fused_batch(
             ins, steps, n, _FUSED[mode], body=body_forces, particle_slip=particle,
-            details=details, check=True)
+            details=details, check=True,
+            into=(_flat(into.get("e_w")), _flat(into.get("stage"))), layout=layout,
+            shape=shape)
         if code:
-            raise _speed_error(code, index, ins, steps, shape)
+            full_ins, full_steps = materialize(ins, steps, layout, shape)
+            raise _speed_error(code, index, full_ins, full_steps, shape)
     elif mode == "auto" and not details:
         e_w, stage, path, w, (code, index) = auto_fused(
             ins, steps, n, body=body_forces, particle_slip=particle,
@@ -380,9 +432,15 @@ def collide(
         w = k[9].copy()
         e_w, stage, path, det = evaluate(mode, *k[:13], details=details, tol=tol)
     e_w, stage, path, det, shape = _shaped(e_w, stage, path, det, shape, details)
+    for name, value in (("e_w", e_w), ("stage", stage)):
+        target = into.get(name)
+        if target is not None and not np.may_share_memory(target, value):
+            np.copyto(target, value)  # a tier that made its own array
+    if into:
+        e_w, stage = into.get("e_w", e_w), into.get("stage", stage)
     return CollisionResult(
         e_w=e_w,
-        agglomerated=e_w == 0.0,
+        agglomerated=np.equal(e_w, 0.0, out=into.get("agglomerated")),
         stage=stage,
         path=path,
         w=w.reshape(shape),

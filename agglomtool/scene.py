@@ -662,6 +662,22 @@ class Resolved:
         return Liquid(mu=mu, gamma=gamma, rho=rho, theta_deg=theta, name=entry.name,
                       source=src["s"])
 
+    def take_properties(self, whole: Resolved, cut) -> None:
+        """The gas's and the liquid's properties from ``whole``, the same scene over axes
+        that hold this one's ``T`` and ``P`` values, each array cut to this one's elements
+        by ``cut``: a map computes them once over its whole T and P axes instead of once
+        per block (the same values: the property models are evaluated element by
+        element, :func:`_on_unique`)."""
+        mu, rho = whole._gas_arrays
+        self.__dict__["_gas_arrays"] = (cut(mu), cut(rho))
+        self._gas_source = whole._gas_source
+        liq = whole.liquid
+        entry = materials.liquid_entry(self.v["liquid"])
+        self.__dict__["liquid"] = Liquid(
+            mu=cut(liq.mu), gamma=cut(liq.gamma), rho=cut(liq.rho),
+            theta_deg=self.num("theta_deg", entry.theta_deg), name=liq.name,
+            source=liq.source)
+
     def _drawn_melt(self, entry, composition) -> Liquid:
         """The melt at drawn compositions (oxide -> wt % arrays, broadcast against ``T``):
         one vectorised pass of the melt models, no table of unique states."""
@@ -730,6 +746,19 @@ class Resolved:
         U = self.num("U")
         return self.num("U_Umf") * self.Umf if U is None else U * np.ones_like(self.Umf)
 
+    def U_into(self, target) -> None:
+        """Compute :attr:`U` into ``target`` (a float64 array, e.g. a map's result block),
+        where it is not computed yet and has exactly ``target``'s shape: the same product,
+        written once where the map keeps it instead of copied there afterwards."""
+        U_Umf = self.num("U_Umf")
+        if ("U" in self.__dict__ or self.v.get("U") is not None or U_Umf is None
+                or target.dtype != np.float64 or not target.flags.writeable):
+            return
+        Umf = self.Umf
+        if np.broadcast_shapes(np.shape(U_Umf), np.shape(Umf)) != target.shape:
+            return
+        self.__dict__["U"] = np.multiply(U_Umf, Umf, out=target)
+
     @cached_property
     def bed(self) -> Bed:
         return Bed(eps=self.num("eps"), U=self.U_e)
@@ -775,9 +804,27 @@ class Resolved:
                     beta_deg=self.num("beta_deg"), e=self.e, mode=self.v["mode"],
                     body_forces=self.v["body_forces"], drag_slip=self.v["drag_slip"])
 
-    def collide(self, u0, *, details: bool = False):
+    def collide(self, u0, *, details: bool = False, out=None):
+        """:func:`agglomtool.collide` of the scene's pair at ``u0``; ``out``: arrays to
+        write ``e_w``, ``stage`` and ``agglomerated`` into, as there, used only where they
+        have the collision's shape (:meth:`collide_shape`)."""
         p_i, p_j = self.particles
-        return collide(p_i, p_j, u0=u0, details=details, **self._common())
+        common = self._common()
+        if out:
+            shape = self.collide_shape(u0)
+            out = {k: a for k, a in out.items() if a is not None and a.shape == shape
+                   and a.flags.c_contiguous} or None
+        return collide(p_i, p_j, u0=u0, details=details, out=out, **common)
+
+    def collide_shape(self, u0) -> tuple:
+        """The broadcast shape of :meth:`collide`'s inputs at ``u0`` (its results')."""
+        p_i, p_j = self.particles
+        c = self._common()
+        arrays = (p_i.d, p_i.rho, p_i.h0, p_i.ha, p_j.d, p_j.rho, p_j.h0, p_j.ha,
+                  c["liquid"].mu, c["liquid"].gamma, c["liquid"].rho, c["liquid"].theta_deg,
+                  c["gas"].mu, c["gas"].rho, c["bed"].eps, c["bed"].U, c["beta_deg"], c["e"],
+                  u0)
+        return np.broadcast_shapes(*[np.shape(a) for a in arrays])
 
     def collide_on(self, mask):
         """``f(u0)``: :meth:`collide` on the elements where ``mask`` (a boolean array of the
@@ -916,7 +963,7 @@ def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
     are returned as views, for the caller to write once."""
     into = {} if out is None else out
     u_typ = r.speeds.median(out=into.get("u_typical"))  # r.u_typical, in its block
-    res = r.collide(u_typ)
+    res = r.collide(u_typ, out={k: into.get(k) for k in ("e_w", "stage", "agglomerated")})
     # The block's shape: names (solids, mode, ...) reach the kernel as one scalar each, so
     # the collision's shape alone can miss their (size-1) axes and those of u0*.
     shape = np.broadcast_shapes(res.e_w.shape, np.shape(u_star), np.shape(r.U),
@@ -940,8 +987,9 @@ def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
         return a if a is into.get(name) else b(a, shape)
 
     return {
-        "u_typical": view("u_typical", u_typ), "U": b(r.U, shape), "e_w": b(res.e_w, shape),
-        "agglomerated": b(res.agglomerated, shape), "stage": b(res.stage, shape),
+        "u_typical": view("u_typical", u_typ), "U": view("U", r.U), "e_w": view("e_w", res.e_w),
+        "agglomerated": view("agglomerated", res.agglomerated),
+        "stage": view("stage", res.stage),
         "St": view("St", st), "propensity": view("propensity", prop),
         "margin": margin,
     }

@@ -13,7 +13,8 @@ many, ``NUMBA_NUM_THREADS``), best and median of ``--repeats`` of:
   kernel alone, what the map is held against).
 
 Each time is followed by the median seconds spent inside the package's parallel kernels
-(every ``parallel_launch`` timed): the rest is the serial remainder. The efficiency from 2
+(every ``parallel_launch`` timed) and by the rest, the serial remainder (each run's time
+less its time in the kernels, best and median). The efficiency from 2
 to n threads is ``t(2) / (t(n) n / 2)`` on the medians. ``--bed``
 adds the 30 x 30 ``bed_sweep`` of the 3-component x 20-class water bed of
 ``bench_bed.py`` at 2 threads and at the most; ``--profile DIR`` writes a cProfile of one
@@ -174,7 +175,10 @@ def main() -> None:
             kt: list[float] = []
             ts = timed(lambda s=scene, x=axes: sweep(s, **x), a.repeats, kt)
             med[name, n] = statistics.median(ts)
-            line.append(f"{name} map {fmt(ts)} (in kernels {statistics.median(kt):.3f} s)")
+            rest = [t - k for t, k in zip(ts, kt, strict=True)]
+            line.append(f"{name} map {fmt(ts)} (in kernels {statistics.median(kt):.3f} s; "
+                        f"serial remainder best {min(rest):.3f} s, median "
+                        f"{statistics.median(rest):.3f} s)")
         kt = []
         ts = timed(col, a.repeats, kt)
         med["collide", n] = statistics.median(ts)

@@ -31,7 +31,10 @@ the same either way (tested bitwise against :func:`prepare_one` on each collisio
 Inputs
 ------
 Twenty float64 arrays, in the order of :data:`INPUT_NAMES`, each 1-D, C-contiguous and of
-length 1 (broadcast to every collision) or ``n``; ``U`` is NaN where ``Bed.U`` is None and
+length 1 (broadcast to every collision) or ``n``; :func:`fused_batch`'s parallel loop also
+takes an input's own values read through its strides over the batch's axes (step
+:data:`BROADCAST`, a map block's inputs, no copy: :func:`flat_inputs` with ``lazy=True``);
+``U`` is NaN where ``Bed.U`` is None and
 ``u0_j`` NaN where it is None (head-on: ``u0`` for both). Flags: ``body`` (body forces on),
 ``particle_slip`` (``drag_slip="particle"``).
 
@@ -69,6 +72,8 @@ __all__ = [
     "FusedFlags",
     "FusedOutputs",
     "launch_blocks",
+    "materialize",
+    "BROADCAST",
 ]
 
 #: The inputs, in the order the fused kernels take them.
@@ -443,6 +448,142 @@ _FUSED_ENTRY = {(TIER_PAPER, False): _fused_serial_paper,
                 (TIER_RELATIVE, True): _fused_parallel_relative}
 
 
+# -- broadcast inputs read in place ---------------------------------------------------------
+# A map's block hands the fused loop inputs that vary along some of its axes only (the
+# liquid's properties along T, the coating along h0, ...). Broadcast to the block and copied,
+# each cost a pass over the block's memory on the calling thread (new memory: page faults
+# too), 25-40 ms of a 4e6-point water map's serial time at 1 thread. Instead the parallel
+# loop takes each such input as its own values (step BROADCAST) with its strides over the
+# block's axes (:func:`flat_inputs` with ``lazy=True``), and each lane copies one block of
+# collisions of them at a time into a small buffer of its own (in cache), from which the
+# same loop body (:func:`_fused_block`) reads them with step 1. The arithmetic of every
+# collision is unchanged.
+
+#: The step of an input read through its strides over the batch's axes (``layout``).
+BROADCAST = 2
+
+
+@njit(cache=CACHE)
+def _fill(src, strides, shape, k0, m, row, idx):  # pragma: no cover - compiled
+    """``row[:m]`` = the values of collisions ``k0 .. k0 + m - 1`` of an input whose own
+    values ``src`` are read with ``strides`` (elements) over the batch's axes ``shape``
+    (C order); ``idx``: scratch of the axes' count."""
+    nd = shape.shape[0]
+    rest = k0
+    off = 0
+    for d in range(nd - 1, -1, -1):
+        idx[d] = rest % shape[d]
+        rest //= shape[d]
+        off += idx[d] * strides[d]
+    last = nd - 1
+    for j in range(m):
+        row[j] = src[off]
+        d = last
+        idx[d] += 1
+        off += strides[d]
+        while d > 0 and idx[d] == shape[d]:
+            off -= strides[d] * shape[d]
+            idx[d] = 0
+            d -= 1
+            idx[d] += 1
+            off += strides[d]
+
+
+@njit(cache=CACHE, inline="always")
+def _pick(a, s, buf, q, k0, k1):  # pragma: no cover - compiled
+    """Input ``q`` of the block ``k0 .. k1`` as the loop reads it from 0: the input itself
+    (step 0), its slice (step 1), or its row of the lane's buffer (:data:`BROADCAST`)."""
+    if s == 0:
+        return a
+    if s == 1:
+        return a[k0:k1]
+    return buf[q, : k1 - k0]
+
+
+@njit(cache=CACHE)
+def _block_inputs(ins, st, buf, k0, k1):  # pragma: no cover - compiled
+    """The fused inputs of the collisions ``k0 .. k1``, indexed from 0 (:func:`_pick`)."""
+    return (
+        _pick(ins[0], st[0], buf, 0, k0, k1), _pick(ins[1], st[1], buf, 1, k0, k1),
+        _pick(ins[2], st[2], buf, 2, k0, k1), _pick(ins[3], st[3], buf, 3, k0, k1),
+        _pick(ins[4], st[4], buf, 4, k0, k1), _pick(ins[5], st[5], buf, 5, k0, k1),
+        _pick(ins[6], st[6], buf, 6, k0, k1), _pick(ins[7], st[7], buf, 7, k0, k1),
+        _pick(ins[8], st[8], buf, 8, k0, k1), _pick(ins[9], st[9], buf, 9, k0, k1),
+        _pick(ins[10], st[10], buf, 10, k0, k1), _pick(ins[11], st[11], buf, 11, k0, k1),
+        _pick(ins[12], st[12], buf, 12, k0, k1), _pick(ins[13], st[13], buf, 13, k0, k1),
+        _pick(ins[14], st[14], buf, 14, k0, k1), _pick(ins[15], st[15], buf, 15, k0, k1),
+        _pick(ins[16], st[16], buf, 16, k0, k1), _pick(ins[17], st[17], buf, 17, k0, k1),
+        _pick(ins[18], st[18], buf, 18, k0, k1), _pick(ins[19], st[19], buf, 19, k0, k1),
+    )
+
+
+@njit(cache=CACHE)
+def _lane_broadcast(ins, st, layout, flags, tier, out, lane):  # pragma: no cover - compiled
+    """The lane ``lane = (block, lanes, t)`` of :func:`_fused_parallel_broadcast`: its
+    blocks (:func:`launch_blocks`), each run by :func:`_fused_block` on its own slices;
+    each speed rule's first offender (``n``: none)."""
+    block, lanes, t = lane
+    shape, strides = layout
+    e_w, stage, path, w_out, det = out
+    n = e_w.shape[0]
+    buf = np.empty((N_INPUTS, block))
+    idx = np.empty(shape.shape[0], dtype=np.int64)
+    local = np.minimum(st, 1)  # the buffer's rows are read with step 1
+    nb = (n + block - 1) // block
+    h1 = n
+    h2 = n
+    h3 = n
+    h4 = n
+    for b in range(t, nb, lanes):
+        k0 = b * block
+        k1 = min(n, k0 + block)
+        m = k1 - k0
+        for q in range(N_INPUTS):
+            if st[q] == BROADCAST:
+                _fill(ins[q], strides[q], shape, k0, m, buf[q], idx)
+        g = _fused_block(_block_inputs(ins, st, buf, k0, k1), local, flags, tier,
+                         FusedOutputs(e_w[k0:k1], stage[k0:k1], path[k0:k1], w_out[k0:k1],
+                                      det[k0:k1]), 0, m)
+        h1 = min(h1, g[0] + k0 if g[0] < m else n)
+        h2 = min(h2, g[1] + k0 if g[1] < m else n)
+        h3 = min(h3, g[2] + k0 if g[2] < m else n)
+        h4 = min(h4, g[3] + k0 if g[3] < m else n)
+    return h1, h2, h3, h4
+
+
+@njit(parallel=True, cache=CACHE)
+def _fused_parallel_broadcast(ins, st, layout, flags, tier, out, block, lanes):
+    n = out.e_w.shape[0]
+    f1 = n
+    f2 = n
+    f3 = n
+    f4 = n
+    for t in prange(lanes):
+        h1, h2, h3, h4 = _lane_broadcast(ins, st, layout, flags, tier, out, (block, lanes, t))
+        f1 = min(f1, h1)
+        f2 = min(f2, h2)
+        f3 = min(f3, h3)
+        f4 = min(f4, h4)
+    return f1, f2, f3, f4
+
+
+@njit(cache=CACHE)
+def _fused_broadcast_paper(ins, st, layout, flags, out, block, lanes):
+    return _fused_parallel_broadcast(ins, st, layout, FusedFlags(*flags), TIER_PAPER,
+                                     FusedOutputs(*out), block, lanes)
+
+
+@njit(cache=CACHE)
+def _fused_broadcast_relative(ins, st, layout, flags, out, block, lanes):
+    return _fused_parallel_broadcast(ins, st, layout, FusedFlags(*flags), TIER_RELATIVE,
+                                     FusedOutputs(*out), block, lanes)
+
+
+#: tier -> the parallel loop that reads broadcast inputs in place.
+_FUSED_BROADCAST = {TIER_PAPER: _fused_broadcast_paper,
+                    TIER_RELATIVE: _fused_broadcast_relative}
+
+
 @njit(cache=CACHE)
 def _prepare_block(ins, st, idx, body, particle_slip, out, j0, j1):
     """Columns ``j0 <= j < j1`` of :func:`prepare_flat`'s array, from the collisions
@@ -644,21 +785,87 @@ def _flat_input(a, shape, n):
     return np.require(a, dtype=np.float64, requirements=("C", "W")).reshape(-1), 1
 
 
-def flat_inputs(values, shape):
+def _own_values(a, shape, n):
+    """``a`` (broadcasting to ``shape``) as its own values, C-contiguous 1-D, and its
+    strides in elements over ``shape``; None where :func:`_flat_input` takes ``a`` with no
+    copy (one value, or ``n`` contiguous ones)."""
+    if type(a) is not np.ndarray or a.dtype != np.float64:
+        a = np.asarray(a, dtype=np.float64)
+    if a.size == 1 or (a.size == n and a.flags.c_contiguous and a.flags.writeable):
+        return None
+    own = np.ascontiguousarray(a)
+    if not own.flags.writeable:  # (the loops take one array type: writable, as the copies)
+        own = own.copy()
+    return own.reshape(-1), [s // 8 for s in np.broadcast_to(own, shape).strides]
+
+
+def _layout(shape, strides: dict):
+    """``(axes, strides, full)`` of the broadcast inputs (``strides``: ``{q: strides over
+    shape}``): the axes' lengths, those of length 1 dropped and neighbours that every input
+    steps through as one merged; an ``(N_INPUTS, axes)`` int64 array of each input's
+    strides over them; and one over ``shape`` itself (for :func:`materialize`)."""
+    axes: list = []  # [length, {q: stride}]
+    for d, size in enumerate(shape):
+        if size == 1:
+            continue
+        st = {q: s[d] for q, s in strides.items()}
+        if axes and all(axes[-1][1][q] == st[q] * size for q in strides):
+            axes[-1] = [axes[-1][0] * size, st]
+        else:
+            axes.append([size, st])
+    lengths = np.array([a[0] for a in axes], dtype=np.int64)
+    table = np.zeros((N_INPUTS, len(axes)), dtype=np.int64)
+    full = np.zeros((N_INPUTS, len(shape)), dtype=np.int64)
+    for q, s in strides.items():
+        full[q] = s
+        for j, (_, st) in enumerate(axes):
+            table[q, j] = st[q]
+    return lengths, table, full
+
+
+def materialize(ins, steps, layout, shape):
+    """The inputs of :func:`flat_inputs` with ``lazy=True`` as it returns them without:
+    every :data:`BROADCAST` input broadcast to ``shape`` and copied (step 1)."""
+    if layout is None:
+        return ins, steps
+    arrays, out = list(ins), steps.copy()
+    for q in np.flatnonzero(steps == BROADCAST):
+        view = np.lib.stride_tricks.as_strided(
+            ins[q], shape=tuple(shape), strides=tuple(int(s) * 8 for s in layout[2][q]),
+            writeable=False)
+        arrays[q] = np.ascontiguousarray(view).reshape(-1)
+        out[q] = 1
+    return tuple(arrays), out
+
+
+def flat_inputs(values, shape, lazy=False):
     """The tuple of flat input arrays and the array of their steps for :data:`INPUT_NAMES`
     ``values`` (float64 arrays, or Python floats) broadcasting to ``shape``. Scalars share
     one small array (one allocation: a call with scalar inputs costs microseconds, not tens
-    of them)."""
+    of them).
+
+    ``lazy=True`` (for :func:`fused_batch`'s parallel loop): an input that would be copied
+    (broadcast, or not C-contiguous) is given as its own values with step
+    :data:`BROADCAST` instead, and a third item is returned, the ``layout`` of those
+    inputs (:func:`_layout`; None where there is none): no copy is made here
+    (:func:`materialize` makes them, where needed)."""
     n = math.prod(shape)
     arrays = list(values)
     steps = np.zeros(len(values), dtype=np.int64)
     scalar_at = []
     done: dict = {}  # id -> (flat, step): one array given twice (h0 and h0_j) flattened once
+    spread: dict = {}  # q -> strides over shape of the inputs read in place (lazy)
     for q, v in enumerate(values):
         if type(v) is float or v.ndim == 0:
             scalar_at.append(q)
         elif id(v) in done:
-            arrays[q], steps[q] = done[id(v)]
+            arrays[q], steps[q] = done[id(v)][:2]
+            if steps[q] == BROADCAST:
+                spread[q] = done[id(v)][2]
+        elif lazy and (own := _own_values(v, shape, n)) is not None:
+            arrays[q], spread[q] = own
+            steps[q] = BROADCAST
+            done[id(v)] = (arrays[q], BROADCAST, spread[q])
         else:
             arrays[q], steps[q] = done[id(v)] = _flat_input(v, shape, n)
     if scalar_at:
@@ -668,10 +875,15 @@ def flat_inputs(values, shape):
         packed = np.array([float(values[q]) for q in scalar_at]).reshape(-1, 1)
         for q, row in zip(scalar_at, packed, strict=False):
             arrays[q] = row
-    return tuple(arrays), steps
+    if not lazy:
+        return tuple(arrays), steps
+    if not spread:
+        return tuple(arrays), steps, None
+    return tuple(arrays), steps, _layout(shape, spread)
 
 
-def fused_batch(ins, steps, n, tier, *, body, particle_slip, details=False, check=False):
+def fused_batch(ins, steps, n, tier, *, body, particle_slip, details=False, check=False,
+                into=(None, None), layout=None, shape=None):
     """Run the fused preparation and the ``tier`` kernel (:data:`TIER_PAPER` or
     :data:`TIER_RELATIVE`) on ``n`` collisions.
 
@@ -680,13 +892,25 @@ def fused_batch(ins, steps, n, tier, *, body, particle_slip, details=False, chec
     pass, by the rules of :func:`check_speeds` (``u0_j`` NaN meaning None), and a sixth
     item ``(code, index)`` is returned as there; collisions that break rule 3 or 4 are not
     computed (their outputs are NaN, stage -1), so a caller must raise on a nonzero code.
+    ``into``: ``(e_w, stage)``, 1-D arrays of ``n`` (float64, int8) to write those outputs
+    into (e.g. a map's result), or None for new ones. ``layout``, ``shape``: the inputs'
+    layout (:func:`flat_inputs` with ``lazy=True``) and their broadcast shape: the parallel
+    loop reads the :data:`BROADCAST` inputs in place.
     """
+    if layout is not None and n < SERIAL_BELOW:
+        ins, steps = materialize(ins, steps, layout, shape)
+        layout = None
+    e_w, stage = into
     # FusedOutputs and FusedFlags, as plain tuples (the entry points make them records)
-    out = (np.empty(n), np.empty(n, dtype=np.int8), np.empty(n, dtype=np.int8), np.empty(n),
-           np.empty((n, N_DETAILS if details else 0)))
+    out = (np.empty(n) if e_w is None else e_w,
+           np.empty(n, dtype=np.int8) if stage is None else stage,
+           np.empty(n, dtype=np.int8), np.empty(n), np.empty((n, N_DETAILS if details else 0)))
     args = (ins, steps, (bool(body), slip_flag(particle_slip), bool(check)), out)
     if n < SERIAL_BELOW:
         first = _FUSED_ENTRY[int(tier), False](*args)
+    elif layout is not None:
+        first = parallel_launch(_FUSED_BROADCAST[int(tier)], ins, steps, layout[:2], *args[2:],
+                                *launch_blocks(n))
     else:
         first = parallel_launch(_FUSED_ENTRY[int(tier), True], *args, *launch_blocks(n))
     if not check:

@@ -279,8 +279,11 @@ def _group_outputs(r: Resolved, group: str, nodes: int, out=None, u_star=None) -
     if group == "critical":
         c = critical_outputs(r)
         return tuple(c[k] for k in GROUPS["critical"][1])
-    c = flagged_collision_outputs(r, u_star, nodes, None if out is None else {
-        k: t for k, t in zip(GROUPS["collision"][1], out, strict=True) if t is not None})
+    into = None if out is None else {
+        k: t for k, t in zip(GROUPS["collision"][1], out, strict=True) if t is not None}
+    if into and "U" in into:
+        r.U_into(into["U"])  # U_Umf * Umf written into its block, not copied there
+    c = flagged_collision_outputs(r, u_star, nodes, into)
     return tuple(c[k] for k in GROUPS["collision"][1])
 
 

@@ -29,7 +29,7 @@ import numpy as np
 import xarray as xr
 
 from .._version import __version__
-from ..scene import Resolved, Scene
+from ..scene import COMPOSITION_KEY, Resolved, Scene
 from .layout import (
     GROUPS,
     _block_function,
@@ -239,6 +239,30 @@ class SweepPlan:
         dims = self.group_dims["collision"]
         values = dict(self.base)
         values.update({d: _compat(self.grid[d][sl[d]], (d,), dims) for d in dims})
+        r = Resolved(values)
+        whole = self._whole_properties
+        if whole is not None:
+            def cut(a):  # the block's elements of an array over the whole T and P axes
+                a = np.asarray(a)
+                at = dims[len(dims) - a.ndim:]
+                return a[tuple(sl[d] if n > 1 else slice(None)
+                               for d, n in zip(at, a.shape, strict=True))]
+
+            r.take_properties(whole, cut)
+        return r
+
+    @cached_property
+    def _whole_properties(self) -> Resolved | None:
+        """The scene over the grid's whole T and P axes, shaped as the blocks' (its gas
+        and liquid properties computed there once, each block takes its own elements:
+        :meth:`agglomtool.scene.Resolved.take_properties`); None where a block's
+        properties depend on more than its T and P (a swept gas or liquid)."""
+        if any(d in self.grid for d in ("gas", "liquid")) or COMPOSITION_KEY in self.base:
+            return None
+        dims = self.group_dims["collision"]
+        values = dict(self.base)
+        values.update({d: _compat(self.grid[d], (d,), dims) for d in ("T", "P")
+                       if d in self.grid})
         return Resolved(values)
 
     def _group(self, group: str, sl: dict, u_star=None, out=None, shared=None) -> dict:
