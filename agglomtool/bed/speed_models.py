@@ -117,6 +117,14 @@ def _bubble_diameter(x: dict, correlation: str):
 
 def _bubble(correlation: str):
     def law(x) -> SpeedModel:
+        # on a map's arrays: compiled parallel passes (None where the plain path must
+        # speak: an element outside the domain, a refused input)
+        theta = hd.bubble_theta_map(correlation, x["U"], x["Umf"], x["height"],
+                                    x["orifice_area"], x["column_diameter"], x["eps"],
+                                    x["wake_fraction"], d_p=x["d_p"], rho_p=x["rho_p"],
+                                    rho_g=x["rho_g"])
+        if theta is not None:
+            return SpeedModel("maxwellian", granular_temperature=theta)
         # bubble_state's chain, the steps after the bubble size in one compiled pass
         theta = hd.granular_temperature_bubbles(
             x["U"], x["Umf"], _bubble_diameter(x, correlation), x["column_diameter"],
@@ -127,6 +135,10 @@ def _bubble(correlation: str):
 
 
 def _collisional(x) -> SpeedModel:
+    theta = hd.collisional_theta_map(x["U"], x["Umf"], x["d_p"], x["rho_p"], x["rho_g"],
+                                     x["eps"], x["e"])
+    if theta is not None:  # a map's arrays, in a compiled parallel pass
+        return SpeedModel("maxwellian", granular_temperature=theta)
     theta = hd.granular_temperature_collisional_balance(
         x["U"], x["Umf"], x["d_p"], x["rho_p"], x["rho_g"], x["eps"], x["e"])
     return SpeedModel("maxwellian", granular_temperature=theta)
