@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 
 import numba
 import numpy as np
@@ -877,15 +878,19 @@ def _row_offsets(off, st, shp, row, j0):  # pragma: no cover - compiled
 
 
 @njit(parallel=True, cache=CACHE)
-def _bubble_pass(ins, st, shp, plan, mori_wen, theta, stats):  # pragma: no cover
-    """The bubble size and :func:`_bubble_chain` of every element into ``theta``.
+def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: no cover
+    """The bubble size and :func:`_bubble_chain` of every element into ``theta``, and
+    into ``code`` where it has an answer: the :data:`.speed_models.SPEED_FLAGS` code of
+    :func:`.speed_models.speed_domain` (0 where it answers; 1 where ``U <= Umf``; 2, 3 or
+    4 as :func:`bubble_domain`), or 5 where ``U`` or ``Umf`` is itself refused (negative,
+    not finite). ``theta`` is NaN where the code is not 0.
 
     ``ins``: U, Umf, P, Q, A0, fac, D_t, eps_mf, f_w. Darton: ``P`` is ``(U - Umf)**0.4``,
     ``fac`` ``(h + 4 sqrt(A0))**0.8``; Mori and Wen (``mori_wen``): ``P`` is
     ``(A_t (U - Umf))**0.4``, ``Q`` ``(A0 (U - Umf))**0.4``, ``fac`` the growth factor.
     The operations of :func:`bubble_diameter_darton` and :func:`_mori_wen` in their
-    order. ``stats[blk]``: the count of elements the chain refuses (their ``theta`` -1),
-    the largest ``d_b / D_t`` (slugging), the least and the largest ``U - Umf``."""
+    order. ``stats[blk]``: the counts of codes 1 to 5, the largest ``d_b / D_t``
+    (slugging), the least and the largest ``U - Umf``."""
     chunk, per_row, per_block = plan
     last = shp.shape[0] - 1
     row_len = shp[last]
@@ -900,7 +905,7 @@ def _bubble_pass(ins, st, shp, plan, mori_wen, theta, stats):  # pragma: no cove
         # size is at hand than when it is still being computed
         ex_buf = np.empty(chunk)
         db_buf = np.empty(chunk)
-        bad = 0
+        counts = np.zeros(6, np.int64)
         worst = -math.inf
         lo = math.inf
         hi = -math.inf
@@ -912,6 +917,7 @@ def _bubble_pass(ins, st, shp, plan, mori_wen, theta, stats):  # pragma: no cove
             o5, o6, o7, o8 = off[5], off[6], off[7], off[8]
             k = row * row_len + j0
             m = min(row_len - j0, chunk)
+            largest = -math.inf
             for j in range(m):
                 excess = _excess_one(x0[o0 + j * s0], x1[o1 + j * s1])
                 P = x2[o2 + j * s2]
@@ -929,33 +935,51 @@ def _bubble_pass(ins, st, shp, plan, mori_wen, theta, stats):  # pragma: no cove
                 db_buf[j] = d_b
                 lo = min(lo, excess)
                 hi = max(hi, excess)
-                worst = max(worst, d_b / x6[o6 + j * s6])
+                largest = max(largest, d_b)
+            # the largest d_b / D_t: over one column, the largest bubble over it (a
+            # division by a positive number keeps the order: the same number)
+            if s6 == 0:
+                worst = max(worst, largest / x6[o6])
+            else:
+                for j in range(m):
+                    worst = max(worst, db_buf[j] / x6[o6 + j * s6])
             for j in range(m):
-                t = _chain_one(ex_buf[j], x1[o1 + j * s1], db_buf[j], x6[o6 + j * s6],
-                               x7[o7 + j * s7], x8[o8 + j * s8])
-                if not t >= 0.0:
-                    bad += 1
+                Umf = x1[o1 + j * s1]
+                excess = ex_buf[j]
+                if excess < 0.0:  # refused by _excess_one
+                    U = x0[o0 + j * s0]
+                    c = 1 if 0.0 <= U < math.inf and 0.0 < Umf < math.inf else 5
+                    t = math.nan
+                else:
+                    t, c = _chain_code(excess, Umf, db_buf[j], x6[o6 + j * s6],
+                                       x7[o7 + j * s7], x8[o8 + j * s8])
+                counts[c] += 1
                 theta[k + j] = t
-        stats[blk, 0] = bad
-        stats[blk, 1] = worst
-        stats[blk, 2] = lo
-        stats[blk, 3] = hi
+                code[k + j] = c
+        for c in range(1, 6):
+            stats[blk, c - 1] = counts[c]
+        stats[blk, 5] = worst
+        stats[blk, 6] = lo
+        stats[blk, 7] = hi
 
 
 @njit(cache=CACHE)
-def _chain_one(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
-    """:func:`_bubble_chain` of one element: its granular temperature, or -1 where a check
-    of the chain (or the excess, -1) objects."""
-    if not (0.0 < excess and 0.0 < d_b < math.inf and 0.0 < D_t < math.inf
-            and 0.0 < eps_mf < 1.0):
-        return -1.0
+def _chain_code(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """:func:`_bubble_chain` of one element and its :func:`bubble_domain` code: ``(theta,
+    0)`` where the chain answers, ``(nan, code)`` where it does not (the same checks in
+    the same order, so the same verdict)."""
+    if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0
+            and 0.0 < excess < math.inf and 0.0 < f_w < math.inf):
+        return math.nan, 4
     u_b = excess + _rise_one(d_b, D_t)
     if not 0.0 < u_b < math.inf:
-        return -1.0
+        return math.nan, 4
     delta = _fraction_one(excess, Umf, u_b, eps_mf)
     if not delta < 1.0:
-        return -1.0
-    return _wake_one(delta, u_b, f_w)
+        return math.nan, 2
+    if not 1.0 - delta - f_w * delta > 0.0:
+        return math.nan, 3
+    return _wake_one(delta, u_b, f_w), 0
 
 
 def _run(kernel, ins, st, shp, *args, columns=1):
@@ -966,6 +990,36 @@ def _run(kernel, ins, st, shp, *args, columns=1):
     stats = np.empty((blocks, columns))
     parallel_launch(kernel, ins, st, shp, plan, *args, stats)
     return stats
+
+
+#: Elements of an array below which :func:`_power` takes it in one piece.
+_POWER_SPLIT = 65536
+_POOL: ThreadPoolExecutor | None = None
+
+
+def _power(a, p) -> None:
+    """``a **= p`` (``a`` a C-contiguous float64 array) by numpy's vectorized ``pow``, in
+    pieces on Numba's number of threads: numpy lets go of the interpreter while it
+    computes, and its ``pow`` gives the same bits in place, out of place or in pieces
+    (each element on its own). One thread, or a small array: one call."""
+    flat = a.reshape(-1)
+    threads = numba.get_num_threads()
+    if threads == 1 or flat.size < _POWER_SPLIT:
+        np.power(flat, p, out=flat)
+        return
+    global _POOL
+    if _POOL is None:
+        _POOL = ThreadPoolExecutor(max_workers=numba.config.NUMBA_NUM_THREADS,
+                                   thread_name_prefix="agglomtool-pow")
+    step = -(-flat.size // threads)
+    err = np.geterr()  # the caller's error state (numpy's is per thread)
+
+    def piece(i):
+        with np.errstate(**err):
+            np.power(flat[i:i + step], p, out=flat[i:i + step])
+
+    for _ in _POOL.map(piece, range(0, flat.size, step)):
+        pass
 
 
 def _map_shape(*values) -> tuple | None:
@@ -983,7 +1037,7 @@ def _map_shape(*values) -> tuple | None:
 
 
 def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, d_p,
-                     rho_p, rho_g):
+                     rho_p, rho_g, partial=False):
     """The bubble models' granular temperature on a map's arrays [m2/s2]: the bubble size
     by ``correlation`` (``"darton"`` or ``"mori-wen"``), then
     :func:`granular_temperature_bubbles`, in two compiled parallel passes and numpy's
@@ -991,7 +1045,13 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
     :func:`bubble_diameter_darton` or :func:`bubble_diameter_mori_wen` followed by
     :func:`granular_temperature_bubbles`. None (nothing warned) where an element is
     outside the domain, an input is refused or the arrays are not a map's: the caller
-    then takes that plain path."""
+    then takes that plain path.
+
+    With ``partial``, :func:`.speed_models.speed_law_partial`'s answer instead: ``(theta,
+    flag)``, ``theta`` NaN where ``flag`` (the :func:`.speed_models.speed_domain` codes,
+    int8) is not 0, ``flag`` None where every element answers; the warnings those of the
+    plain path's first attempt. None where an element is refused otherwise than by the
+    model's domain (code 4 or 5 of :func:`_bubble_pass`): the plain path then."""
     values = (U, Umf, h, A0, D_t, eps_mf, wake_fraction)
     shape = _map_shape(*values)
     if shape is None:
@@ -1002,6 +1062,9 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
         A0 = check_range("A0", A0, 0.0, None, unit="m2")
         if mori_wen:
             D_t = check_range("D_t", D_t, 0.0, None, lo_open=True, unit="m")
+        elif d_p is not None and rho_p is not None and np.any(
+                (np.asarray(rho_p, float) - np.asarray(rho_g, float)) * 1e-3 <= 0.0):
+            return None  # Darton's powder check raises
     except ValueError:
         return None
     with np.errstate(invalid="ignore"):  # a bad element: the pass refuses it
@@ -1014,39 +1077,48 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
             fac = _mori_wen_growth(h, D_t)
             two = bool(np.any(A0 > 0.0))
             Q = np.multiply(A0, P) if two else 0.0
-            # as _mori_wen_arrays: A_t (U - Umf) and A0 (U - Umf) to the 0.4, in place
             np.multiply(A_t, P, out=P)
-            np.power(P, 0.4, out=P)
+            # A_t (U - Umf) and A0 (U - Umf) to the 0.4, as _mori_wen_arrays takes them
+            _power(P, 0.4)
             if two:
-                np.power(Q, 0.4, out=Q)
+                _power(Q, 0.4)
         else:
             fac = (h + 4.0 * np.sqrt(A0)) ** 0.8
             Q = 0.0
-            P = P**0.4  # as bubble_diameter_darton's excess**0.4
+            _power(P, 0.4)  # bubble_diameter_darton's excess**0.4
     ins = _map_inputs((U, Umf, P, Q, A0, fac, D_t, eps_mf, wake_fraction), shape)
     if ins is None:
         return None
     theta = np.empty(shape)
-    stats = _run(_bubble_pass, *ins, mori_wen, theta.reshape(-1), columns=4)
-    if stats[:, 0].any():
-        return None
-    # the plain path's warnings, in its order: the powder, Mori and Wen's data, slugging
-    if mori_wen:
-        _mori_wen_ranges(D_t, Umf, (float(stats[:, 2].min()), float(stats[:, 3].max())),
-                         d_p)
-    else:
-        _check_group("bubble_diameter_darton", d_p, rho_p, rho_g)
-    _check_slugging(None, None, stacklevel=4, worst=float(stats[:, 1].max()))
+    code = np.empty(shape, dtype=np.int8)
+    stats = _run(_bubble_pass, *ins, mori_wen, theta.reshape(-1), code.reshape(-1),
+                 columns=8)
+    n1, n2, n3, n4, n5 = stats[:, :5].sum(axis=0)
+    if n4 or n5 or ((n1 or n2 or n3) and not partial):
+        return None  # the plain path names the refused input, or raises for the points
+    if not n1:
+        # the warnings the plain path gives (before it raises for the points with no
+        # answer, if any; where U does not exceed Umf it raises first, with none): the
+        # powder, Mori and Wen's data, slugging, in its order
+        if mori_wen:
+            _mori_wen_ranges(D_t, Umf, (float(stats[:, 6].min()), float(stats[:, 7].max())),
+                             d_p)
+        else:
+            _check_group("bubble_diameter_darton", d_p, rho_p, rho_g)
+        _check_slugging(None, None, stacklevel=4, worst=float(stats[:, 5].max()))
+    if partial:
+        return theta, (code if n1 or n2 or n3 else None)
     return theta
 
 
+
 @njit(parallel=True, cache=CACHE)
-def _collisional_pass(ins, st, shp, plan, out, stats):  # pragma: no cover - compiled
+def _collisional_pass(ins, st, shp, plan, out, code, stats):  # pragma: no cover
     """The collisional balance's ``Theta**1.5`` of every element into ``out`` (``ins``: U,
     Umf, ``1 - rho_g / rho_p``, d_p, and the denominator ``12 (1 - e**2) eps_s g0``), the
-    operations of :func:`granular_temperature_collisional_balance` in their order;
-    ``stats[blk, 0]``: the count of elements whose excess gas :func:`_excess_one`
-    refuses."""
+    operations of :func:`granular_temperature_collisional_balance` in their order, and
+    into ``code``: 0, 1 where ``U <= Umf`` (``out`` NaN there), or 5 where ``U`` or
+    ``Umf`` is itself refused; ``stats[blk]``: the counts of codes 1 and 5."""
     chunk, per_row, per_block = plan
     last = shp.shape[0] - 1
     row_len = shp[last]
@@ -1056,7 +1128,8 @@ def _collisional_pass(ins, st, shp, plan, out, stats):  # pragma: no cover - com
     sqrt_pi = math.sqrt(math.pi)
     for blk in prange(stats.shape[0]):
         off = np.empty(5, np.int64)
-        bad = 0
+        n1 = 0
+        n5 = 0
         for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
             row = piece // per_row
             j0 = (piece - row * per_row) * chunk
@@ -1064,18 +1137,33 @@ def _collisional_pass(ins, st, shp, plan, out, stats):  # pragma: no cover - com
             o0, o1, o2, o3, o4 = off[0], off[1], off[2], off[3], off[4]
             k = row * row_len + j0
             for j in range(min(row_len - j0, chunk)):
-                excess = _excess_one(x0[o0 + j * s0], x1[o1 + j * s1])
+                U = x0[o0 + j * s0]
+                Umf = x1[o1 + j * s1]
+                excess = _excess_one(U, Umf)
                 if excess < 0.0:
-                    bad += 1
+                    if 0.0 <= U < math.inf and 0.0 < Umf < math.inf:
+                        n1 += 1
+                        code[k + j] = 1
+                    else:
+                        n5 += 1
+                        code[k + j] = 5
+                    out[k + j] = math.nan
+                    continue
                 power = excess * x2[o2 + j * s2] * GRAVITY * x3[o3 + j * s3] * sqrt_pi
                 out[k + j] = power / x4[o4 + j * s4]
-        stats[blk, 0] = bad
+                code[k + j] = 0
+        stats[blk, 0] = n1
+        stats[blk, 1] = n5
 
 
-def collisional_theta_map(U, Umf, d_p, rho_p, rho_g, eps_mf, e):
+def collisional_theta_map(U, Umf, d_p, rho_p, rho_g, eps_mf, e, *, partial=False):
     """:func:`granular_temperature_collisional_balance` on a map's arrays: a compiled
     parallel pass and numpy's power, the same numbers and warnings; None (nothing
-    warned) where the plain path would raise or the arrays are not a map's."""
+    warned) where the plain path would raise or the arrays are not a map's.
+
+    With ``partial``, :func:`.speed_models.speed_law_partial`'s answer: ``(theta, flag)``,
+    ``flag`` 1 (NaN ``theta``) where ``U`` does not exceed ``Umf``, or None where every
+    element answers (None, the plain path, for any other refusal)."""
     shape = _map_shape(U, Umf, d_p, rho_p, rho_g, eps_mf, e)
     if shape is None:
         return None
@@ -1097,9 +1185,16 @@ def collisional_theta_map(U, Umf, d_p, rho_p, rho_g, eps_mf, e):
     if ins is None:
         return None
     out = np.empty(shape)
-    if _run(_collisional_pass, *ins, out.reshape(-1))[:, 0].any():
+    code = np.empty(shape, dtype=np.int8)
+    n1, n5 = _run(_collisional_pass, *ins, out.reshape(-1), code.reshape(-1),
+                  columns=2).sum(axis=0)
+    if n5 or (n1 and not partial):
         return None
-    _check_group("granular_temperature_collisional_balance", d_p, rho_p, rho_g,
-                 allowed=("B", "D"), why="the balance neglects the gas's viscous damping of "
-                 "the particles' fluctuations, large for such fine powders")
-    return out ** (2.0 / 3.0)
+    if not n1:  # where U does not exceed Umf, the plain path raises before this warning
+        _check_group("granular_temperature_collisional_balance", d_p, rho_p, rho_g,
+                     allowed=("B", "D"), why="the balance neglects the gas's viscous "
+                     "damping of the particles' fluctuations, large for such fine powders")
+    _power(out, 2.0 / 3.0)  # the plain path's ** (2.0 / 3.0), numpy's pow
+    if partial:
+        return out, (code if n1 else None)
+    return out
