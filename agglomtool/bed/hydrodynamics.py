@@ -813,7 +813,7 @@ _PIECE = 1024
 _G_M02 = GRAVITY**-0.2
 
 
-def _map_inputs(values, shape):
+def _map_inputs(values, shape) -> tuple | None:
     """``values`` (float64 arrays or floats broadcasting to ``shape``) as the passes read
     them: ``(arrays, st, shp)``, ``arrays`` a tuple of flat C-contiguous float64 arrays,
     each the input's own elements (no broadcast copy), ``st[i, d]`` the step in elements
@@ -998,15 +998,15 @@ _POOL: ThreadPoolExecutor | None = None
 
 
 def _power(a, p) -> None:
-    """``a **= p`` (``a`` a C-contiguous float64 array) by numpy's vectorized ``pow``, in
-    pieces on Numba's number of threads: numpy lets go of the interpreter while it
-    computes, and its ``pow`` gives the same bits in place, out of place or in pieces
-    (each element on its own). One thread, or a small array: one call."""
-    flat = a.reshape(-1)
+    """``a **= p`` (``a`` a float64 array) by numpy's vectorized ``pow``, in pieces on
+    Numba's number of threads: numpy lets go of the interpreter while it computes, and its
+    ``pow`` gives the same bits in place, out of place or in pieces (each element on its
+    own). One thread, a small array or one not in C order: one call."""
     threads = numba.get_num_threads()
-    if threads == 1 or flat.size < _POWER_SPLIT:
-        np.power(flat, p, out=flat)
+    if threads == 1 or a.size < _POWER_SPLIT or not a.flags.c_contiguous:
+        np.power(a, p, out=a)
         return
+    flat = a.reshape(-1)  # a view: a is C-contiguous
     global _POOL
     if _POOL is None:
         _POOL = ThreadPoolExecutor(max_workers=numba.config.NUMBA_NUM_THREADS,
@@ -1068,7 +1068,8 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
     except ValueError:
         return None
     with np.errstate(invalid="ignore"):  # a bad element: the pass refuses it
-        P = np.subtract(U, Umf)  # the excess gas, as _excess gives it
+        P = np.subtract(U, Umf, out=np.empty(shape))  # the excess gas, as _excess gives
+        # it (in C order whatever the order of U: the passes and _power read it so)
         two = False
         if mori_wen:
             A_t = 0.25 * math.pi * D_t * D_t
@@ -1076,7 +1077,7 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
                 return None
             fac = _mori_wen_growth(h, D_t)
             two = bool(np.any(A0 > 0.0))
-            Q = np.multiply(A0, P) if two else 0.0
+            Q = np.multiply(A0, P, out=np.empty(shape)) if two else 0.0
             np.multiply(A_t, P, out=P)
             # A_t (U - Umf) and A0 (U - Umf) to the 0.4, as _mori_wen_arrays takes them
             _power(P, 0.4)
