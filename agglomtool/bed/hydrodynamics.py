@@ -828,9 +828,12 @@ def _map_inputs(values, shape) -> tuple | None:
             a = v if v.flags.c_contiguous and v.flags.writeable else np.array(v, order="C")
         else:
             return None
-        b = np.broadcast_to(a, shape) if a.ndim else np.broadcast_to(a.reshape(1), shape)
+        # the steps of the broadcast view, from the input's own (its axes are the shape's
+        # last ones; an axis of one, or one it lacks, has step 0)
+        lead = len(shape) - a.ndim
+        steps.append([0 if d < lead or a.shape[d - lead] == 1 else a.strides[d - lead] // 8
+                      for d in range(len(shape))])
         flat.append(a.reshape(-1))
-        steps.append([s // 8 if m > 1 else 0 for s, m in zip(b.strides, shape, strict=True)])
     dims: list[int] = []
     cols: list[list[int]] = []
     for d, m in enumerate(shape):
@@ -880,10 +883,10 @@ def _row_offsets(off, st, shp, row, j0):  # pragma: no cover - compiled
 @njit(parallel=True, cache=CACHE)
 def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: no cover
     """The bubble size and :func:`_bubble_chain` of every element into ``theta``, and
-    into ``code`` where it has an answer: the :data:`.speed_models.SPEED_FLAGS` code of
-    :func:`.speed_models.speed_domain` (0 where it answers; 1 where ``U <= Umf``; 2, 3 or
-    4 as :func:`bubble_domain`), or 5 where ``U`` or ``Umf`` is itself refused (negative,
-    not finite). ``theta`` is NaN where the code is not 0.
+    into ``code`` (zeros on entry) where it has no answer: the
+    :data:`.speed_models.SPEED_FLAGS` code of :func:`.speed_models.speed_domain` (1 where
+    ``U <= Umf``; 2, 3 or 4 as :func:`bubble_domain`), or 5 where ``U`` or ``Umf`` is
+    itself refused (negative, not finite). ``theta`` is NaN there.
 
     ``ins``: U, Umf, P, Q, A0, fac, D_t, eps_mf, f_w. Darton: ``P`` is ``(U - Umf)**0.4``,
     ``fac`` ``(h + 4 sqrt(A0))**0.8``; Mori and Wen (``mori_wen``): ``P`` is
@@ -917,25 +920,73 @@ def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: n
             o5, o6, o7, o8 = off[5], off[6], off[7], off[8]
             k = row * row_len + j0
             m = min(row_len - j0, chunk)
-            largest = -math.inf
-            for j in range(m):
-                excess = _excess_one(x0[o0 + j * s0], x1[o1 + j * s1])
-                P = x2[o2 + j * s2]
-                fac = x5[o5 + j * s5]
-                if mori_wen:
-                    d_bm = P * _MW_MAX
-                    if x4[o4 + j * s4] > 0.0:
-                        d_b0 = x3[o3 + j * s3] * _MW_PERFORATED
+            if s0 == 1 and s2 == 1 and s1 == 0 and s4 == 0 and s5 == 0:
+                # a map's usual row: U and the powers run along it, U_mf, the plate and
+                # the growth factor do not: a loop without branches, which the compiler
+                # vectorizes (the excess is _excess_one's, as a selection)
+                Umf = x1[o1]
+                fac = x5[o5]
+                umf_ok = 0.0 < Umf < math.inf
+                perforated = x4[o4] > 0.0
+                for j in range(m):
+                    U = x0[o0 + j]
+                    excess = U - Umf
+                    excess = (excess if umf_ok and 0.0 <= U < math.inf and excess > 0.0
+                              else -1.0)
+                    P = x2[o2 + j]
+                    if mori_wen:
+                        d_bm = P * _MW_MAX
+                        d_b0 = (x3[o3 + j * s3] * _MW_PERFORATED if perforated
+                                else (excess * excess) * _MW_POROUS)
+                        d_b = d_bm - (d_bm - d_b0) * fac
                     else:
-                        d_b0 = (excess * excess) * _MW_POROUS
-                    d_b = d_bm - (d_bm - d_b0) * fac
-                else:
-                    d_b = 0.54 * P * fac * _G_M02
-                ex_buf[j] = excess
-                db_buf[j] = d_b
-                lo = min(lo, excess)
-                hi = max(hi, excess)
-                largest = max(largest, d_b)
+                        d_b = 0.54 * P * fac * _G_M02
+                    ex_buf[j] = excess
+                    db_buf[j] = d_b
+            else:
+                for j in range(m):
+                    excess = _excess_one(x0[o0 + j * s0], x1[o1 + j * s1])
+                    P = x2[o2 + j * s2]
+                    fac = x5[o5 + j * s5]
+                    if mori_wen:
+                        d_bm = P * _MW_MAX
+                        if x4[o4 + j * s4] > 0.0:
+                            d_b0 = x3[o3 + j * s3] * _MW_PERFORATED
+                        else:
+                            d_b0 = (excess * excess) * _MW_POROUS
+                        d_b = d_bm - (d_bm - d_b0) * fac
+                    else:
+                        d_b = 0.54 * P * fac * _G_M02
+                    ex_buf[j] = excess
+                    db_buf[j] = d_b
+            # the chain, and the least and largest excess and the largest bubble
+            largest = -math.inf
+            refused = 0
+            if s1 == 0 and s6 == 0 and s7 == 0 and s8 == 0:
+                # a map's usual row: U_mf and the bed's geometry constant along it
+                Umf, D_t, eps_mf, f_w = x1[o1], x6[o6], x7[o7], x8[o8]
+                for j in range(m):
+                    excess = ex_buf[j]
+                    d_b = db_buf[j]
+                    lo = min(lo, excess)
+                    hi = max(hi, excess)
+                    largest = max(largest, d_b)
+                    t = _chain_one(excess, Umf, d_b, D_t, eps_mf, f_w)
+                    if not t >= 0.0:
+                        refused += 1
+                    theta[k + j] = t
+            else:
+                for j in range(m):
+                    excess = ex_buf[j]
+                    d_b = db_buf[j]
+                    lo = min(lo, excess)
+                    hi = max(hi, excess)
+                    largest = max(largest, d_b)
+                    t = _chain_one(excess, x1[o1 + j * s1], d_b, x6[o6 + j * s6],
+                                   x7[o7 + j * s7], x8[o8 + j * s8])
+                    if not t >= 0.0:
+                        refused += 1
+                    theta[k + j] = t
             # the largest d_b / D_t: over one column, the largest bubble over it (a
             # division by a positive number keeps the order: the same number)
             if s6 == 0:
@@ -943,19 +994,18 @@ def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: n
             else:
                 for j in range(m):
                     worst = max(worst, db_buf[j] / x6[o6 + j * s6])
-            for j in range(m):
-                Umf = x1[o1 + j * s1]
-                excess = ex_buf[j]
-                if excess < 0.0:  # refused by _excess_one
-                    U = x0[o0 + j * s0]
-                    c = 1 if 0.0 <= U < math.inf and 0.0 < Umf < math.inf else 5
-                    t = math.nan
-                else:
-                    t, c = _chain_code(excess, Umf, db_buf[j], x6[o6 + j * s6],
-                                       x7[o7 + j * s7], x8[o8 + j * s8])
-                counts[c] += 1
-                theta[k + j] = t
-                code[k + j] = c
+            for j in range(m if refused else 0):
+                if not theta[k + j] >= 0.0:  # no answer: why (the plain path's order)
+                    Umf = x1[o1 + j * s1]
+                    if ex_buf[j] < 0.0:  # refused by _excess_one
+                        U = x0[o0 + j * s0]
+                        c = 1 if 0.0 <= U < math.inf and 0.0 < Umf < math.inf else 5
+                    else:
+                        c = _chain_code(ex_buf[j], Umf, db_buf[j], x6[o6 + j * s6],
+                                        x7[o7 + j * s7], x8[o8 + j * s8])
+                    counts[c] += 1
+                    theta[k + j] = math.nan
+                    code[k + j] = c
         for c in range(1, 6):
             stats[blk, c - 1] = counts[c]
         stats[blk, 5] = worst
@@ -964,22 +1014,37 @@ def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: n
 
 
 @njit(cache=CACHE)
-def _chain_code(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
-    """:func:`_bubble_chain` of one element and its :func:`bubble_domain` code: ``(theta,
-    0)`` where the chain answers, ``(nan, code)`` where it does not (the same checks in
-    the same order, so the same verdict)."""
-    if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0
-            and 0.0 < excess < math.inf and 0.0 < f_w < math.inf):
-        return math.nan, 4
+def _chain_one(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """:func:`_bubble_chain` of one element (``excess`` -1 where :func:`_excess_one`
+    refused it): its granular temperature, or -1 where a check objects."""
+    if not (0.0 < excess and 0.0 < d_b < math.inf and 0.0 < D_t < math.inf
+            and 0.0 < eps_mf < 1.0):
+        return -1.0
     u_b = excess + _rise_one(d_b, D_t)
     if not 0.0 < u_b < math.inf:
-        return math.nan, 4
+        return -1.0
     delta = _fraction_one(excess, Umf, u_b, eps_mf)
     if not delta < 1.0:
-        return math.nan, 2
+        return -1.0
+    return _wake_one(delta, u_b, f_w)
+
+
+@njit(cache=CACHE)
+def _chain_code(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """The :func:`bubble_domain` code of an element :func:`_chain_one` refuses (the same
+    checks in the same order: the same verdict); 4 for any refusal it does not name."""
+    if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0
+            and 0.0 < excess < math.inf and 0.0 < f_w < math.inf):
+        return 4
+    u_b = excess + _rise_one(d_b, D_t)
+    if not 0.0 < u_b < math.inf:
+        return 4
+    delta = _fraction_one(excess, Umf, u_b, eps_mf)
+    if not delta < 1.0:
+        return 2
     if not 1.0 - delta - f_w * delta > 0.0:
-        return math.nan, 3
-    return _wake_one(delta, u_b, f_w), 0
+        return 3
+    return 4
 
 
 def _run(kernel, ins, st, shp, *args, columns=1):
@@ -1091,7 +1156,7 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
     if ins is None:
         return None
     theta = np.empty(shape)
-    code = np.empty(shape, dtype=np.int8)
+    code = np.zeros(shape, dtype=np.int8)  # the pass writes the nonzero codes
     stats = _run(_bubble_pass, *ins, mori_wen, theta.reshape(-1), code.reshape(-1),
                  columns=8)
     n1, n2, n3, n4, n5 = stats[:, :5].sum(axis=0)
