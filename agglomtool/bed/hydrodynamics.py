@@ -881,6 +881,42 @@ def _row_offsets(off, st, shp, row, j0):  # pragma: no cover - compiled
 
 
 @njit(parallel=True, cache=CACHE)
+def _excess_pass(ins, st, shp, plan, two, out_a, out_b, stats):  # pragma: no cover
+    """``a (U - Umf)`` into ``out_a`` and, with ``two``, ``b (U - Umf)`` into ``out_b``
+    (``ins``: U, Umf, a, b; unchecked: :func:`_bubble_pass` checks the excess), what
+    numpy's powers take next; ``stats`` unused (one column)."""
+    chunk, per_row, per_block = plan
+    last = shp.shape[0] - 1
+    row_len = shp[last]
+    pieces = (out_a.shape[0] // row_len) * per_row
+    s0, s1, s2, s3 = st[0, last], st[1, last], st[2, last], st[3, last]
+    x0, x1, x2, x3 = ins
+    for blk in prange(stats.shape[0]):
+        off = np.empty(4, np.int64)
+        for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
+            row = piece // per_row
+            j0 = (piece - row * per_row) * chunk
+            _row_offsets(off, st, shp, row, j0)
+            o0, o1, o2, o3 = off[0], off[1], off[2], off[3]
+            k = row * row_len + j0
+            m = min(row_len - j0, chunk)
+            if s0 == 1 and s1 == 0 and s2 == 0 and s3 == 0:  # a map's usual row
+                Umf, a, b = x1[o1], x2[o2], x3[o3]
+                for j in range(m):
+                    out_a[k + j] = a * (x0[o0 + j] - Umf)
+                if two:
+                    for j in range(m):
+                        out_b[k + j] = b * (x0[o0 + j] - Umf)
+            else:
+                for j in range(m):
+                    excess = x0[o0 + j * s0] - x1[o1 + j * s1]
+                    out_a[k + j] = x2[o2 + j * s2] * excess
+                    if two:
+                        out_b[k + j] = x3[o3 + j * s3] * excess
+        stats[blk, 0] = 0.0
+
+
+@njit(parallel=True, cache=CACHE)
 def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: no cover
     """The bubble size and :func:`_bubble_chain` of every element into ``theta``, and
     into ``code`` (zeros on entry) where it has no answer: the
@@ -1132,27 +1168,29 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
             return None  # Darton's powder check raises
     except ValueError:
         return None
-    with np.errstate(invalid="ignore"):  # a bad element: the pass refuses it
-        P = np.subtract(U, Umf, out=np.empty(shape))  # the excess gas, as _excess gives
-        # it (in C order whatever the order of U: the passes and _power read it so)
-        two = False
-        if mori_wen:
-            A_t = 0.25 * math.pi * D_t * D_t
-            if np.any(A0 > A_t):
-                return None
-            fac = _mori_wen_growth(h, D_t)
-            two = bool(np.any(A0 > 0.0))
-            Q = np.multiply(A0, P, out=np.empty(shape)) if two else 0.0
-            np.multiply(A_t, P, out=P)
-            # A_t (U - Umf) and A0 (U - Umf) to the 0.4, as _mori_wen_arrays takes them
-            _power(P, 0.4)
-            if two:
-                _power(Q, 0.4)
-        else:
-            fac = (h + 4.0 * np.sqrt(A0)) ** 0.8
-            Q = 0.0
-            _power(P, 0.4)  # bubble_diameter_darton's excess**0.4
-    ins = _map_inputs((U, Umf, P, Q, A0, fac, D_t, eps_mf, wake_fraction), shape)
+    two = False
+    if mori_wen:
+        A_t = 0.25 * math.pi * D_t * D_t
+        if np.any(A0 > A_t):
+            return None
+        fac = _mori_wen_growth(h, D_t)
+        two = bool(np.any(A0 > 0.0))
+        a, b = A_t, A0  # _mori_wen_arrays' A_t (U - Umf) and A0 (U - Umf)
+    else:
+        fac = (h + 4.0 * np.sqrt(A0)) ** 0.8
+        a, b = 1.0, 0.0  # bubble_diameter_darton's U - Umf (1.0 x: the same number)
+    ex = _map_inputs((U, Umf, a, b), shape)
+    if ex is None:
+        return None
+    P = np.empty(shape)
+    Q = np.empty(shape) if two else np.zeros(1)
+    _run(_excess_pass, *ex, two, P.reshape(-1), Q.reshape(-1))
+    with np.errstate(invalid="ignore"):  # a bad element: the pass below refuses it
+        _power(P, 0.4)  # to the 0.4, as the plain path takes them (numpy's pow)
+        if two:
+            _power(Q, 0.4)
+    ins = _map_inputs((U, Umf, P, Q if two else 0.0, A0, fac, D_t, eps_mf, wake_fraction),
+                      shape)
     if ins is None:
         return None
     theta = np.empty(shape)
