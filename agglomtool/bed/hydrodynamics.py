@@ -881,42 +881,6 @@ def _row_offsets(off, st, shp, row, j0):  # pragma: no cover - compiled
 
 
 @njit(parallel=True, cache=CACHE)
-def _excess_pass(ins, st, shp, plan, two, out_a, out_b, stats):  # pragma: no cover
-    """``a (U - Umf)`` into ``out_a`` and, with ``two``, ``b (U - Umf)`` into ``out_b``
-    (``ins``: U, Umf, a, b; unchecked: :func:`_bubble_pass` checks the excess), what
-    numpy's powers take next; ``stats`` unused (one column)."""
-    chunk, per_row, per_block = plan
-    last = shp.shape[0] - 1
-    row_len = shp[last]
-    pieces = (out_a.shape[0] // row_len) * per_row
-    s0, s1, s2, s3 = st[0, last], st[1, last], st[2, last], st[3, last]
-    x0, x1, x2, x3 = ins
-    for blk in prange(stats.shape[0]):
-        off = np.empty(4, np.int64)
-        for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
-            row = piece // per_row
-            j0 = (piece - row * per_row) * chunk
-            _row_offsets(off, st, shp, row, j0)
-            o0, o1, o2, o3 = off[0], off[1], off[2], off[3]
-            k = row * row_len + j0
-            m = min(row_len - j0, chunk)
-            if s0 == 1 and s1 == 0 and s2 == 0 and s3 == 0:  # a map's usual row
-                Umf, a, b = x1[o1], x2[o2], x3[o3]
-                for j in range(m):
-                    out_a[k + j] = a * (x0[o0 + j] - Umf)
-                if two:
-                    for j in range(m):
-                        out_b[k + j] = b * (x0[o0 + j] - Umf)
-            else:
-                for j in range(m):
-                    excess = x0[o0 + j * s0] - x1[o1 + j * s1]
-                    out_a[k + j] = x2[o2 + j * s2] * excess
-                    if two:
-                        out_b[k + j] = x3[o3 + j * s3] * excess
-        stats[blk, 0] = 0.0
-
-
-@njit(parallel=True, cache=CACHE)
 def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: no cover
     """The bubble size and :func:`_bubble_chain` of every element into ``theta``, and
     into ``code`` (zeros on entry) where it has no answer: the
@@ -930,6 +894,14 @@ def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: n
     The operations of :func:`bubble_diameter_darton` and :func:`_mori_wen` in their
     order. ``stats[blk]``: the counts of codes 1 to 5, the largest ``d_b / D_t``
     (slugging), the least and the largest ``U - Umf``."""
+    for blk in prange(stats.shape[0]):  # each block a serial loop: a small
+        # parallel body compiles faster
+        _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk)
+
+
+@njit(cache=CACHE)
+def _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk):  # pragma: no cover
+    """Block ``blk`` of :func:`_bubble_pass`."""
     chunk, per_row, per_block = plan
     last = shp.shape[0] - 1
     row_len = shp[last]
@@ -937,116 +909,101 @@ def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: n
     s0, s1, s2, s3, s4 = st[0, last], st[1, last], st[2, last], st[3, last], st[4, last]
     s5, s6, s7, s8 = st[5, last], st[6, last], st[7, last], st[8, last]
     x0, x1, x2, x3, x4, x5, x6, x7, x8 = ins
-    for blk in prange(stats.shape[0]):
-        off = np.empty(9, np.int64)
-        # a piece's excess gas and bubble sizes first, then its chain: the chain's
-        # regimes branch on the bubble size, and a branch mispredicted costs less when the
-        # size is at hand than when it is still being computed
-        ex_buf = np.empty(chunk)
-        db_buf = np.empty(chunk)
-        counts = np.zeros(6, np.int64)
-        worst = -math.inf
-        lo = math.inf
-        hi = -math.inf
-        for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
-            row = piece // per_row
-            j0 = (piece - row * per_row) * chunk
-            _row_offsets(off, st, shp, row, j0)
-            o0, o1, o2, o3, o4 = off[0], off[1], off[2], off[3], off[4]
-            o5, o6, o7, o8 = off[5], off[6], off[7], off[8]
-            k = row * row_len + j0
-            m = min(row_len - j0, chunk)
-            if s0 == 1 and s2 == 1 and s1 == 0 and s4 == 0 and s5 == 0:
-                # a map's usual row: U and the powers run along it, U_mf, the plate and
-                # the growth factor do not: a loop without branches, which the compiler
-                # vectorizes (the excess is _excess_one's, as a selection)
-                Umf = x1[o1]
-                fac = x5[o5]
-                umf_ok = 0.0 < Umf < math.inf
-                perforated = x4[o4] > 0.0
-                for j in range(m):
-                    U = x0[o0 + j]
-                    excess = U - Umf
-                    excess = (excess if umf_ok and 0.0 <= U < math.inf and excess > 0.0
-                              else -1.0)
-                    P = x2[o2 + j]
-                    if mori_wen:
-                        d_bm = P * _MW_MAX
-                        d_b0 = (x3[o3 + j * s3] * _MW_PERFORATED if perforated
-                                else (excess * excess) * _MW_POROUS)
-                        d_b = d_bm - (d_bm - d_b0) * fac
+    off = np.empty(9, np.int64)
+    # a piece's excess gas and bubble sizes first, then its chain: the chain's
+    # regimes branch on the bubble size, and a branch mispredicted costs less when the
+    # size is at hand than when it is still being computed
+    ex_buf = np.empty(chunk)
+    db_buf = np.empty(chunk)
+    counts = np.zeros(6, np.int64)
+    worst = -math.inf
+    lo = math.inf
+    hi = -math.inf
+    for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
+        row = piece // per_row
+        j0 = (piece - row * per_row) * chunk
+        _row_offsets(off, st, shp, row, j0)
+        o0, o1, o2, o3, o4 = off[0], off[1], off[2], off[3], off[4]
+        o5, o6, o7, o8 = off[5], off[6], off[7], off[8]
+        k = row * row_len + j0
+        m = min(row_len - j0, chunk)
+        if s0 == 1 and s2 == 1 and s1 == 0 and s4 == 0 and s5 == 0:
+            # a map's usual row: U and the powers run along it, U_mf, the plate and
+            # the growth factor do not: a loop without branches, which the compiler
+            # vectorizes (the excess is _excess_one's, as a selection)
+            Umf = x1[o1]
+            fac = x5[o5]
+            umf_ok = 0.0 < Umf < math.inf
+            perforated = x4[o4] > 0.0
+            for j in range(m):
+                U = x0[o0 + j]
+                excess = U - Umf
+                excess = (excess if umf_ok and 0.0 <= U < math.inf and excess > 0.0
+                          else -1.0)
+                P = x2[o2 + j]
+                if mori_wen:
+                    d_bm = P * _MW_MAX
+                    d_b0 = (x3[o3 + j * s3] * _MW_PERFORATED if perforated
+                            else (excess * excess) * _MW_POROUS)
+                    d_b = d_bm - (d_bm - d_b0) * fac
+                else:
+                    d_b = 0.54 * P * fac * _G_M02
+                ex_buf[j] = excess
+                db_buf[j] = d_b
+        else:
+            for j in range(m):
+                excess = _excess_one(x0[o0 + j * s0], x1[o1 + j * s1])
+                P = x2[o2 + j * s2]
+                fac = x5[o5 + j * s5]
+                if mori_wen:
+                    d_bm = P * _MW_MAX
+                    if x4[o4 + j * s4] > 0.0:
+                        d_b0 = x3[o3 + j * s3] * _MW_PERFORATED
                     else:
-                        d_b = 0.54 * P * fac * _G_M02
-                    ex_buf[j] = excess
-                    db_buf[j] = d_b
-            else:
-                for j in range(m):
-                    excess = _excess_one(x0[o0 + j * s0], x1[o1 + j * s1])
-                    P = x2[o2 + j * s2]
-                    fac = x5[o5 + j * s5]
-                    if mori_wen:
-                        d_bm = P * _MW_MAX
-                        if x4[o4 + j * s4] > 0.0:
-                            d_b0 = x3[o3 + j * s3] * _MW_PERFORATED
-                        else:
-                            d_b0 = (excess * excess) * _MW_POROUS
-                        d_b = d_bm - (d_bm - d_b0) * fac
-                    else:
-                        d_b = 0.54 * P * fac * _G_M02
-                    ex_buf[j] = excess
-                    db_buf[j] = d_b
-            # the chain, and the least and largest excess and the largest bubble
-            largest = -math.inf
-            refused = 0
-            if s1 == 0 and s6 == 0 and s7 == 0 and s8 == 0:
-                # a map's usual row: U_mf and the bed's geometry constant along it
-                Umf, D_t, eps_mf, f_w = x1[o1], x6[o6], x7[o7], x8[o8]
-                for j in range(m):
-                    excess = ex_buf[j]
-                    d_b = db_buf[j]
-                    lo = min(lo, excess)
-                    hi = max(hi, excess)
-                    largest = max(largest, d_b)
-                    t = _chain_one(excess, Umf, d_b, D_t, eps_mf, f_w)
-                    if not t >= 0.0:
-                        refused += 1
-                    theta[k + j] = t
-            else:
-                for j in range(m):
-                    excess = ex_buf[j]
-                    d_b = db_buf[j]
-                    lo = min(lo, excess)
-                    hi = max(hi, excess)
-                    largest = max(largest, d_b)
-                    t = _chain_one(excess, x1[o1 + j * s1], d_b, x6[o6 + j * s6],
-                                   x7[o7 + j * s7], x8[o8 + j * s8])
-                    if not t >= 0.0:
-                        refused += 1
-                    theta[k + j] = t
-            # the largest d_b / D_t: over one column, the largest bubble over it (a
-            # division by a positive number keeps the order: the same number)
-            if s6 == 0:
-                worst = max(worst, largest / x6[o6])
-            else:
-                for j in range(m):
-                    worst = max(worst, db_buf[j] / x6[o6 + j * s6])
-            for j in range(m if refused else 0):
-                if not theta[k + j] >= 0.0:  # no answer: why (the plain path's order)
-                    Umf = x1[o1 + j * s1]
-                    if ex_buf[j] < 0.0:  # refused by _excess_one
-                        U = x0[o0 + j * s0]
-                        c = 1 if 0.0 <= U < math.inf and 0.0 < Umf < math.inf else 5
-                    else:
-                        c = _chain_code(ex_buf[j], Umf, db_buf[j], x6[o6 + j * s6],
-                                        x7[o7 + j * s7], x8[o8 + j * s8])
-                    counts[c] += 1
-                    theta[k + j] = math.nan
-                    code[k + j] = c
-        for c in range(1, 6):
-            stats[blk, c - 1] = counts[c]
-        stats[blk, 5] = worst
-        stats[blk, 6] = lo
-        stats[blk, 7] = hi
+                        d_b0 = (excess * excess) * _MW_POROUS
+                    d_b = d_bm - (d_bm - d_b0) * fac
+                else:
+                    d_b = 0.54 * P * fac * _G_M02
+                ex_buf[j] = excess
+                db_buf[j] = d_b
+        # the chain, and the least and largest excess and the largest bubble
+        largest = -math.inf
+        refused = 0
+        for j in range(m):  # (one loop for every layout: one copy of the chain)
+            excess = ex_buf[j]
+            d_b = db_buf[j]
+            lo = min(lo, excess)
+            hi = max(hi, excess)
+            largest = max(largest, d_b)
+            t = _chain_one(excess, x1[o1 + j * s1], d_b, x6[o6 + j * s6], x7[o7 + j * s7],
+                           x8[o8 + j * s8])
+            if not t >= 0.0:
+                refused += 1
+            theta[k + j] = t
+        # the largest d_b / D_t: over one column, the largest bubble over it (a
+        # division by a positive number keeps the order: the same number)
+        if s6 == 0:
+            worst = max(worst, largest / x6[o6])
+        else:
+            for j in range(m):
+                worst = max(worst, db_buf[j] / x6[o6 + j * s6])
+        for j in range(m if refused else 0):
+            if not theta[k + j] >= 0.0:  # no answer: why (the plain path's order)
+                Umf = x1[o1 + j * s1]
+                if ex_buf[j] < 0.0:  # refused by _excess_one
+                    U = x0[o0 + j * s0]
+                    c = 1 if 0.0 <= U < math.inf and 0.0 < Umf < math.inf else 5
+                else:
+                    c = _chain_code(ex_buf[j], Umf, db_buf[j], x6[o6 + j * s6],
+                                    x7[o7 + j * s7], x8[o8 + j * s8])
+                counts[c] += 1
+                theta[k + j] = math.nan
+                code[k + j] = c
+    for c in range(1, 6):
+        stats[blk, c - 1] = counts[c]
+    stats[blk, 5] = worst
+    stats[blk, 6] = lo
+    stats[blk, 7] = hi
 
 
 @njit(cache=CACHE)
@@ -1093,34 +1050,57 @@ def _run(kernel, ins, st, shp, *args, columns=1):
     return stats
 
 
-#: Elements of an array below which :func:`_power` takes it in one piece.
-_POWER_SPLIT = 65536
+#: Elements below which numpy's operations between the passes run in one piece.
+_PIECES_FROM = 65536
 _POOL: ThreadPoolExecutor | None = None
 
 
-def _power(a, p) -> None:
-    """``a **= p`` (``a`` a float64 array) by numpy's vectorized ``pow``, in pieces on
-    Numba's number of threads: numpy lets go of the interpreter while it computes, and its
-    ``pow`` gives the same bits in place, out of place or in pieces (each element on its
-    own). One thread, a small array or one not in C order: one call."""
-    threads = numba.get_num_threads()
-    if threads == 1 or a.size < _POWER_SPLIT or not a.flags.c_contiguous:
-        np.power(a, p, out=a)
+def _in_pieces(work, rows: int, size: int | None = None) -> None:
+    """``work(i0, i1)`` over ``range(rows)`` in pieces, one a thread of Numba's count, on
+    a pool of threads: numpy's operations let go of the interpreter while they compute,
+    and each element's result does not depend on the piece it is in (numpy's ``pow``
+    gives the same bits in place or not, whole or in pieces). Under the caller's numpy
+    error state (numpy's is per thread). One thread, or fewer than :data:`_PIECES_FROM`
+    elements (``size``): one call."""
+    threads = min(numba.get_num_threads(), rows)
+    if threads <= 1 or (size is not None and size < _PIECES_FROM):
+        work(0, rows)
         return
-    flat = a.reshape(-1)  # a view: a is C-contiguous
     global _POOL
     if _POOL is None:
         _POOL = ThreadPoolExecutor(max_workers=numba.config.NUMBA_NUM_THREADS,
-                                   thread_name_prefix="agglomtool-pow")
-    step = -(-flat.size // threads)
-    err = np.geterr()  # the caller's error state (numpy's is per thread)
+                                   thread_name_prefix="agglomtool-numpy")
+    err = np.geterr()
+    step = -(-rows // threads)
 
-    def piece(i):
+    def piece(i0):
         with np.errstate(**err):
-            np.power(flat[i:i + step], p, out=flat[i:i + step])
+            work(i0, min(rows, i0 + step))
 
-    for _ in _POOL.map(piece, range(0, flat.size, step)):
+    for _ in _POOL.map(piece, range(0, rows, step)):
         pass
+
+
+def _rows(v, shape, i0, i1):
+    """Rows ``i0:i1`` of the first axis of ``v``'s broadcast to ``shape`` (``v`` itself
+    where it does not vary along that axis)."""
+    if np.ndim(v) < len(shape) or np.shape(v)[0] == 1:
+        return v
+    return v[i0:i1]
+
+
+def _power(a, p) -> None:
+    """``a **= p`` by numpy's vectorized ``pow``, in pieces of its flat C-order view
+    (:func:`_in_pieces`); an array not in C order in one call."""
+    if not a.flags.c_contiguous:
+        np.power(a, p, out=a)
+        return
+    flat = a.reshape(-1)
+
+    def work(i0, i1):
+        np.power(flat[i0:i1], p, out=flat[i0:i1])
+
+    _in_pieces(work, flat.size, flat.size)
 
 
 def _map_shape(*values) -> tuple | None:
@@ -1141,8 +1121,9 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
                      rho_p, rho_g, partial=False):
     """The bubble models' granular temperature on a map's arrays [m2/s2]: the bubble size
     by ``correlation`` (``"darton"`` or ``"mori-wen"``), then
-    :func:`granular_temperature_bubbles`, in two compiled parallel passes and numpy's
-    powers; the same numbers, warnings and (through the plain path) errors as
+    :func:`granular_temperature_bubbles`; numpy's excess gas and powers (in pieces on the
+    threads, :func:`_in_pieces`), then one compiled parallel pass (:func:`_bubble_pass`).
+    The same numbers, warnings and (through the plain path) errors as
     :func:`bubble_diameter_darton` or :func:`bubble_diameter_mori_wen` followed by
     :func:`granular_temperature_bubbles`. None (nothing warned) where an element is
     outside the domain, an input is refused or the arrays are not a map's: the caller
@@ -1178,19 +1159,26 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
         a, b = A_t, A0  # _mori_wen_arrays' A_t (U - Umf) and A0 (U - Umf)
     else:
         fac = (h + 4.0 * np.sqrt(A0)) ** 0.8
-        a, b = 1.0, 0.0  # bubble_diameter_darton's U - Umf (1.0 x: the same number)
-    ex = _map_inputs((U, Umf, a, b), shape)
-    if ex is None:
-        return None
+        a, b = None, None  # bubble_diameter_darton's U - Umf
     P = np.empty(shape)
-    Q = np.empty(shape) if two else np.zeros(1)
-    _run(_excess_pass, *ex, two, P.reshape(-1), Q.reshape(-1))
-    with np.errstate(invalid="ignore"):  # a bad element: the pass below refuses it
-        _power(P, 0.4)  # to the 0.4, as the plain path takes them (numpy's pow)
-        if two:
-            _power(Q, 0.4)
-    ins = _map_inputs((U, Umf, P, Q if two else 0.0, A0, fac, D_t, eps_mf, wake_fraction),
-                      shape)
+    Q = np.empty(shape) if two else None
+
+    def excess_powers(i0, i1):
+        # U - Umf, times A_t (and A0) for Mori and Wen, to the 0.4: the plain path's
+        # numpy operations on rows i0:i1 of the first axis (a bad element: the pass
+        # below refuses it)
+        p = np.subtract(_rows(U, shape, i0, i1), _rows(Umf, shape, i0, i1), out=P[i0:i1])
+        if Q is not None:
+            np.power(np.multiply(_rows(b, shape, i0, i1), p, out=Q[i0:i1]), 0.4,
+                     out=Q[i0:i1])
+        if mori_wen:
+            np.multiply(_rows(a, shape, i0, i1), p, out=p)
+        np.power(p, 0.4, out=p)
+
+    with np.errstate(invalid="ignore"):
+        _in_pieces(excess_powers, shape[0], math.prod(shape))
+    ins = _map_inputs((U, Umf, P, 0.0 if Q is None else Q, A0, fac, D_t, eps_mf,
+                       wake_fraction), shape)
     if ins is None:
         return None
     theta = np.empty(shape)
@@ -1223,6 +1211,14 @@ def _collisional_pass(ins, st, shp, plan, out, code, stats):  # pragma: no cover
     operations of :func:`granular_temperature_collisional_balance` in their order, and
     into ``code``: 0, 1 where ``U <= Umf`` (``out`` NaN there), or 5 where ``U`` or
     ``Umf`` is itself refused; ``stats[blk]``: the counts of codes 1 and 5."""
+    for blk in prange(stats.shape[0]):  # each block a serial loop: a small
+        # parallel body compiles faster
+        _collisional_block(ins, st, shp, plan, out, code, stats, blk)
+
+
+@njit(cache=CACHE)
+def _collisional_block(ins, st, shp, plan, out, code, stats, blk):  # pragma: no cover
+    """Block ``blk`` of :func:`_collisional_pass`."""
     chunk, per_row, per_block = plan
     last = shp.shape[0] - 1
     row_len = shp[last]
@@ -1230,34 +1226,33 @@ def _collisional_pass(ins, st, shp, plan, out, code, stats):  # pragma: no cover
     s0, s1, s2, s3, s4 = st[0, last], st[1, last], st[2, last], st[3, last], st[4, last]
     x0, x1, x2, x3, x4 = ins
     sqrt_pi = math.sqrt(math.pi)
-    for blk in prange(stats.shape[0]):
-        off = np.empty(5, np.int64)
-        n1 = 0
-        n5 = 0
-        for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
-            row = piece // per_row
-            j0 = (piece - row * per_row) * chunk
-            _row_offsets(off, st, shp, row, j0)
-            o0, o1, o2, o3, o4 = off[0], off[1], off[2], off[3], off[4]
-            k = row * row_len + j0
-            for j in range(min(row_len - j0, chunk)):
-                U = x0[o0 + j * s0]
-                Umf = x1[o1 + j * s1]
-                excess = _excess_one(U, Umf)
-                if excess < 0.0:
-                    if 0.0 <= U < math.inf and 0.0 < Umf < math.inf:
-                        n1 += 1
-                        code[k + j] = 1
-                    else:
-                        n5 += 1
-                        code[k + j] = 5
-                    out[k + j] = math.nan
-                    continue
-                power = excess * x2[o2 + j * s2] * GRAVITY * x3[o3 + j * s3] * sqrt_pi
-                out[k + j] = power / x4[o4 + j * s4]
-                code[k + j] = 0
-        stats[blk, 0] = n1
-        stats[blk, 1] = n5
+    off = np.empty(5, np.int64)
+    n1 = 0
+    n5 = 0
+    for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
+        row = piece // per_row
+        j0 = (piece - row * per_row) * chunk
+        _row_offsets(off, st, shp, row, j0)
+        o0, o1, o2, o3, o4 = off[0], off[1], off[2], off[3], off[4]
+        k = row * row_len + j0
+        for j in range(min(row_len - j0, chunk)):
+            U = x0[o0 + j * s0]
+            Umf = x1[o1 + j * s1]
+            excess = _excess_one(U, Umf)
+            if excess < 0.0:
+                if 0.0 <= U < math.inf and 0.0 < Umf < math.inf:
+                    n1 += 1
+                    code[k + j] = 1
+                else:
+                    n5 += 1
+                    code[k + j] = 5
+                out[k + j] = math.nan
+                continue
+            power = excess * x2[o2 + j * s2] * GRAVITY * x3[o3 + j * s3] * sqrt_pi
+            out[k + j] = power / x4[o4 + j * s4]
+            code[k + j] = 0
+    stats[blk, 0] = n1
+    stats[blk, 1] = n5
 
 
 def collisional_theta_map(U, Umf, d_p, rho_p, rho_g, eps_mf, e, *, partial=False):
