@@ -790,15 +790,15 @@ def granular_temperature_collisional_balance(U, Umf, d_p, rho_p, rho_g, eps_mf, 
 #
 # On a map (10**5-10**6 points a block) the correlations above each take a full-size pass
 # or more, single-threaded, while the collisions run on every core. The passes below give
-# the same numbers in parallel, reading each input by its broadcast strides (no full-size
-# copy of an input that varies along some axes only): a pass checks the domain and
-# computes what comes before numpy's powers (the excess gas, times the column's area for
-# Mori and Wen), numpy takes the powers (its vectorized ``pow``, as the plain path does:
-# compiled, the C library's ``pow`` costs 23 ns an element here against numpy's 2.6, and
-# differs from numpy's by 1 ulp in one element of 20), and a second pass takes the rest of
-# the chain. Any element outside the domain, or an input the checks refuse, gives
-# ``None``: the caller then takes the plain path, whose errors, warnings and flags are the
-# only ones.
+# the same numbers on every thread, reading each input by its broadcast steps (no
+# full-size copy of an input that varies along some axes only). The powers stay numpy's
+# (its vectorized ``pow``, as the plain path takes them, in pieces on the threads): the C
+# library's ``pow``, which a compiled loop calls, costs 23 ns an element here against
+# numpy's 2.6, and differs from numpy's by 1 ulp in about one element of 20. Then one pass
+# takes the rest of the law, the bounds its warnings need and the ``speed_flag`` codes.
+# Any element refused otherwise than by the model's domain, or an input the checks
+# refuse, gives ``None``: the caller then takes the plain path, whose errors are the only
+# ones.
 
 #: Elements of a map below which the laws take the plain path (a parallel launch costs
 #: tens of microseconds; a single Scene never takes these passes).
