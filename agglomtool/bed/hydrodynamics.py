@@ -1235,22 +1235,20 @@ def _collisional_block(ins, st, shp, plan, out, code, stats, blk):  # pragma: no
         _row_offsets(off, st, shp, row, j0)
         o0, o1, o2, o3, o4 = off[0], off[1], off[2], off[3], off[4]
         k = row * row_len + j0
+        # without branches (selections), which the compiler vectorizes; the excess is
+        # _excess_one's
         for j in range(min(row_len - j0, chunk)):
             U = x0[o0 + j * s0]
             Umf = x1[o1 + j * s1]
-            excess = _excess_one(U, Umf)
-            if excess < 0.0:
-                if 0.0 <= U < math.inf and 0.0 < Umf < math.inf:
-                    n1 += 1
-                    code[k + j] = 1
-                else:
-                    n5 += 1
-                    code[k + j] = 5
-                out[k + j] = math.nan
-                continue
+            excess = U - Umf
+            valid = 0.0 <= U < math.inf and 0.0 < Umf < math.inf
+            ok = valid and excess > 0.0
             power = excess * x2[o2 + j * s2] * GRAVITY * x3[o3 + j * s3] * sqrt_pi
-            out[k + j] = power / x4[o4 + j * s4]
-            code[k + j] = 0
+            out[k + j] = power / x4[o4 + j * s4] if ok else math.nan
+            c = 0 if ok else (1 if valid else 5)
+            n1 += c == 1
+            n5 += c == 5
+            code[k + j] = c
     stats[blk, 0] = n1
     stats[blk, 1] = n5
 
