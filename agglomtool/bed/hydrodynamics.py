@@ -16,6 +16,7 @@ in each function.
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from concurrent.futures import ThreadPoolExecutor
 
@@ -1053,6 +1054,15 @@ def _run(kernel, ins, st, shp, *args, columns=1):
 #: Elements below which numpy's operations between the passes run in one piece.
 _PIECES_FROM = 65536
 _POOL: ThreadPoolExecutor | None = None
+
+
+def _forget_pool() -> None:
+    """A forked child has none of its parent's threads: it starts a pool of its own."""
+    global _POOL
+    _POOL = None
+
+
+os.register_at_fork(after_in_child=_forget_pool)
 
 
 def _in_pieces(work, rows: int, size: int | None = None) -> None:
