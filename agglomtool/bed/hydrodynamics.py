@@ -16,12 +16,15 @@ in each function.
 from __future__ import annotations
 
 import math
+import os
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 
+import numba
 import numpy as np
-from numba import njit, vectorize
+from numba import njit, prange, vectorize
 
-from .._jit import CACHE
+from .._jit import CACHE, parallel_launch
 from .._validate import PlausibilityWarning, check_range
 from ..constants import GRAVITY
 
@@ -61,6 +64,12 @@ def _excess_checked(U, Umf):  # pragma: no cover - compiled
     """``U - Umf`` of one element where ``0 <= U``, ``0 < Umf``, both finite and
     ``U > Umf``; else -1 (no excess is negative): the caller then takes the plain path,
     whose error names the field and the value. One pass, no temporaries."""
+    return _excess_one(U, Umf)
+
+
+@njit(cache=CACHE)
+def _excess_one(U, Umf):  # pragma: no cover - compiled
+    """:func:`_excess_checked` of one element (shared with the map passes)."""
     if U >= 0.0 and Umf > 0.0 and U < math.inf and Umf < math.inf:
         excess = U - Umf
         if excess > 0.0:
@@ -270,6 +279,20 @@ def bubble_diameter_mori_wen(U, Umf, h, D_t, A0=0.0, *, d_p=None):
     if np.any(A0 > A_t):
         raise ValueError(f"A0 = {float(np.max(A0)):g} m2 is larger than the column's "
                          "cross-section: fewer than one orifice")
+    _mori_wen_ranges(D_t, Umf, excess, d_p)
+    # the growth factor exp(-0.3 h / D_t) over the broadcast of h and D_t alone (on a map
+    # a few values, not one per element: its exp was a third of the law's time), by the
+    # same compiled exp, so the same numbers
+    growth = _mori_wen_growth(h, D_t)
+    if np.ndim(excess) == 0:
+        return _mori_wen(excess, A_t, A0, growth)
+    return _mori_wen_arrays(excess, A_t, A0, growth)
+
+
+def _mori_wen_ranges(D_t, Umf, excess, d_p) -> None:
+    """Warn where ``D_t``, ``Umf``, ``U - Umf`` (``excess``: the array, or its least and
+    largest values, no NaN among them) or ``d_p`` leave the data of Mori and Wen (1975),
+    naming the first such input and its extreme value."""
     rng = MORI_WEN_RANGE
     checks = [("D_t", D_t, "m"), ("Umf", np.asarray(Umf, float), "m/s"),
               ("U - Umf", excess, "m/s")] + ([("d_p", np.asarray(d_p, float), "m")]
@@ -278,22 +301,16 @@ def bubble_diameter_mori_wen(U, Umf, h, D_t, A0=0.0, *, d_p=None):
         lo, hi = rng["excess" if name == "U - Umf" else name]
         # two reductions, no temporaries; with a NaN among the values (its minimum is
         # NaN) the element-wise comparisons, which skip it
-        mn, mx = np.min(val), np.max(val)
+        mn, mx = val if type(val) is tuple else (np.min(val), np.max(val))
         if mn != mn:
             out_lo, out_hi = bool(np.any(val < lo)), bool(np.any(val > hi))
         else:
             out_lo, out_hi = bool(mn < lo), bool(mx > hi)
         if out_lo or out_hi:
             out = float(mn) if out_lo else float(mx)
+            # stacklevel: _warn, here, the correlation (or the map pass), its caller
             _warn(f"bubble_diameter_mori_wen: {name} = {out:g} {unit} is outside the data "
-                  f"of Mori and Wen (1975), {lo:g}-{hi:g} {unit}", stacklevel=3)
-    # the growth factor exp(-0.3 h / D_t) over the broadcast of h and D_t alone (on a map
-    # a few values, not one per element: its exp was a third of the law's time), by the
-    # same compiled exp, so the same numbers
-    growth = _mori_wen_growth(h, D_t)
-    if np.ndim(excess) == 0:
-        return _mori_wen(excess, A_t, A0, growth)
-    return _mori_wen_arrays(excess, A_t, A0, growth)
+                  f"of Mori and Wen (1975), {lo:g}-{hi:g} {unit}", stacklevel=4)
 
 
 def _mori_wen_arrays(excess, A_t, A0, growth):
@@ -381,11 +398,13 @@ def bubble_rise_velocity_davidson_harrison(d_b, D_t=None):
     return _rise_with_wall(d_b, D_t)
 
 
-def _check_slugging(d_b, D_t, stacklevel=4) -> None:
-    """Warn where bubbles fill 0.6 of the column or more, naming the largest ratio."""
+def _check_slugging(d_b, D_t, stacklevel=4, worst=None) -> None:
+    """Warn where bubbles fill 0.6 of the column or more, naming the largest ratio
+    (``worst``, the largest ``d_b / D_t``, where the caller has it)."""
     # a scalar column: the largest bubble over it (division by a positive number keeps
     # the order, so the same number without a full-size quotient)
-    worst = float(np.max(d_b) / D_t) if D_t.ndim == 0 else float(np.max(d_b / D_t))
+    if worst is None:
+        worst = float(np.max(d_b) / D_t) if D_t.ndim == 0 else float(np.max(d_b / D_t))
     if worst >= SLUGGING_RATIO:
         _warn(f"bubbles of d_b = {worst:.3g} D_t: the bed slugs (d_b >= {SLUGGING_RATIO:g} "
               "D_t), outside the bubbling-bed correlations; the rise velocity of slugs, "
@@ -766,3 +785,523 @@ def granular_temperature_collisional_balance(U, Umf, d_p, rho_p, rho_g, eps_mf, 
     g0 = radial_distribution_carnahan_starling(eps_s)
     power = excess * (1.0 - rho_g / rho_p) * GRAVITY * d_p * math.sqrt(math.pi)
     return (power / (12.0 * (1.0 - e * e) * eps_s * g0)) ** (2.0 / 3.0)
+
+
+# --- the laws on a map's arrays: compiled parallel passes --------------------------------
+#
+# On a map (10**5-10**6 points a block) the correlations above each take a full-size pass
+# or more, single-threaded, while the collisions run on every core. The passes below give
+# the same numbers on every thread, reading each input by its broadcast steps (no
+# full-size copy of an input that varies along some axes only). The powers stay numpy's
+# (its vectorized ``pow``, as the plain path takes them, in pieces on the threads): the C
+# library's ``pow``, which a compiled loop calls, costs 23 ns an element here against
+# numpy's 2.6, and differs from numpy's by 1 ulp in about one element of 20. Then one pass
+# takes the rest of the law, the bounds its warnings need and the ``speed_flag`` codes.
+# Any element refused otherwise than by the model's domain, or an input the checks
+# refuse, gives ``None``: the caller then takes the plain path, whose errors are the only
+# ones.
+
+#: Elements of a map below which the laws take the plain path (a parallel launch costs
+#: tens of microseconds; a single Scene never takes these passes).
+MAP_PASS_MIN = 4096
+#: Blocks per thread of a pass (the elements cost alike; a few blocks each evens out a
+#: thread that was descheduled).
+_BLOCKS_PER_THREAD = 4
+#: The longest piece of a row a pass takes in one go [elements] (its buffers stay in the
+#: processor's first-level cache).
+_PIECE = 1024
+#: Darton's constant factor ``g**-0.2``, as the plain expression takes it (a Python float).
+_G_M02 = GRAVITY**-0.2
+
+
+def _map_inputs(values, shape) -> tuple | None:
+    """``values`` (float64 arrays or floats broadcasting to ``shape``) as the passes read
+    them: ``(arrays, st, shp)``, ``arrays`` a tuple of flat C-contiguous float64 arrays,
+    each the input's own elements (no broadcast copy), ``st[i, d]`` the step in elements
+    of input ``i`` along axis ``d`` of ``shp`` (0 where it broadcasts), ``shp`` the shape
+    with its axes of one dropped and neighbours that every input steps through alike
+    merged (numpy's iterator coalescing). None where an input is not float64."""
+    flat, steps = [], []
+    for v in values:
+        if type(v) is float or type(v) is np.float64:
+            a = np.array([v], dtype=np.float64)
+        elif isinstance(v, np.ndarray) and v.dtype == np.float64:
+            a = v if v.flags.c_contiguous and v.flags.writeable else np.array(v, order="C")
+        else:
+            return None
+        # the steps of the broadcast view, from the input's own (its axes are the shape's
+        # last ones; an axis of one, or one it lacks, has step 0)
+        lead = len(shape) - a.ndim
+        steps.append([0 if d < lead or a.shape[d - lead] == 1 else a.strides[d - lead] // 8
+                      for d in range(len(shape))])
+        flat.append(a.reshape(-1))
+    dims: list[int] = []
+    cols: list[list[int]] = []
+    for d, m in enumerate(shape):
+        if m == 1:
+            continue
+        col = [row[d] for row in steps]
+        if dims and all(o == i * m for o, i in zip(cols[-1], col, strict=True)):
+            dims[-1] *= m  # the outer axis steps as the inner one run on: one axis
+            cols[-1] = col
+        else:
+            dims.append(m)
+            cols.append(col)
+    st = np.array(cols, dtype=np.int64).T.reshape(len(values), len(dims)).copy()
+    return tuple(flat), st, np.array(dims, dtype=np.int64)
+
+
+def _plan(shp) -> tuple[tuple[int, int, int], int]:
+    """How a pass splits the elements of ``shp`` (the shape of :func:`_map_inputs`):
+    ``((chunk, per_row, per_block), blocks)``. A pass runs along the last axis (a row) in
+    pieces of at most ``chunk`` elements, ``per_row`` pieces a row, ``per_block`` pieces a
+    block, ``blocks`` blocks (a few a thread)."""
+    n = math.prod(int(m) for m in shp)
+    row = int(shp[-1])
+    lanes = numba.get_num_threads() * _BLOCKS_PER_THREAD
+    chunk = min(row, _PIECE)
+    per_row = -(-row // chunk)
+    pieces = (n // row) * per_row
+    per_block = -(-pieces // lanes)
+    return (chunk, per_row, per_block), -(-pieces // per_block)
+
+
+@njit(cache=CACHE)
+def _row_offsets(off, st, shp, row, j0):  # pragma: no cover - compiled
+    """``off[i]``: input ``i``'s offset at element ``j0`` of row ``row`` (the rows in C order
+    of the axes of ``shp`` but the last)."""
+    last = shp.shape[0] - 1
+    for i in range(st.shape[0]):
+        off[i] = j0 * st[i, last]
+    for d in range(last - 1, -1, -1):
+        q = row // shp[d]
+        m = row - q * shp[d]
+        row = q
+        for i in range(st.shape[0]):
+            off[i] += m * st[i, d]
+
+
+@njit(parallel=True, cache=CACHE)
+def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: no cover
+    """The bubble size and :func:`_bubble_chain` of every element into ``theta``, and
+    into ``code`` (zeros on entry) where it has no answer: the
+    :data:`.speed_models.SPEED_FLAGS` code of :func:`.speed_models.speed_domain` (1 where
+    ``U <= Umf``; 2, 3 or 4 as :func:`bubble_domain`), or 5 where ``U`` or ``Umf`` is
+    itself refused (negative, not finite). ``theta`` is NaN there.
+
+    ``ins``: U, Umf, P, Q, A0, fac, D_t, eps_mf, f_w. Darton: ``P`` is ``(U - Umf)**0.4``,
+    ``fac`` ``(h + 4 sqrt(A0))**0.8``; Mori and Wen (``mori_wen``): ``P`` is
+    ``(A_t (U - Umf))**0.4``, ``Q`` ``(A0 (U - Umf))**0.4``, ``fac`` the growth factor.
+    The operations of :func:`bubble_diameter_darton` and :func:`_mori_wen` in their
+    order. ``stats[blk]``: the counts of codes 1 to 5, the largest ``d_b / D_t``
+    (slugging), the least and the largest ``U - Umf``."""
+    for blk in prange(stats.shape[0]):  # each block a serial loop: a small
+        # parallel body compiles faster
+        _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk)
+
+
+@njit(cache=CACHE)
+def _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk):  # pragma: no cover
+    """Block ``blk`` of :func:`_bubble_pass`."""
+    chunk, per_row, per_block = plan
+    last = shp.shape[0] - 1
+    row_len = shp[last]
+    pieces = (theta.shape[0] // row_len) * per_row
+    s0, s1, s2, s3, s4 = st[0, last], st[1, last], st[2, last], st[3, last], st[4, last]
+    s5, s6, s7, s8 = st[5, last], st[6, last], st[7, last], st[8, last]
+    x0, x1, x2, x3, x4, x5, x6, x7, x8 = ins
+    off = np.empty(9, np.int64)
+    # a piece's excess gas and bubble sizes first, then its chain: the chain's
+    # regimes branch on the bubble size, and a branch mispredicted costs less when the
+    # size is at hand than when it is still being computed
+    ex_buf = np.empty(chunk)
+    db_buf = np.empty(chunk)
+    counts = np.zeros(6, np.int64)
+    worst = -math.inf
+    lo = math.inf
+    hi = -math.inf
+    for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
+        row = piece // per_row
+        j0 = (piece - row * per_row) * chunk
+        _row_offsets(off, st, shp, row, j0)
+        o0, o1, o2, o3, o4 = off[0], off[1], off[2], off[3], off[4]
+        o5, o6, o7, o8 = off[5], off[6], off[7], off[8]
+        k = row * row_len + j0
+        m = min(row_len - j0, chunk)
+        if s0 == 1 and s2 == 1 and s1 == 0 and s4 == 0 and s5 == 0:
+            # a map's usual row: U and the powers run along it, U_mf, the plate and
+            # the growth factor do not: a loop without branches, which the compiler
+            # vectorizes (the excess is _excess_one's, as a selection)
+            Umf = x1[o1]
+            fac = x5[o5]
+            umf_ok = 0.0 < Umf < math.inf
+            perforated = x4[o4] > 0.0
+            for j in range(m):
+                U = x0[o0 + j]
+                excess = U - Umf
+                excess = (excess if umf_ok and 0.0 <= U < math.inf and excess > 0.0
+                          else -1.0)
+                P = x2[o2 + j]
+                if mori_wen:
+                    d_bm = P * _MW_MAX
+                    d_b0 = (x3[o3 + j * s3] * _MW_PERFORATED if perforated
+                            else (excess * excess) * _MW_POROUS)
+                    d_b = d_bm - (d_bm - d_b0) * fac
+                else:
+                    d_b = 0.54 * P * fac * _G_M02
+                ex_buf[j] = excess
+                db_buf[j] = d_b
+        else:
+            for j in range(m):
+                excess = _excess_one(x0[o0 + j * s0], x1[o1 + j * s1])
+                P = x2[o2 + j * s2]
+                fac = x5[o5 + j * s5]
+                if mori_wen:
+                    d_bm = P * _MW_MAX
+                    if x4[o4 + j * s4] > 0.0:
+                        d_b0 = x3[o3 + j * s3] * _MW_PERFORATED
+                    else:
+                        d_b0 = (excess * excess) * _MW_POROUS
+                    d_b = d_bm - (d_bm - d_b0) * fac
+                else:
+                    d_b = 0.54 * P * fac * _G_M02
+                ex_buf[j] = excess
+                db_buf[j] = d_b
+        # the chain, and the least and largest excess and the largest bubble
+        largest = -math.inf
+        refused = 0
+        for j in range(m):  # (one loop for every layout: one copy of the chain)
+            excess = ex_buf[j]
+            d_b = db_buf[j]
+            lo = min(lo, excess)
+            hi = max(hi, excess)
+            largest = max(largest, d_b)
+            t = _chain_one(excess, x1[o1 + j * s1], d_b, x6[o6 + j * s6], x7[o7 + j * s7],
+                           x8[o8 + j * s8])
+            if not t >= 0.0:
+                refused += 1
+            theta[k + j] = t
+        # the largest d_b / D_t: over one column, the largest bubble over it (a
+        # division by a positive number keeps the order: the same number)
+        if s6 == 0:
+            worst = max(worst, largest / x6[o6])
+        else:
+            for j in range(m):
+                worst = max(worst, db_buf[j] / x6[o6 + j * s6])
+        for j in range(m if refused else 0):
+            if not theta[k + j] >= 0.0:  # no answer: why (the plain path's order)
+                Umf = x1[o1 + j * s1]
+                if ex_buf[j] < 0.0:  # refused by _excess_one
+                    U = x0[o0 + j * s0]
+                    c = 1 if 0.0 <= U < math.inf and 0.0 < Umf < math.inf else 5
+                else:
+                    c = _chain_code(ex_buf[j], Umf, db_buf[j], x6[o6 + j * s6],
+                                    x7[o7 + j * s7], x8[o8 + j * s8])
+                counts[c] += 1
+                theta[k + j] = math.nan
+                code[k + j] = c
+    for c in range(1, 6):
+        stats[blk, c - 1] = counts[c]
+    stats[blk, 5] = worst
+    stats[blk, 6] = lo
+    stats[blk, 7] = hi
+
+
+@njit(cache=CACHE)
+def _chain_one(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """:func:`_bubble_chain` of one element (``excess`` -1 where :func:`_excess_one`
+    refused it): its granular temperature, or -1 where a check objects."""
+    if not (0.0 < excess and 0.0 < d_b < math.inf and 0.0 < D_t < math.inf
+            and 0.0 < eps_mf < 1.0):
+        return -1.0
+    u_b = excess + _rise_one(d_b, D_t)
+    if not 0.0 < u_b < math.inf:
+        return -1.0
+    delta = _fraction_one(excess, Umf, u_b, eps_mf)
+    if not delta < 1.0:
+        return -1.0
+    return _wake_one(delta, u_b, f_w)
+
+
+@njit(cache=CACHE)
+def _chain_code(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """The :func:`bubble_domain` code of an element :func:`_chain_one` refuses (the same
+    checks in the same order: the same verdict); 4 for any refusal it does not name."""
+    if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0
+            and 0.0 < excess < math.inf and 0.0 < f_w < math.inf):
+        return 4
+    u_b = excess + _rise_one(d_b, D_t)
+    if not 0.0 < u_b < math.inf:
+        return 4
+    delta = _fraction_one(excess, Umf, u_b, eps_mf)
+    if not delta < 1.0:
+        return 2
+    if not 1.0 - delta - f_w * delta > 0.0:
+        return 3
+    return 4
+
+
+def _run(kernel, ins, st, shp, *args, columns=1):
+    """Launch pass ``kernel`` over the inputs ``ins, st, shp`` of :func:`_map_inputs` with
+    its other arguments ``args`` (flags, outputs); its per-block statistics, ``columns``
+    wide."""
+    plan, blocks = _plan(shp)
+    stats = np.empty((blocks, columns))
+    parallel_launch(kernel, ins, st, shp, plan, *args, stats)
+    return stats
+
+
+#: Elements below which numpy's operations between the passes run in one piece.
+_PIECES_FROM = 65536
+_POOL: ThreadPoolExecutor | None = None
+
+
+def _forget_pool() -> None:
+    """A forked child has none of its parent's threads: it starts a pool of its own."""
+    global _POOL
+    _POOL = None
+
+
+os.register_at_fork(after_in_child=_forget_pool)
+
+
+def _in_pieces(work, rows: int, size: int | None = None) -> None:
+    """``work(i0, i1)`` over ``range(rows)`` in pieces, one a thread of Numba's count, on
+    a pool of threads: numpy's operations let go of the interpreter while they compute,
+    and each element's result does not depend on the piece it is in (numpy's ``pow``
+    gives the same bits in place or not, whole or in pieces). Under the caller's numpy
+    error state (numpy's is per thread). One thread, or fewer than :data:`_PIECES_FROM`
+    elements (``size``): one call."""
+    threads = min(numba.get_num_threads(), rows)
+    if threads <= 1 or (size is not None and size < _PIECES_FROM):
+        work(0, rows)
+        return
+    global _POOL
+    if _POOL is None:
+        _POOL = ThreadPoolExecutor(max_workers=numba.config.NUMBA_NUM_THREADS,
+                                   thread_name_prefix="agglomtool-numpy")
+    err = np.geterr()
+    step = -(-rows // threads)
+
+    def piece(i0):
+        with np.errstate(**err):
+            work(i0, min(rows, i0 + step))
+
+    for _ in _POOL.map(piece, range(0, rows, step)):
+        pass
+
+
+def _rows(v, shape, i0, i1):
+    """Rows ``i0:i1`` of the first axis of ``v``'s broadcast to ``shape`` (``v`` itself
+    where it does not vary along that axis)."""
+    if np.ndim(v) < len(shape) or np.shape(v)[0] == 1:
+        return v
+    return v[i0:i1]
+
+
+def _power(a, p) -> None:
+    """``a **= p`` by numpy's vectorized ``pow``, in pieces of its flat C-order view
+    (:func:`_in_pieces`); an array not in C order in one call."""
+    if not a.flags.c_contiguous:
+        np.power(a, p, out=a)
+        return
+    flat = a.reshape(-1)
+
+    def work(i0, i1):
+        np.power(flat[i0:i1], p, out=flat[i0:i1])
+
+    _in_pieces(work, flat.size, flat.size)
+
+
+def _map_shape(*values) -> tuple | None:
+    """The broadcast shape of ``values`` where it is a map's (at least
+    :data:`MAP_PASS_MIN` elements) and ``U - Umf`` (the first two) spans all of it (the
+    powers then run on full-size arrays, as on the plain path); else None."""
+    try:
+        shape = np.broadcast_shapes(*(np.shape(v) for v in values))
+    except ValueError:
+        return None
+    if (math.prod(shape) < MAP_PASS_MIN
+            or np.broadcast_shapes(np.shape(values[0]), np.shape(values[1])) != shape):
+        return None
+    return shape
+
+
+def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, d_p,
+                     rho_p, rho_g, partial=False):
+    """The bubble models' granular temperature on a map's arrays [m2/s2]: the bubble size
+    by ``correlation`` (``"darton"`` or ``"mori-wen"``), then
+    :func:`granular_temperature_bubbles`; numpy's excess gas and powers (in pieces on the
+    threads, :func:`_in_pieces`), then one compiled parallel pass (:func:`_bubble_pass`).
+    The same numbers, warnings and (through the plain path) errors as
+    :func:`bubble_diameter_darton` or :func:`bubble_diameter_mori_wen` followed by
+    :func:`granular_temperature_bubbles`. None (nothing warned) where an element is
+    outside the domain, an input is refused or the arrays are not a map's: the caller
+    then takes that plain path.
+
+    With ``partial``, :func:`.speed_models.speed_law_partial`'s answer instead: ``(theta,
+    flag)``, ``theta`` NaN where ``flag`` (the :func:`.speed_models.speed_domain` codes,
+    int8) is not 0, ``flag`` None where every element answers; the warnings those of the
+    plain path's first attempt. None where an element is refused otherwise than by the
+    model's domain (code 4 or 5 of :func:`_bubble_pass`): the plain path then."""
+    values = (U, Umf, h, A0, D_t, eps_mf, wake_fraction)
+    shape = _map_shape(*values)
+    if shape is None:
+        return None
+    mori_wen = correlation == "mori-wen"
+    try:  # the small inputs' checks, as the plain path makes them (it raises for them)
+        h = check_range("h", h, 0.0, None, unit="m")
+        A0 = check_range("A0", A0, 0.0, None, unit="m2")
+        if mori_wen:
+            D_t = check_range("D_t", D_t, 0.0, None, lo_open=True, unit="m")
+        elif d_p is not None and rho_p is not None and np.any(
+                (np.asarray(rho_p, float) - np.asarray(rho_g, float)) * 1e-3 <= 0.0):
+            return None  # Darton's powder check raises
+    except ValueError:
+        return None
+    two = False
+    if mori_wen:
+        A_t = 0.25 * math.pi * D_t * D_t
+        if np.any(A0 > A_t):
+            return None
+        fac = _mori_wen_growth(h, D_t)
+        two = bool(np.any(A0 > 0.0))
+        a, b = A_t, A0  # _mori_wen_arrays' A_t (U - Umf) and A0 (U - Umf)
+    else:
+        fac = (h + 4.0 * np.sqrt(A0)) ** 0.8
+        a, b = None, None  # bubble_diameter_darton's U - Umf
+    P = np.empty(shape)
+    Q = np.empty(shape) if two else None
+
+    def excess_powers(i0, i1):
+        # U - Umf, times A_t (and A0) for Mori and Wen, to the 0.4: the plain path's
+        # numpy operations on rows i0:i1 of the first axis (a bad element: the pass
+        # below refuses it)
+        p = np.subtract(_rows(U, shape, i0, i1), _rows(Umf, shape, i0, i1), out=P[i0:i1])
+        if Q is not None:
+            np.power(np.multiply(_rows(b, shape, i0, i1), p, out=Q[i0:i1]), 0.4,
+                     out=Q[i0:i1])
+        if mori_wen:
+            np.multiply(_rows(a, shape, i0, i1), p, out=p)
+        np.power(p, 0.4, out=p)
+
+    with np.errstate(invalid="ignore"):
+        _in_pieces(excess_powers, shape[0], math.prod(shape))
+    ins = _map_inputs((U, Umf, P, 0.0 if Q is None else Q, A0, fac, D_t, eps_mf,
+                       wake_fraction), shape)
+    if ins is None:
+        return None
+    theta = np.empty(shape)
+    code = np.zeros(shape, dtype=np.int8)  # the pass writes the nonzero codes
+    stats = _run(_bubble_pass, *ins, mori_wen, theta.reshape(-1), code.reshape(-1),
+                 columns=8)
+    n1, n2, n3, n4, n5 = stats[:, :5].sum(axis=0)
+    if n4 or n5 or ((n1 or n2 or n3) and not partial):
+        return None  # the plain path names the refused input, or raises for the points
+    if not n1:
+        # the warnings the plain path gives (before it raises for the points with no
+        # answer, if any; where U does not exceed Umf it raises first, with none): the
+        # powder, Mori and Wen's data, slugging, in its order
+        if mori_wen:
+            _mori_wen_ranges(D_t, Umf, (float(stats[:, 6].min()), float(stats[:, 7].max())),
+                             d_p)
+        else:
+            _check_group("bubble_diameter_darton", d_p, rho_p, rho_g)
+        _check_slugging(None, None, stacklevel=4, worst=float(stats[:, 5].max()))
+    if partial:
+        return theta, (code if n1 or n2 or n3 else None)
+    return theta
+
+
+
+@njit(parallel=True, cache=CACHE)
+def _collisional_pass(ins, st, shp, plan, out, code, stats):  # pragma: no cover
+    """The collisional balance's ``Theta**1.5`` of every element into ``out`` (``ins``: U,
+    Umf, ``1 - rho_g / rho_p``, d_p, and the denominator ``12 (1 - e**2) eps_s g0``), the
+    operations of :func:`granular_temperature_collisional_balance` in their order, and
+    into ``code``: 0, 1 where ``U <= Umf`` (``out`` NaN there), or 5 where ``U`` or
+    ``Umf`` is itself refused; ``stats[blk]``: the counts of codes 1 and 5."""
+    for blk in prange(stats.shape[0]):  # each block a serial loop: a small
+        # parallel body compiles faster
+        _collisional_block(ins, st, shp, plan, out, code, stats, blk)
+
+
+@njit(cache=CACHE)
+def _collisional_block(ins, st, shp, plan, out, code, stats, blk):  # pragma: no cover
+    """Block ``blk`` of :func:`_collisional_pass`."""
+    chunk, per_row, per_block = plan
+    last = shp.shape[0] - 1
+    row_len = shp[last]
+    pieces = (out.shape[0] // row_len) * per_row
+    s0, s1, s2, s3, s4 = st[0, last], st[1, last], st[2, last], st[3, last], st[4, last]
+    x0, x1, x2, x3, x4 = ins
+    sqrt_pi = math.sqrt(math.pi)
+    off = np.empty(5, np.int64)
+    n1 = 0
+    n5 = 0
+    for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
+        row = piece // per_row
+        j0 = (piece - row * per_row) * chunk
+        _row_offsets(off, st, shp, row, j0)
+        o0, o1, o2, o3, o4 = off[0], off[1], off[2], off[3], off[4]
+        k = row * row_len + j0
+        # without branches (selections), which the compiler vectorizes; the excess is
+        # _excess_one's
+        for j in range(min(row_len - j0, chunk)):
+            U = x0[o0 + j * s0]
+            Umf = x1[o1 + j * s1]
+            excess = U - Umf
+            valid = 0.0 <= U < math.inf and 0.0 < Umf < math.inf
+            ok = valid and excess > 0.0
+            power = excess * x2[o2 + j * s2] * GRAVITY * x3[o3 + j * s3] * sqrt_pi
+            out[k + j] = power / x4[o4 + j * s4] if ok else math.nan
+            c = 0 if ok else (1 if valid else 5)
+            n1 += c == 1
+            n5 += c == 5
+            code[k + j] = c
+    stats[blk, 0] = n1
+    stats[blk, 1] = n5
+
+
+def collisional_theta_map(U, Umf, d_p, rho_p, rho_g, eps_mf, e, *, partial=False):
+    """:func:`granular_temperature_collisional_balance` on a map's arrays: a compiled
+    parallel pass and numpy's power, the same numbers and warnings; None (nothing
+    warned) where the plain path would raise or the arrays are not a map's.
+
+    With ``partial``, :func:`.speed_models.speed_law_partial`'s answer: ``(theta, flag)``,
+    ``flag`` 1 (NaN ``theta``) where ``U`` does not exceed ``Umf``, or None where every
+    element answers (None, the plain path, for any other refusal)."""
+    shape = _map_shape(U, Umf, d_p, rho_p, rho_g, eps_mf, e)
+    if shape is None:
+        return None
+    try:  # the plain path's checks (it raises for them), in its order
+        d_p = check_range("d_p", d_p, 0.0, None, lo_open=True, unit="m")
+        rho_p = check_range("rho_p", rho_p, 0.0, None, lo_open=True, unit="kg/m3")
+        rho_g = check_range("rho_g", rho_g, 0.0, None, unit="kg/m3")
+        e = check_range("e", e, 0.0, 1.0, hi_open=True)
+        eps_s = 1.0 - check_range("eps_mf", eps_mf, 0.0, 1.0, lo_open=True, hi_open=True)
+    except ValueError:
+        return None
+    if np.any(rho_p <= rho_g):
+        return None
+    # the factors that do not vary with U - Umf, on their own (small) broadcasts, as the
+    # plain path takes them
+    g0 = radial_distribution_carnahan_starling(eps_s)
+    ins = _map_inputs((U, Umf, 1.0 - rho_g / rho_p, d_p, 12.0 * (1.0 - e * e) * eps_s * g0),
+                      shape)
+    if ins is None:
+        return None
+    out = np.empty(shape)
+    code = np.empty(shape, dtype=np.int8)
+    n1, n5 = _run(_collisional_pass, *ins, out.reshape(-1), code.reshape(-1),
+                  columns=2).sum(axis=0)
+    if n5 or (n1 and not partial):
+        return None
+    if not n1:  # where U does not exceed Umf, the plain path raises before this warning
+        _check_group("granular_temperature_collisional_balance", d_p, rho_p, rho_g,
+                     allowed=("B", "D"), why="the balance neglects the gas's viscous "
+                     "damping of the particles' fluctuations, large for such fine powders")
+    _power(out, 2.0 / 3.0)  # the plain path's ** (2.0 / 3.0), numpy's pow
+    if partial:
+        return out, (code if n1 else None)
+    return out

@@ -117,6 +117,14 @@ def _bubble_diameter(x: dict, correlation: str):
 
 def _bubble(correlation: str):
     def law(x) -> SpeedModel:
+        # on a map's arrays: compiled parallel passes (None where the plain path must
+        # speak: an element outside the domain, a refused input)
+        theta = hd.bubble_theta_map(correlation, x["U"], x["Umf"], x["height"],
+                                    x["orifice_area"], x["column_diameter"], x["eps"],
+                                    x["wake_fraction"], d_p=x["d_p"], rho_p=x["rho_p"],
+                                    rho_g=x["rho_g"])
+        if theta is not None:
+            return SpeedModel("maxwellian", granular_temperature=theta)
         # bubble_state's chain, the steps after the bubble size in one compiled pass
         theta = hd.granular_temperature_bubbles(
             x["U"], x["Umf"], _bubble_diameter(x, correlation), x["column_diameter"],
@@ -127,6 +135,10 @@ def _bubble(correlation: str):
 
 
 def _collisional(x) -> SpeedModel:
+    theta = hd.collisional_theta_map(x["U"], x["Umf"], x["d_p"], x["rho_p"], x["rho_g"],
+                                     x["eps"], x["e"])
+    if theta is not None:  # a map's arrays, in a compiled parallel pass
+        return SpeedModel("maxwellian", granular_temperature=theta)
     theta = hd.granular_temperature_collisional_balance(
         x["U"], x["Umf"], x["d_p"], x["rho_p"], x["rho_g"], x["eps"], x["e"])
     return SpeedModel("maxwellian", granular_temperature=theta)
@@ -217,6 +229,10 @@ def speed_law_partial(name: str, inputs: dict) -> tuple[SpeedModel, np.ndarray |
     Where some elements have no answer, the plausibility warnings the first attempt gave
     stand (they are about the map's inputs) and the law is computed again on the
     answering elements alone, without repeating them."""
+    on_map = _partial_on_map(name, inputs)
+    if on_map is not None:  # a map's arrays: the law and its flag in one compiled pass
+        theta, flag = on_map
+        return SpeedModel("maxwellian", granular_temperature=theta), flag
     try:
         return speed_law(name, inputs), None
     except ValueError:
@@ -233,6 +249,24 @@ def speed_law_partial(name: str, inputs: dict) -> tuple[SpeedModel, np.ndarray |
             law = speed_law(name, sub)
         theta[ok] = law.theta
     return SpeedModel("maxwellian", granular_temperature=theta), flag
+
+
+def _partial_on_map(name: str, inputs: dict):
+    """:func:`speed_law_partial`'s ``(theta, flag)`` from the compiled map passes of
+    :mod:`.hydrodynamics` (the law, the flag and the warnings in one pass; the same
+    numbers, codes and warnings), or None where they do not apply (not a map's arrays, an
+    input refused otherwise than by the model's domain, the excess-gas estimate, whose
+    plain pass costs little)."""
+    if name not in ("bubble-darton", "bubble-mori-wen", "collisional-balance"):
+        return None
+    x = {k: inputs[k] for k in IMPACT_SPEED_MODELS[name].needs}
+    if name == "collisional-balance":
+        return hd.collisional_theta_map(x["U"], x["Umf"], x["d_p"], x["rho_p"], x["rho_g"],
+                                        x["eps"], x["e"], partial=True)
+    return hd.bubble_theta_map(name[len("bubble-"):], x["U"], x["Umf"], x["height"],
+                               x["orifice_area"], x["column_diameter"], x["eps"],
+                               x["wake_fraction"], d_p=x["d_p"], rho_p=x["rho_p"],
+                               rho_g=x["rho_g"], partial=True)
 
 
 def partial_law(names, inputs_of) -> tuple[SpeedModel, np.ndarray | None]:
