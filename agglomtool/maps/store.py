@@ -30,8 +30,9 @@ How nothing is lost or mixed:
   (:class:`StoreLockedError`) while the first runs. The lock is an operating-system file
   lock (:mod:`filelock`): the kernel releases it when its holder dies, so a killed run
   never leaves the store locked.
-* **Crash safety.** A block's record is written (atomically) only after its data, so an
-  interrupted run leaves at most blocks without records, which the next run recomputes.
+* **Crash safety.** A block's record is written (atomically) only after its data, by the
+  process that wrote the data (a worker, on a cluster), so an interrupted run leaves at
+  most blocks without records, which the next run recomputes.
   :func:`hold_store` keeps the lock over a whole lifecycle (the CLI's sweep, export and
   removal); :func:`remove_store` deletes the records first, so a removal cut short leaves
   a store the same sweep mends.
@@ -260,12 +261,15 @@ def _quiet_zarr():
 
 
 def _write_block(plan, data_path: str, region: dict, owned: list, used: dict,
-                 expected_materials: dict) -> dict:
-    """Compute one block and write its region of the store; runs locally or on a worker.
+                 expected_materials: dict, done_path: str, head: dict) -> dict:
+    """Compute one block, write its region of the store, then its completion record;
+    runs locally or on a worker.
 
     ``plan`` is the sweep's :class:`~agglomtool.maps.plan.SweepPlan`, ``region`` the block's
-    ``{dim: slice}``, ``owned`` the variables it writes. Returns ``{variable: crc32}`` of the
-    data written.
+    ``{dim: slice}``, ``owned`` the variables it writes. The record (``done_path``) is
+    ``head`` (the block's index and the sweep's fingerprint) with ``{variable: crc32}`` of
+    the data written, written (atomically) after the data, where the data were written: the
+    client does no file work per block. Returns the block's :func:`_summary`.
     """
     import zarr
 
@@ -284,7 +288,50 @@ def _write_block(plan, data_path: str, region: dict, owned: list, used: dict,
         a = np.asarray(values[name]).copy(order="C")  # (ascontiguousarray makes 0-d 1-d)
         cast(zarr.Array, group[name])[tuple(region[d] for d in plan.variables[name][0])] = a
         crcs[name] = _crc(a)
-    return crcs
+    _atomic_write(Path(done_path), json.dumps({**head, "crc32": crcs}))
+    return _summary(values)
+
+
+#: Variables whose codes a store's run counts block by block, and those whose range it
+#: keeps (:func:`_summary`): what the flagged points' warning and the deciding regime read
+#: (:func:`agglomtool.maps.speed_flag.warn_flagged`, :func:`agglomtool.maps.regime.
+#: deciding_regime`), so that the client never reads the map back for them.
+_COUNTED = ("u_star_flag", "speed_flag")
+_RANGED = ("mu_l",)
+
+
+def _summary(values: dict) -> dict:
+    """``{name: {code: points}}`` of the counted variables among ``values`` (one block's)
+    and ``{name: [min, max]}`` (NaN skipped) of the ranged ones."""
+    out: dict = {}
+    for name, a in values.items():
+        if name in _COUNTED:
+            codes, counts = np.unique(np.asarray(a), return_counts=True)
+            out[name] = {int(c): int(n) for c, n in zip(codes, counts, strict=True)}
+        elif name in _RANGED:
+            a = np.asarray(a, dtype=float)
+            out[name] = [float(np.fmin.reduce(a, axis=None, initial=np.inf)),
+                         float(np.fmax.reduce(a, axis=None, initial=-np.inf))]
+    return out
+
+
+def _add_summary(total: dict, part: dict) -> None:
+    """Add a block's :func:`_summary` ``part`` to ``total``."""
+    for name, value in part.items():
+        if name in _COUNTED:
+            counts = total.setdefault(name, {})
+            for code, n in value.items():
+                counts[code] = counts.get(code, 0) + n
+        else:
+            lo, hi = total.get(name, (np.inf, -np.inf))
+            total[name] = [min(lo, value[0]), max(hi, value[1])]
+
+
+def _finish_summary(total: dict) -> dict:
+    """The summary of a whole map: a range that saw no number is NaN to NaN (as xarray's
+    min and max of an all-NaN variable)."""
+    return {name: value if name in _COUNTED or value[0] <= value[1] else [np.nan, np.nan]
+            for name, value in total.items()}
 
 
 # ---------------------------------------------------------------------------------------
@@ -516,18 +563,32 @@ def _files_manifest(files: dict, data_vars) -> dict:
 
 
 def _is_layout_file(rel: str, data_vars) -> bool:
-    """Whether the file ``rel`` (relative to ``map.zarr``) belongs to the layout: every
-    ``zarr.json`` and the chunks of the coordinates; the chunks of the data variables are
-    the blocks' (checked against their completion records)."""
+    """Whether the file ``rel`` (relative to ``map.zarr``) belongs to the layout: the
+    group's and every array's ``zarr.json`` and every file outside the data variables
+    (the coordinates' chunks); the chunks of the data variables are the blocks' (checked
+    against their completion records)."""
     parts = rel.split("/")
-    return parts[-1] == "zarr.json" or parts[0] not in data_vars
+    return parts[0] not in data_vars or parts[1:] == ["zarr.json"]
 
 
 def _manifest(data: Path, data_vars) -> dict:
-    """``{file: sha256}`` of the layout files under ``data`` (relative POSIX paths)."""
+    """``{file: sha256}`` of the layout files under ``data`` (relative POSIX paths). Only
+    the layout is walked: of a data variable's folder, its ``zarr.json`` alone, so the
+    time does not grow with the blocks written."""
+    files = []
+    with os.scandir(data) as top:
+        for entry in top:
+            if not entry.is_dir():
+                files.append(entry.name)
+            elif entry.name in data_vars:
+                files.append(f"{entry.name}/zarr.json")
+            else:
+                for folder, _, names in os.walk(entry.path):
+                    rel = Path(folder).relative_to(data).as_posix()
+                    files += [f"{rel}/{n}" for n in names]
     out = {}
-    for p in sorted(data.rglob("*")):
-        rel = p.relative_to(data).as_posix()
+    for rel in sorted(files):
+        p = data / rel
         if p.is_file() and _is_layout_file(rel, data_vars):
             out[rel] = hashlib.sha256(p.read_bytes()).hexdigest()
     return out
@@ -693,9 +754,10 @@ def _prepare(layout: _Layout, path: Path, fp: dict, overwrite: bool) -> None:
         _atomic_write(path / _RECORD, _record_text(fp, manifest))
 
 
-def _check_blocks(dims: list, path: Path, sha: str, blocks, var_dims: dict
-                  ) -> tuple[set, list]:
-    """Read back every recorded block; ``(good indices, [(index, reason)] of bad ones)``."""
+def _check_blocks(dims: list, path: Path, sha: str, blocks, var_dims: dict,
+                  summary: dict | None = None) -> tuple[set, list]:
+    """Read back every recorded block; ``(good indices, [(index, reason)] of bad ones)``.
+    The good blocks' :func:`_summary` is added to ``summary``, where given."""
     import zarr
 
     good, bad = set(), []
@@ -717,15 +779,19 @@ def _check_blocks(dims: list, path: Path, sha: str, blocks, var_dims: dict
             elif sorted(rec.get("crc32", {})) != sorted(owned):
                 reason = "its record lists other variables"
             else:
+                read = {}
                 for name in owned:
-                    a = cast(zarr.Array, group[name])[tuple(sl[d] for d in var_dims[name])]
-                    if _crc(np.asarray(a)) != rec["crc32"][name]:
+                    read[name] = np.asarray(cast(zarr.Array, group[name])[
+                        tuple(sl[d] for d in var_dims[name])])
+                    if _crc(read[name]) != rec["crc32"][name]:
                         reason = f"{name} fails its checksum"
                         break
         except Exception as exc:  # noqa: BLE001 - unreadable for any reason: recompute
             reason = f"it cannot be read ({type(exc).__name__}: {exc})"
         if reason is None:
             good.add(idx)
+            if summary is not None:
+                _add_summary(summary, _summary(read))
         else:
             bad.append((idx, reason))
             rec_path.unlink(missing_ok=True)
@@ -802,11 +868,15 @@ def run_with_store(ds: xr.Dataset, store, *, progress: bool = False, overwrite: 
 
 
 def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, client=None,
-               verify: bool = True, announce=None) -> xr.Dataset:
+               verify: bool = True, announce=None, summary: dict | None = None
+               ) -> xr.Dataset:
     """:func:`run_with_store` of a :class:`~agglomtool.maps.plan.SweepPlan`: its blocks
     evaluated one by one (or on a cluster's workers), each written to its region.
     ``announce(seconds, method)`` is called once, before the progress bar: after a few
-    timed blocks computed here (:func:`agglomtool.maps.estimate.run_blocks_here`)."""
+    timed blocks computed here (:func:`agglomtool.maps.estimate.run_blocks_here`).
+    ``summary``, where given, receives the whole map's :func:`_summary` (the flags' code
+    counts, the range of ``mu_l``) from its blocks as they are written or checked; it is
+    left empty where ``verify`` is False (finished blocks are then not read)."""
     from .estimate import run_blocks_here
     from .progress import SweepBar
 
@@ -824,8 +894,9 @@ def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, 
         client = _active_client()
     with _writer_lock(path):
         _prepare(layout, path, fp, overwrite)
+        total: dict = {}
         if verify:
-            good, bad = _check_blocks(dims, path, sha, plan.blocks(), var_dims)
+            good, bad = _check_blocks(dims, path, sha, plan.blocks(), var_dims, total)
         else:
             good, bad = {idx for idx, _ in plan.blocks()
                          if (path / _DONE / _block_name(idx)).exists()}, []
@@ -841,7 +912,9 @@ def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, 
         data_path = str(path / _DATA)
 
         def task(idx, sl):
-            return plan, data_path, sl, _owned(var_dims, dims, idx), used, expected
+            return (data_path, sl, _owned(var_dims, dims, idx), used, expected,
+                    str(path / _DONE / _block_name(idx)),
+                    {"block": list(idx), "fingerprint": sha})
 
         done_points = sum(plan.block_points(plan.block_slices(i)) for i in good)
         bar = None
@@ -853,21 +926,22 @@ def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, 
             bar = SweepBar(plan.points, plan.n_blocks, f"sweep -> {path}", progress)
             bar.update(done_points, len(good))
 
-        def record(idx, crcs):
-            _atomic_write(path / _DONE / _block_name(idx),
-                          json.dumps({"block": list(idx), "fingerprint": sha, "crc32": crcs}))
+        def record(idx, part):  # the block and its record are written
+            _add_summary(total, part)
             bar.update(plan.block_points(plan.block_slices(idx)))
 
         try:
             if client is not None and client is not False and len(good) < plan.n_blocks:
                 start()
-                run_blocks(client, todo, task, _write_block, record)
+                run_blocks(client, todo, task, _write_block, record, shared=plan)
             else:
-                run_blocks_here(plan, lambda idx, sl: _write_block(*task(idx, sl)),
-                                lambda idx, sl, crcs: record(idx, crcs), start, good)
+                run_blocks_here(plan, lambda idx, sl: _write_block(plan, *task(idx, sl)),
+                                lambda idx, sl, result: record(idx, result), start, good)
         finally:
             if bar is not None:
                 bar.close()
+    if summary is not None and verify:
+        summary.update(_finish_summary(total))
     return open_store(path)
 
 
@@ -935,16 +1009,17 @@ def open_store(store) -> xr.Dataset:
         ds = xr.open_zarr(path / _DATA, consolidated=False, zarr_format=3)
     ds.attrs.pop("store_fingerprint_sha256", None)
     token = uuid.uuid4().hex[:12]
+    checked = {}
     for name in fp["variables"]:
-        var = ds[name]
+        var = ds[name].variable
         chunks = tuple(tuple(fp["chunks"][d]) for d in var.dims)
         reader = _CheckedArray(path, name, var.dims, dims, chunks, crcs,
                                var.dtype, var.shape)
         data = dask.array.from_array(reader, chunks=chunks, asarray=False, lock=False,
                                      name=f"agglomtool-store-{name}-{token}",
                                      meta=np.empty((0,) * var.ndim, dtype=var.dtype))
-        ds[name] = var.copy(data=data)
-    return ds
+        checked[name] = var.copy(data=data)
+    return ds.assign(checked)  # one merge for all the variables, not one each
 
 
 class _CheckedArray:
