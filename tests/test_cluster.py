@@ -1,5 +1,7 @@
 """Sweeps on a dask.distributed cluster: blocks run as tasks on the workers, bitwise equal."""
 
+import warnings
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -48,3 +50,48 @@ def test_active_client_is_used_without_a_store(client):
         got = sweep(SCENE, chunks=4, **GRID)  # the active client
     assert len(_block_tasks(ts)) == 6
     _bitwise(ref, got)
+
+
+MELT = Scene(gas="biomass-flue-gas", liquid="k-silicate-ash-melt", T=1123.15,
+             solid_i="silica-sand", d_i=300e-6)
+# no bridge at 0.05 um, every bridge held at 1 um (the map's deciding regime); U/U_mf 0.8
+# is not fluidized (no impact speed there: flagged, and warned)
+MELT_GRID = dict(T=[1073.15, 1223.15], h0=[0.05e-6, 1e-6], U_Umf=[0.8, 2.0, 8.0])
+
+
+def _said(fn):
+    """``fn()`` and the messages of its NoImpactSpeedWarnings."""
+    from agglomtool.bed.speed_models import NoImpactSpeedWarning
+
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        ds = fn()
+    return ds, [str(w.message) for w in rec if issubclass(w.category, NoImpactSpeedWarning)]
+
+
+def test_a_store_is_summarised_from_its_blocks_not_read_back_through_the_cluster(client,
+                                                                               tmp_path):
+    """The flagged points' warning and the deciding regime of a map made into a store come
+    from the blocks as they are written (and as a rerun checks them), the same as the
+    in-memory map's; nothing of the map is read back through the cluster for them."""
+    ref, ref_said = _said(lambda: sweep(MELT, chunks=2, client=False, **MELT_GRID))
+    assert len(ref_said) == 1 and ref.attrs["deciding_regime"]
+    for run in ("new", "rerun"):  # blocks written now; blocks found finished and checked
+        with get_task_stream(client) as ts:
+            got, said = _said(lambda: sweep(MELT, chunks=2, store=tmp_path / "s",
+                                            client=client, **MELT_GRID))
+        assert said == ref_said, run
+        assert got.attrs["deciding_regime"] == ref.attrs["deciding_regime"], run
+        other = [t["key"] for t in ts.data
+                 if not str(t["key"]).startswith(("agglomtool-block-", "agglomtool-shared-"))]
+        assert other == [], run
+        _bitwise(ref, got.compute(scheduler="synchronous"))
+
+
+def test_a_store_made_here_says_the_same_as_the_map_in_memory(tmp_path):
+    ref, ref_said = _said(lambda: sweep(MELT, chunks=2, client=False, **MELT_GRID))
+    for _ in range(2):
+        got, said = _said(lambda: sweep(MELT, chunks=2, store=tmp_path / "s", client=False,
+                                        **MELT_GRID))
+        assert said == ref_said
+        assert got.attrs["deciding_regime"] == ref.attrs["deciding_regime"]

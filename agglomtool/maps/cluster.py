@@ -6,10 +6,10 @@ with dask's synchronous scheduler inside one worker, and a cluster for sweeps sh
 process workers with one thread each, e.g. ``LocalCluster(processes=True,
 threads_per_worker=1)`` or ``dask worker SCHEDULER --nthreads 1 --nworkers N``.
 
-The client submits the blocks a few at a time (about two per worker thread), so neither
-it nor the scheduler ever holds more than those in flight: a store-backed sweep of any size
-runs with bounded memory on the client, which keeps only each block's small completion
-record (its checksums).
+The client submits the blocks a few at a time (two to four per worker thread, a batch at
+a time), so neither it nor the scheduler ever holds more than those in flight: a
+store-backed sweep of any size runs with bounded memory on the client, which keeps only
+each block's small completion record (its checksums).
 """
 
 from __future__ import annotations
@@ -77,14 +77,25 @@ def _workers(client) -> int:
         return 0
 
 
+def _same(value):
+    """The value itself: a task that holds ``shared`` on the workers (:func:`run_blocks`)."""
+    return value
+
+
 def run_blocks(client, todo, task, func, done, *, in_flight: int | None = None,
-               worker_timeout: float | None = None) -> None:
-    """Run ``func(*task(idx, sl))`` for every block of ``todo`` on the workers of ``client``.
+               worker_timeout: float | None = None, shared=None) -> None:
+    """Run ``func(*task(idx, sl))`` for every block of ``todo`` on the workers of ``client``
+    (``func(shared, *task(idx, sl))`` where ``shared`` is given).
+
+    Blocks are submitted in batches (one ``client.map`` each), between ``in_flight`` and
+    twice as many at a time, and their results are collected as they finish
+    (``distributed.as_completed``): the scheduler takes one message per batch, not one per
+    block, and the client makes no round trip of its own per block.
 
     Parameters
     ----------
     client : distributed.Client
-    todo : list of (tuple, dict)
+    todo : iterable of (tuple, dict)
         Block index and ``{dim: slice}`` of every block to run.
     task : callable
         ``task(idx, sl)`` -> the arguments of ``func`` for one block (built on the client).
@@ -93,11 +104,16 @@ def run_blocks(client, todo, task, func, done, *, in_flight: int | None = None,
     done : callable
         ``done(idx, result)``, called on the client as each block finishes.
     in_flight : int, optional
-        Blocks submitted at once (default: twice the workers' threads, at least 2).
+        Blocks submitted at once (default: twice the workers' threads, at least 2); up to
+        twice as many are in flight.
     worker_timeout : float, optional
         Seconds without a live worker after which the run fails with
         :class:`NoWorkersError` (default: ``AGGLOMTOOL_WORKER_TIMEOUT``, else
         :data:`WORKER_TIMEOUT`).
+    shared : object, optional
+        The first argument of every block (the sweep's plan): sent to the cluster once, as
+        one task's result that every block depends on, instead of once per block; a worker
+        then holds one copy, with its caches, for all its blocks.
 
     Raises
     ------
@@ -108,33 +124,42 @@ def run_blocks(client, todo, task, func, done, *, in_flight: int | None = None,
     """
     import time
 
-    from distributed import wait
+    from distributed import as_completed
 
     timeout = _worker_timeout() if worker_timeout is None else float(worker_timeout)
     limit = in_flight or max(2, 2 * _threads(client))
     pending = iter(todo)
-    index = {}
+    index: dict = {}  # key -> (future, idx) of every block in flight
     run = uuid.uuid4().hex[:12]
+    held = [] if shared is None else [client.submit(_same, shared, pure=False,
+                                                     key=f"agglomtool-shared-{run}")]
+    finished = as_completed(with_results=True)
 
-    def submit():
-        for idx, sl in pending:
-            fut = client.submit(func, *task(idx, sl), pure=False,
-                                key=f"agglomtool-block-{run}-{'-'.join(map(str, idx))}")
+    def submit(n: int) -> int:
+        batch = list(itertools.islice(pending, n))
+        if not batch:
+            return 0
+        columns = list(zip(*(task(idx, sl) for idx, sl in batch), strict=True))
+        keys = [f"agglomtool-block-{run}-{'-'.join(map(str, idx))}" for idx, _ in batch]
+        first = [held * len(batch)] if held else []  # the shared task's future, each block
+        futures = client.map(func, *first, *columns, key=keys, pure=False)
+        for fut, (idx, _) in zip(futures, batch, strict=True):
             index[fut.key] = fut, idx
-            return fut
-        return None
+        finished.update(futures)
+        return len(batch)
 
-    live = {f for f in (submit() for _ in range(limit)) if f is not None}
+    live = submit(2 * limit)
     alone_since = None  # when the cluster was last seen without a worker
     try:
         while live:
-            try:
-                finished, live = wait(live, timeout=min(1.0, timeout),
-                                      return_when="FIRST_COMPLETED")
-            except TimeoutError:  # none finished within the second
-                finished = set()
-            if not finished:
-                if _workers(client):
+            ready = []
+            while finished.has_ready():  # a worker's error is raised here, as it was raised
+                ready.append(next(finished))
+            if not ready:
+                with finished.thread_condition:
+                    if not finished.has_ready():
+                        finished.thread_condition.wait(timeout=min(1.0, timeout))
+                if finished.has_ready() or _workers(client):
                     alone_since = None
                     continue
                 now = time.monotonic()
@@ -142,22 +167,24 @@ def run_blocks(client, todo, task, func, done, *, in_flight: int | None = None,
                 if now - alone_since >= timeout:
                     raise NoWorkersError(
                         f"the dask cluster {_address(client)} has had no live worker for "
-                        f"{timeout:g} s, with {len(live)} block(s) waiting; start workers "
-                        "(dask worker SCHEDULER_ADDRESS --nthreads 1) and run again (finished "
-                        "blocks of a store are reused), or run without a cluster")
+                        f"{timeout:g} s, with {len(index)} block(s) waiting; start workers "
+                        "(dask worker SCHEDULER_ADDRESS --nthreads 1) and run again "
+                        "(finished blocks of a store are reused), or run without a cluster")
                 continue
             alone_since = None
-            for fut in finished:
-                result = fut.result()  # a worker's error is raised here, as the worker raised it
+            for fut, result in ready:
                 done(index.pop(fut.key)[1], result)
-                fut.release()
-                nxt = submit()
-                if nxt is not None:
-                    live.add(nxt)
+            live -= len(ready)
+            del ready
+            if live <= limit:
+                live += submit(2 * limit - live)
     except BaseException:
         for fut, _ in list(index.values()):  # a copy: cancelling changes what is pending
             fut.cancel()
         raise
+    finally:
+        for fut in held:
+            fut.release()
 
 
 def _address(client) -> str:
@@ -192,7 +219,7 @@ def _compute_plan(plan, client, progress: bool) -> dict:
            for k in plan.lazy_names}
 
     def task(idx, sl):
-        return plan, sl, plan.owned(idx)
+        return sl, plan.owned(idx)
 
     with SweepBar(plan.points, plan.n_blocks, "sweep", progress) as bar:
 
@@ -202,5 +229,5 @@ def _compute_plan(plan, client, progress: bool) -> dict:
                 out[name][tuple(sl[d] for d in plan.variables[name][0])] = a
             bar.update(plan.block_points(sl))
 
-        run_blocks(client, plan.blocks(), task, _compute_block, done)
+        run_blocks(client, plan.blocks(), task, _compute_block, done, shared=plan)
     return out

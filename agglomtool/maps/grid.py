@@ -225,12 +225,14 @@ def _sweep(scene: Scene, *, chunks, nodes, store, progress, compute, overwrite, 
     if on_cluster:
         announce(None, "not measured for a cluster")
     say = say_on_stderr if progress else logger.info
+    summary: dict = {}  # a store's flag counts and mu_l range, from its blocks
     with compile_notice(say, _est.compile_seconds(plan)):
         if store is not None:
             from .store import _run_store
 
             ds = _run_store(plan, store, progress=progress, overwrite=overwrite,
-                            client=client, announce=None if on_cluster else announce)
+                            client=client, announce=None if on_cluster else announce,
+                            summary=summary)
         elif on_cluster:
             from .cluster import _compute_plan
 
@@ -239,16 +241,17 @@ def _sweep(scene: Scene, *, chunks, nodes, store, progress, compute, overwrite, 
             ds = _dataset(plan, _compute_here(plan, progress, announce))
     from .speed_flag import warn_flagged
 
-    warn_flagged(ds, stacklevel=4)  # the points the speed model has no answer at, if any
-    return _with_regime(ds)
+    # the points the speed model has no answer at, if any
+    warn_flagged(ds, stacklevel=4, counts=summary.get("speed_flag"))
+    return _with_regime(ds, summary)
 
 
-def _with_regime(ds: xr.Dataset) -> xr.Dataset:
+def _with_regime(ds: xr.Dataset, summary: dict | None = None) -> xr.Dataset:
     """``ds`` with the attribute ``deciding_regime`` where the map has no finite ``u0*``
     (:func:`agglomtool.maps.regime.deciding_regime`: what then decides it)."""
     from .regime import deciding_regime
 
-    text = deciding_regime(ds)
+    text = deciding_regime(ds, summary)
     if text:
         ds.attrs["deciding_regime"] = text
     return ds

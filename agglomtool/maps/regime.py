@@ -14,22 +14,33 @@ from __future__ import annotations
 __all__ = ["deciding_regime"]
 
 
-def deciding_regime(ds) -> str:
+def deciding_regime(ds, summary: dict | None = None) -> str:
     """A sentence naming what decides the map ``ds``, or ``""`` where ``u0*`` is finite
-    somewhere (the map is then decided by speeds against ``u0*`` as usual)."""
+    somewhere (the map is then decided by speeds against ``u0*`` as usual).
+
+    ``summary``: the map's ``u_star_flag`` as ``{code: points}`` and the range of
+    ``mu_l`` as ``[min, max]``, where known without reading the map (a store's run counts
+    them block by block); else they are read from ``ds``."""
     if "u_star_flag" not in ds:
         return ""
-    # counted with xarray, so that a map opened lazily from a store is read chunk by chunk
-    flag = ds["u_star_flag"]
-    n = flag.size
-    if n == 0 or bool((flag == 0).any()):
+    summary = summary or {}
+    if "u_star_flag" in summary:
+        counts = summary["u_star_flag"]
+        n, n_finite = sum(counts.values()), counts.get(0, 0)
+        n_none, n_all = counts.get(1, 0), counts.get(2, 0)
+    else:  # counted with xarray: a map opened lazily from a store is read chunk by chunk
+        flag = ds["u_star_flag"]
+        n = flag.size
+        n_finite = 1 if n and bool((flag == 0).any()) else 0
+        n_none = n_all = 0
+        if n and not n_finite:
+            n_none, n_all = int((flag == 1).sum()), int((flag == 2).sum())
+    if n == 0 or n_finite:
         return ""
-    n_none = int((flag == 1).sum())
-    n_all = int((flag == 2).sum())
     mu = ""
     if "mu_l" in ds and n_all:
-        m = ds["mu_l"]
-        mu = f" (mu_l {float(m.min()):.2g}-{float(m.max()):.2g} Pa s)"
+        lo, hi = summary.get("mu_l") or (float(ds["mu_l"].min()), float(ds["mu_l"].max()))
+        mu = f" (mu_l {lo:.2g}-{hi:.2g} Pa s)"
     ceiling = ""
     if "scene" in ds.attrs:
         import json

@@ -82,10 +82,15 @@ def flag_counts(flag) -> dict[int, int]:
 
 def flag_text(flag, what: str = "the map") -> str | None:
     """The sentence a map with flagged points warns (None where none is flagged)."""
-    counts = flag_counts(flag)
+    return counts_text(flag_counts(flag), int(np.size(flag)), what)
+
+
+def counts_text(counts: dict, total: int, what: str = "the map") -> str | None:
+    """:func:`flag_text` of a flag with the nonzero codes' ``counts`` (``{code: points}``,
+    zeros allowed) of ``total`` points."""
+    counts = {c: counts[c] for c in SPEED_FLAGS if c != 0 and counts.get(c)}
     if not counts:
         return None
-    total = int(np.size(flag))
     reasons = "; ".join(f"{n} {SPEED_FLAGS[c][0]} ({SPEED_FLAGS[c][1]})"
                         for c, n in counts.items())
     return (f"the impact-speed model has no answer at {sum(counts.values())} of {total} "
@@ -103,11 +108,14 @@ _REMEDY = {
 }
 
 
-def warn_flagged(ds, stacklevel: int = 4) -> None:
+def warn_flagged(ds, stacklevel: int = 4, counts: dict | None = None) -> None:
     """Warn (:class:`~agglomtool.bed.speed_models.NoImpactSpeedWarning`) how many points of
-    the map ``ds`` have no impact speed and why, if any."""
+    the map ``ds`` have no impact speed and why, if any. ``counts``: the map's
+    ``speed_flag`` as ``{code: points}``, where known without reading the map (a store's
+    run counts it block by block)."""
     if "speed_flag" not in ds:
         return
-    text = flag_text(ds["speed_flag"].values)
+    text = (flag_text(ds["speed_flag"].values) if counts is None
+            else counts_text(counts, sum(counts.values())))
     if text:
         warnings.warn(text, NoImpactSpeedWarning, stacklevel=stacklevel)

@@ -30,8 +30,9 @@ How nothing is lost or mixed:
   (:class:`StoreLockedError`) while the first runs. The lock is an operating-system file
   lock (:mod:`filelock`): the kernel releases it when its holder dies, so a killed run
   never leaves the store locked.
-* **Crash safety.** A block's record is written (atomically) only after its data, so an
-  interrupted run leaves at most blocks without records, which the next run recomputes.
+* **Crash safety.** A block's record is written (atomically) only after its data, by the
+  process that wrote the data (a worker, on a cluster), so an interrupted run leaves at
+  most blocks without records, which the next run recomputes.
   :func:`hold_store` keeps the lock over a whole lifecycle (the CLI's sweep, export and
   removal); :func:`remove_store` deletes the records first, so a removal cut short leaves
   a store the same sweep mends.
@@ -49,6 +50,7 @@ at the same time on the workers of a dask.distributed cluster (:func:`run_with_s
 
 from __future__ import annotations
 
+import base64
 import contextlib
 import datetime
 import hashlib
@@ -62,7 +64,7 @@ import uuid
 import warnings
 import zlib
 from pathlib import Path
-from typing import cast
+from typing import NamedTuple, cast
 
 import dask
 import dask.array
@@ -119,13 +121,13 @@ def _digest(values: np.ndarray) -> dict:
     return out
 
 
-def _used_materials(ds: xr.Dataset) -> dict:
-    """``{kind: sorted names}`` of the materials the sweep ``ds`` evaluates."""
-    scene = json.loads(ds.attrs.get("scene", "{}"))
+def _materials_of(scene: dict, grid: dict) -> dict:
+    """``{kind: sorted names}`` of the materials a sweep of the scene values ``scene``
+    over ``grid`` (``{dim: values}``) evaluates."""
     kinds = {"solid_i": "solid", "solid_j": "solid", "liquid": "liquid", "gas": "gas"}
     used: dict[str, set] = {}
     for field, kind in kinds.items():
-        values = ds[field].values.tolist() if field in ds.dims else [scene.get(field)]
+        values = np.asarray(grid[field]).tolist() if field in grid else [scene.get(field)]
         used.setdefault(kind, set()).update(str(v) for v in values if v is not None)
     return {k: sorted(v) for k, v in used.items()}
 
@@ -151,20 +153,26 @@ def fingerprint(ds: xr.Dataset) -> dict:
 
 def _fingerprint(ds: xr.Dataset, chunks) -> dict:
     """:func:`fingerprint` with the block sizes ``chunks`` (``{dim: sizes}``) given."""
+    return _fingerprint_of(ds.attrs, list(ds.dims), {d: ds[d].values for d in ds.dims},
+                           chunks, {k: (v.dims, v.dtype) for k, v in ds.data_vars.items()})
+
+
+def _fingerprint_of(attrs: dict, dims: list, grid: dict, chunks, variables: dict) -> dict:
+    """:func:`fingerprint` of a sweep given by its global attributes ``attrs``, dimensions,
+    coordinates (``{dim: values}``), block sizes and ``{variable: (dims, dtype)}``."""
     from .. import materials
 
-    dims = list(ds.dims)
-    scene = json.loads(ds.attrs.get("scene", "{}"))
+    scene = json.loads(attrs.get("scene", "{}"))
     return {
         "format": [_FORMAT, FORMAT_VERSION],
-        "agglomtool_version": ds.attrs.get("agglomtool_version"),
+        "agglomtool_version": attrs.get("agglomtool_version"),
         "scene": {k: v for k, v in scene.items() if k not in dims},
         "dims": dims,
-        "grid": {d: _digest(ds[d].values) for d in dims},
+        "grid": {d: _digest(grid[d]) for d in dims},
         "chunks": {d: [int(c) for c in chunks[d]] for d in dims} if chunks else {},
-        "nodes": ds.attrs.get("quadrature_nodes"),
-        "variables": {k: [list(v.dims), v.dtype.str] for k, v in ds.data_vars.items()},
-        "materials": materials.fingerprint(_used_materials(ds)),
+        "nodes": attrs.get("quadrature_nodes"),
+        "variables": {k: [list(d), np.dtype(t).str] for k, (d, t) in variables.items()},
+        "materials": materials.fingerprint(_materials_of(scene, grid)),
     }
 
 
@@ -253,12 +261,15 @@ def _quiet_zarr():
 
 
 def _write_block(plan, data_path: str, region: dict, owned: list, used: dict,
-                 expected_materials: dict) -> dict:
-    """Compute one block and write its region of the store; runs locally or on a worker.
+                 expected_materials: dict, done_path: str, head: dict) -> dict:
+    """Compute one block, write its region of the store, then its completion record;
+    runs locally or on a worker.
 
     ``plan`` is the sweep's :class:`~agglomtool.maps.plan.SweepPlan`, ``region`` the block's
-    ``{dim: slice}``, ``owned`` the variables it writes. Returns ``{variable: crc32}`` of the
-    data written.
+    ``{dim: slice}``, ``owned`` the variables it writes. The record (``done_path``) is
+    ``head`` (the block's index and the sweep's fingerprint) with ``{variable: crc32}`` of
+    the data written, written (atomically) after the data, where the data were written: the
+    client does no file work per block. Returns the block's :func:`_summary`.
     """
     import zarr
 
@@ -277,7 +288,50 @@ def _write_block(plan, data_path: str, region: dict, owned: list, used: dict,
         a = np.asarray(values[name]).copy(order="C")  # (ascontiguousarray makes 0-d 1-d)
         cast(zarr.Array, group[name])[tuple(region[d] for d in plan.variables[name][0])] = a
         crcs[name] = _crc(a)
-    return crcs
+    _atomic_write(Path(done_path), json.dumps({**head, "crc32": crcs}))
+    return _summary(values)
+
+
+#: Variables whose codes a store's run counts block by block, and those whose range it
+#: keeps (:func:`_summary`): what the flagged points' warning and the deciding regime read
+#: (:func:`agglomtool.maps.speed_flag.warn_flagged`, :func:`agglomtool.maps.regime.
+#: deciding_regime`), so that the client never reads the map back for them.
+_COUNTED = ("u_star_flag", "speed_flag")
+_RANGED = ("mu_l",)
+
+
+def _summary(values: dict) -> dict:
+    """``{name: {code: points}}`` of the counted variables among ``values`` (one block's)
+    and ``{name: [min, max]}`` (NaN skipped) of the ranged ones."""
+    out: dict = {}
+    for name, a in values.items():
+        if name in _COUNTED:
+            codes, counts = np.unique(np.asarray(a), return_counts=True)
+            out[name] = {int(c): int(n) for c, n in zip(codes, counts, strict=True)}
+        elif name in _RANGED:
+            a = np.asarray(a, dtype=float)
+            out[name] = [float(np.fmin.reduce(a, axis=None, initial=np.inf)),
+                         float(np.fmax.reduce(a, axis=None, initial=-np.inf))]
+    return out
+
+
+def _add_summary(total: dict, part: dict) -> None:
+    """Add a block's :func:`_summary` ``part`` to ``total``."""
+    for name, value in part.items():
+        if name in _COUNTED:
+            counts = total.setdefault(name, {})
+            for code, n in value.items():
+                counts[code] = counts.get(code, 0) + n
+        else:
+            lo, hi = total.get(name, (np.inf, -np.inf))
+            total[name] = [min(lo, value[0]), max(hi, value[1])]
+
+
+def _finish_summary(total: dict) -> dict:
+    """The summary of a whole map: a range that saw no number is NaN to NaN (as xarray's
+    min and max of an all-NaN variable)."""
+    return {name: value if name in _COUNTED or value[0] <= value[1] else [np.nan, np.nan]
+            for name, value in total.items()}
 
 
 # ---------------------------------------------------------------------------------------
@@ -408,43 +462,133 @@ def remove_store(store) -> None:
         path.rmdir()
 
 
-def _encoding(ds: xr.Dataset, chunks: dict) -> dict:
-    """Every variable's zarr chunks (the first block's size along each of its dimensions,
-    ``chunks``: ``{dim: block sizes}``) and codecs."""
+class _Layout(NamedTuple):
+    """What a store's zarr layout holds, taken from the sweep's plan alone: the sweep
+    Dataset's global attributes, dimensions, coordinates (``{dim: (values, attrs)}``),
+    variables (``{name: (dims, dtype, attrs, value)}``; the value of a variable over no
+    grid dimension, else None) and block sizes (``{dim: sizes}``)."""
+
+    attrs: dict
+    dims: list
+    coords: dict
+    variables: dict
+    chunks: dict
+
+    @classmethod
+    def of(cls, plan) -> _Layout:
+        from .layout import _dataset_attrs
+        from .meta import field_attrs, variable_attrs
+
+        variables = {}
+        for name, (dims, dtype, _) in plan.variables.items():
+            value = None if dims else np.asarray(plan.eager[name])
+            variables[name] = (dims, dtype if value is None else value.dtype,
+                               variable_attrs(name), value)
+        return cls(_dataset_attrs(plan.base, plan.grid, plan.nodes), list(plan.dims),
+                   {k: (np.asarray(v), field_attrs(k)) for k, v in plan.grid.items()},
+                   variables, dict(plan.chunks))
+
+    def fingerprint(self) -> dict:
+        """:func:`fingerprint` of the sweep (the same dict as of its lazy Dataset)."""
+        grid = {d: values for d, (values, _) in self.coords.items()}
+        return _fingerprint_of(self.attrs, self.dims, grid, self.chunks,
+                               {k: v[:2] for k, v in self.variables.items()})
+
+
+def _cf_attrs(attrs: dict, dtype) -> dict:
+    """A variable's attributes as xarray writes them to zarr v3: arrays as lists, and a
+    float's ``_FillValue`` (NaN) as the base64 of its bytes."""
+    out = {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in attrs.items()}
+    if np.dtype(dtype).kind == "f":
+        out["_FillValue"] = base64.standard_b64encode(
+            np.array(np.nan, dtype=dtype).tobytes()).decode()
+    return out
+
+
+def _layout_files(layout: _Layout, sha: str) -> dict:
+    """``{file: bytes}`` of the zarr layout of a sweep (relative POSIX paths under
+    ``map.zarr``): the group's and every array's metadata, the coordinates' chunks and the
+    values of the variables over no grid dimension; the arrays of the blocks are left
+    unwritten. Made with zarr in memory, the same files, byte for byte, as xarray's
+    ``to_zarr(compute=False)`` of the sweep's template writes (tests/test_store_layout.py),
+    without its dask graph and its file-system round trip per array."""
+    import zarr
     from zarr.codecs import Crc32cCodec, ZstdCodec
 
-    enc = {}
-    for name, var in ds.data_vars.items():
-        enc[name] = {"chunks": tuple(chunks[d][0] for d in var.dims),
-                     "compressors": [ZstdCodec(level=1), Crc32cCodec()]}
-    return enc
-
-
-def _write_layout(ds: xr.Dataset, data: Path, fp: dict) -> dict:
-    """Write the zarr layout of the sweep ``ds`` (its template) at ``data``: metadata,
-    coordinates, empty arrays; returns its manifest (:func:`_manifest`)."""
-    template = ds.copy()
-    template.attrs["store_fingerprint_sha256"] = _sha(fp)
-    chunks = {d: fp["chunks"][d] for d in fp["dims"]}
+    files: dict = {}
     with _quiet_zarr():
-        template.to_zarr(data, mode="w", compute=False,
-                         encoding=_encoding(ds, chunks), zarr_format=3, consolidated=False)
-    return _manifest(data, set(ds.data_vars))
+        group = zarr.create_group(zarr.storage.MemoryStore(files), zarr_format=3,
+                                  attributes={**layout.attrs, "store_fingerprint_sha256": sha})
+        for name, (dims, dtype, attrs, value) in layout.variables.items():
+            arr = group.create_array(
+                name, shape=tuple(len(layout.coords[d][0]) for d in dims), dtype=dtype,
+                chunks=tuple(layout.chunks[d][0] for d in dims),
+                compressors=[ZstdCodec(level=1), Crc32cCodec()],
+                fill_value=np.nan if np.dtype(dtype).kind == "f" else None,
+                attributes=_cf_attrs(attrs, dtype), dimension_names=dims)
+            if value is not None:
+                arr[...] = value
+        for name, (values, attrs) in layout.coords.items():
+            arr = group.create_array(
+                name, shape=values.shape, dtype=values.dtype,
+                fill_value=np.nan if values.dtype.kind == "f" else None,
+                attributes=_cf_attrs(attrs, values.dtype), dimension_names=(name,))
+            arr[...] = values
+    return {k: v.to_bytes() for k, v in files.items()}
+
+
+def _write_files(data: Path, files: dict) -> None:
+    """Write ``{relative path: bytes}`` under ``data``."""
+    made = set()
+    for rel, content in files.items():
+        target = data / rel
+        if target.parent not in made:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            made.add(target.parent)
+        target.write_bytes(content)
+
+
+def _write_layout(layout: _Layout, data: Path, fp: dict) -> dict:
+    """Write the zarr layout of the sweep at ``data``: metadata, coordinates, empty arrays;
+    returns its manifest (:func:`_manifest`)."""
+    files = _layout_files(layout, _sha(fp))
+    _write_files(data, files)
+    return _files_manifest(files, layout.variables)
+
+
+def _files_manifest(files: dict, data_vars) -> dict:
+    """:func:`_manifest` of layout files in memory (``{file: bytes}``)."""
+    return {rel: hashlib.sha256(files[rel]).hexdigest() for rel in sorted(files)
+            if _is_layout_file(rel, data_vars)}
 
 
 def _is_layout_file(rel: str, data_vars) -> bool:
-    """Whether the file ``rel`` (relative to ``map.zarr``) belongs to the layout: every
-    ``zarr.json`` and the chunks of the coordinates; the chunks of the data variables are
-    the blocks' (checked against their completion records)."""
+    """Whether the file ``rel`` (relative to ``map.zarr``) belongs to the layout: the
+    group's and every array's ``zarr.json`` and every file outside the data variables
+    (the coordinates' chunks); the chunks of the data variables are the blocks' (checked
+    against their completion records)."""
     parts = rel.split("/")
-    return parts[-1] == "zarr.json" or parts[0] not in data_vars
+    return parts[0] not in data_vars or parts[1:] == ["zarr.json"]
 
 
 def _manifest(data: Path, data_vars) -> dict:
-    """``{file: sha256}`` of the layout files under ``data`` (relative POSIX paths)."""
+    """``{file: sha256}`` of the layout files under ``data`` (relative POSIX paths). Only
+    the layout is walked: of a data variable's folder, its ``zarr.json`` alone, so the
+    time does not grow with the blocks written."""
+    files = []
+    with os.scandir(data) as top:
+        for entry in top:
+            if not entry.is_dir():
+                files.append(entry.name)
+            elif entry.name in data_vars:
+                files.append(f"{entry.name}/zarr.json")
+            else:
+                for folder, _, names in os.walk(entry.path):
+                    rel = Path(folder).relative_to(data).as_posix()
+                    files += [f"{rel}/{n}" for n in names]
     out = {}
-    for p in sorted(data.rglob("*")):
-        rel = p.relative_to(data).as_posix()
+    for rel in sorted(files):
+        p = data / rel
         if p.is_file() and _is_layout_file(rel, data_vars):
             out[rel] = hashlib.sha256(p.read_bytes()).hexdigest()
     return out
@@ -457,45 +601,39 @@ def _record_text(fp: dict, manifest: dict) -> str:
     return json.dumps({**body, "sha256": _sha(fp), "check": _sha(body)}, indent=1)
 
 
-def _layout(ds: xr.Dataset, path: Path, fp: dict) -> None:
-    """Clear the store and lay out the grid: coordinates, metadata, empty arrays (``ds``:
-    the sweep's template, :func:`agglomtool.maps.grid._template`)."""
+def _layout(layout: _Layout, path: Path, fp: dict) -> None:
+    """Clear the store and lay out the grid: coordinates, metadata, empty arrays."""
     _clear(path)
     (path / _DONE).mkdir()
-    manifest = _write_layout(ds, path / _DATA, fp)
+    manifest = _write_layout(layout, path / _DATA, fp)
     _atomic_write(path / _RECORD, _record_text(fp, manifest))
 
 
-def _mend_layout(ds: xr.Dataset, path: Path, fp: dict, stacklevel: int = 4) -> dict:
+def _mend_layout(layout: _Layout, path: Path, fp: dict, stacklevel: int = 4) -> dict:
     """Compare every layout file of the store (metadata, attributes, coordinates) with a
     layout made afresh from the plan; replace what differs or is missing, delete what the
     layout does not hold, with a :class:`StoreWarning` naming the files. Returns the
     manifest of the layout."""
     data = path / _DATA
-    fresh_dir = path / f".layout.{os.getpid()}.{socket.gethostname()}.tmp"
-    if fresh_dir.exists():
-        shutil.rmtree(fresh_dir)
-    try:
-        fresh = _write_layout(ds, fresh_dir, fp)
-        have = _manifest(data, set(ds.data_vars)) if data.is_dir() else {}
-        bad = sorted((k for k in set(fresh) | set(have) if fresh.get(k) != have.get(k)),
-                     key=lambda k: (not k.endswith("zarr.json"), k))  # metadata named first
-        for rel in bad:
-            target = data / rel
-            if rel in fresh:
-                target.parent.mkdir(parents=True, exist_ok=True)
-                tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
-                shutil.copyfile(fresh_dir / rel, tmp)
-                os.replace(tmp, target)
-            else:
-                target.unlink(missing_ok=True)
-                for parent in target.parents:  # and the folders it leaves empty
-                    if parent == data:
-                        break
-                    with contextlib.suppress(OSError):
-                        parent.rmdir()
-    finally:
-        shutil.rmtree(fresh_dir, ignore_errors=True)
+    files = _layout_files(layout, _sha(fp))
+    fresh = _files_manifest(files, layout.variables)
+    have = _manifest(data, set(layout.variables)) if data.is_dir() else {}
+    bad = sorted((k for k in set(fresh) | set(have) if fresh.get(k) != have.get(k)),
+                 key=lambda k: (not k.endswith("zarr.json"), k))  # metadata named first
+    for rel in bad:
+        target = data / rel
+        if rel in fresh:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
+            tmp.write_bytes(files[rel])
+            os.replace(tmp, target)
+        else:
+            target.unlink(missing_ok=True)
+            for parent in target.parents:  # and the folders it leaves empty
+                if parent == data:
+                    break
+                with contextlib.suppress(OSError):
+                    parent.rmdir()
     if bad:
         what = ", ".join(f"{_DATA}/{r}" for r in bad[:4]) + (
             f" (and {len(bad) - 4} more)" if len(bad) > 4 else "")
@@ -573,17 +711,17 @@ def _refuse_other_layout(path: Path) -> None:
             f"writes {FORMAT_VERSION})")
 
 
-def _prepare(ds: xr.Dataset, path: Path, fp: dict, overwrite: bool) -> None:
-    """Make ``path`` a store of the sweep ``ds``: new, resumed, or refused."""
+def _prepare(layout: _Layout, path: Path, fp: dict, overwrite: bool) -> None:
+    """Make ``path`` a store of the sweep of ``layout``: new, resumed, or refused."""
     sha = _sha(fp)
     entries = {p.name for p in path.iterdir()} - {_LOCK, _OWNER}
     if not entries:
-        _layout(ds, path, fp)
+        _layout(layout, path, fp)
         return
     if not entries & _OURS:
         _refuse_foreign(path)
     if overwrite:
-        _layout(ds, path, fp)
+        _layout(layout, path, fp)
         return
     _refuse_other_layout(path)
     record = _read_record(path)
@@ -606,19 +744,20 @@ def _prepare(ds: xr.Dataset, path: Path, fp: dict, overwrite: bool) -> None:
             warnings.warn(f"store '{path}': neither {_RECORD} nor the zarr metadata says "
                           "which sweep it holds; every block is recomputed", StoreWarning,
                           stacklevel=3)
-        _layout(ds, path, fp)
+        _layout(layout, path, fp)
         return
     # this sweep's store (by its record, or by the zarr metadata where the record was lost
     # after blocks were finished): every layout file checked and mended from the plan
     (path / _DONE).mkdir(exist_ok=True)
-    manifest = _mend_layout(ds, path, fp)
+    manifest = _mend_layout(layout, path, fp)
     if record is None or record["layout"] != manifest:
         _atomic_write(path / _RECORD, _record_text(fp, manifest))
 
 
-def _check_blocks(dims: list, path: Path, sha: str, blocks, var_dims: dict
-                  ) -> tuple[set, list]:
-    """Read back every recorded block; ``(good indices, [(index, reason)] of bad ones)``."""
+def _check_blocks(dims: list, path: Path, sha: str, blocks, var_dims: dict,
+                  summary: dict | None = None) -> tuple[set, list]:
+    """Read back every recorded block; ``(good indices, [(index, reason)] of bad ones)``.
+    The good blocks' :func:`_summary` is added to ``summary``, where given."""
     import zarr
 
     good, bad = set(), []
@@ -640,15 +779,19 @@ def _check_blocks(dims: list, path: Path, sha: str, blocks, var_dims: dict
             elif sorted(rec.get("crc32", {})) != sorted(owned):
                 reason = "its record lists other variables"
             else:
+                read = {}
                 for name in owned:
-                    a = cast(zarr.Array, group[name])[tuple(sl[d] for d in var_dims[name])]
-                    if _crc(np.asarray(a)) != rec["crc32"][name]:
+                    read[name] = np.asarray(cast(zarr.Array, group[name])[
+                        tuple(sl[d] for d in var_dims[name])])
+                    if _crc(read[name]) != rec["crc32"][name]:
                         reason = f"{name} fails its checksum"
                         break
         except Exception as exc:  # noqa: BLE001 - unreadable for any reason: recompute
             reason = f"it cannot be read ({type(exc).__name__}: {exc})"
         if reason is None:
             good.add(idx)
+            if summary is not None:
+                _add_summary(summary, _summary(read))
         else:
             bad.append((idx, reason))
             rec_path.unlink(missing_ok=True)
@@ -725,13 +868,16 @@ def run_with_store(ds: xr.Dataset, store, *, progress: bool = False, overwrite: 
 
 
 def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, client=None,
-               verify: bool = True, announce=None) -> xr.Dataset:
+               verify: bool = True, announce=None, summary: dict | None = None
+               ) -> xr.Dataset:
     """:func:`run_with_store` of a :class:`~agglomtool.maps.plan.SweepPlan`: its blocks
     evaluated one by one (or on a cluster's workers), each written to its region.
     ``announce(seconds, method)`` is called once, before the progress bar: after a few
-    timed blocks computed here (:func:`agglomtool.maps.estimate.run_blocks_here`)."""
+    timed blocks computed here (:func:`agglomtool.maps.estimate.run_blocks_here`).
+    ``summary``, where given, receives the whole map's :func:`_summary` (the flags' code
+    counts, the range of ``mu_l``) from its blocks as they are written or checked; it is
+    left empty where ``verify`` is False (finished blocks are then not read)."""
     from .estimate import run_blocks_here
-    from .plan import _template
     from .progress import SweepBar
 
     path = _check_path(store)
@@ -739,17 +885,18 @@ def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, 
         raise ValueError(f"overwrite = {overwrite!r} must be True or False")
     _refuse_foreign(path)
     path.mkdir(parents=True, exist_ok=True)
-    ds = _template(plan)
-    fp = _fingerprint(ds, plan.chunks)
+    layout = _Layout.of(plan)
+    fp = layout.fingerprint()
     sha = _sha(fp)
-    dims = list(ds.dims)
-    var_dims = {k: tuple(v.dims) for k, v in ds.data_vars.items()}
+    dims = layout.dims
+    var_dims = {k: tuple(v[0]) for k, v in layout.variables.items()}
     if client is None:
         client = _active_client()
     with _writer_lock(path):
-        _prepare(ds, path, fp, overwrite)
+        _prepare(layout, path, fp, overwrite)
+        total: dict = {}
         if verify:
-            good, bad = _check_blocks(dims, path, sha, plan.blocks(), var_dims)
+            good, bad = _check_blocks(dims, path, sha, plan.blocks(), var_dims, total)
         else:
             good, bad = {idx for idx, _ in plan.blocks()
                          if (path / _DONE / _block_name(idx)).exists()}, []
@@ -760,11 +907,14 @@ def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, 
                 f"{bad[0][1]}" + (f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""),
                 StoreWarning, stacklevel=3)
         todo = ((idx, sl) for idx, sl in plan.blocks() if idx not in good)
-        expected, used = fp["materials"], _used_materials(ds)
+        expected = fp["materials"]
+        used = _materials_of(json.loads(layout.attrs["scene"]), plan.grid)
         data_path = str(path / _DATA)
 
         def task(idx, sl):
-            return plan, data_path, sl, _owned(var_dims, dims, idx), used, expected
+            return (data_path, sl, _owned(var_dims, dims, idx), used, expected,
+                    str(path / _DONE / _block_name(idx)),
+                    {"block": list(idx), "fingerprint": sha})
 
         done_points = sum(plan.block_points(plan.block_slices(i)) for i in good)
         bar = None
@@ -776,21 +926,22 @@ def _run_store(plan, store, *, progress: bool = False, overwrite: bool = False, 
             bar = SweepBar(plan.points, plan.n_blocks, f"sweep -> {path}", progress)
             bar.update(done_points, len(good))
 
-        def record(idx, crcs):
-            _atomic_write(path / _DONE / _block_name(idx),
-                          json.dumps({"block": list(idx), "fingerprint": sha, "crc32": crcs}))
+        def record(idx, part):  # the block and its record are written
+            _add_summary(total, part)
             bar.update(plan.block_points(plan.block_slices(idx)))
 
         try:
             if client is not None and client is not False and len(good) < plan.n_blocks:
                 start()
-                run_blocks(client, todo, task, _write_block, record)
+                run_blocks(client, todo, task, _write_block, record, shared=plan)
             else:
-                run_blocks_here(plan, lambda idx, sl: _write_block(*task(idx, sl)),
-                                lambda idx, sl, crcs: record(idx, crcs), start, good)
+                run_blocks_here(plan, lambda idx, sl: _write_block(plan, *task(idx, sl)),
+                                lambda idx, sl, result: record(idx, result), start, good)
         finally:
             if bar is not None:
                 bar.close()
+    if summary is not None and verify:
+        summary.update(_finish_summary(total))
     return open_store(path)
 
 
@@ -858,16 +1009,17 @@ def open_store(store) -> xr.Dataset:
         ds = xr.open_zarr(path / _DATA, consolidated=False, zarr_format=3)
     ds.attrs.pop("store_fingerprint_sha256", None)
     token = uuid.uuid4().hex[:12]
+    checked = {}
     for name in fp["variables"]:
-        var = ds[name]
+        var = ds[name].variable
         chunks = tuple(tuple(fp["chunks"][d]) for d in var.dims)
         reader = _CheckedArray(path, name, var.dims, dims, chunks, crcs,
                                var.dtype, var.shape)
         data = dask.array.from_array(reader, chunks=chunks, asarray=False, lock=False,
                                      name=f"agglomtool-store-{name}-{token}",
                                      meta=np.empty((0,) * var.ndim, dtype=var.dtype))
-        ds[name] = var.copy(data=data)
-    return ds
+        checked[name] = var.copy(data=data)
+    return ds.assign(checked)  # one merge for all the variables, not one each
 
 
 class _CheckedArray:
