@@ -65,13 +65,11 @@ class Pairs:
         return at.collide(u0=u0, details=False, **self.kw)
 
     def pair(self, u_star):
-        if self.mode not in _FUSED:
-            return None
         k = self.kw
         shape, ins, steps, _ = _fused_inputs(k["p_i"], k["p_j"], k["liquid"], k["gas"],
                                              k["bed"], k["beta_deg"], k["e"],
                                              np.zeros(np.shape(u_star)), None, check=False)
-        return ins, steps, shape, _FUSED[self.mode], self.body, self.slip
+        return ins, steps, shape, _FUSED.get(self.mode, self.mode), self.body, self.slip
 
     def windows(self):
         fused = self.pair(self.u_star)
