@@ -57,7 +57,7 @@ U_RTOL = 1e-12
 #: Probability above the top candidate (taken as the indicator there).
 TAIL = 1e-13
 #: Candidates just above ``u0*``: ``u0* (1 + x)``.
-NEAR = (1e-3, 3e-2)
+NEAR = (1e-6, 1e-4, 1e-2)
 #: Relative offsets of the seeds around each end of a "relative" window.
 SEED_OFFSETS = (1e-3, 3e-2)
 #: Bisection steps allowed to one bracket (a geometric bisection from 1e-300 to 1e300 to
