@@ -70,6 +70,32 @@ def _laws(u_star, rng):
     ]
 
 
+def _reference(pairs, law, n=N_REF):
+    """The node quadrature of :func:`sticking_probability` without ``pair`` (its formula,
+    the nodes' verdicts summed as counts) with every node in one call of the kernel
+    instead of one call per node (4096 calls of a non-fused tier cost minutes in Python);
+    bitwise the same (test_reference_is_the_quadrature)."""
+    f_star = np.broadcast_to(law.cdf(pairs.u_star), pairs.shape)
+    rest = 1.0 - f_star
+    open_ = rest > 1e-12
+    n = 1 if law.family == "fixed" else n
+    q = f_star[..., None] + rest[..., None] * ((np.arange(n) + 0.5) / n)
+
+    def col(a):
+        return None if a is None else np.asarray(a)[..., None]
+
+    nodes = SpeedModel(law.family, u0=col(law.u0), sigma_ln=col(law.sigma_ln),
+                       granular_temperature=col(law.theta))
+    u = np.broadcast_to(nodes.quantile(np.where(open_[..., None], q, 0.5)), q.shape)
+    positive = u > 0.0
+    kw = dict(pairs.kw)
+    for name in ("beta_deg", "e"):
+        kw[name] = np.asarray(kw[name], dtype=float)[..., None]
+    stuck = np.broadcast_to(at.collide(u0=np.where(positive, u, 1.0), details=False,
+                                       **kw).agglomerated, q.shape) | ~positive
+    return np.where(open_, f_star + rest * np.count_nonzero(stuck, axis=-1) / n, 1.0)
+
+
 def _sets(pairs, law):
     """The bracketed sets of the elements with probability above u0* (as the propensity
     finds them, 16 nodes): ``(within, cand, stuck, cross, ok)``."""
@@ -87,7 +113,7 @@ def _check(pairs, laws):
         report = {}
         got = sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair,
                                    report=report)
-        ref = sticking_probability(law, pairs.u_star, pairs.collide, nodes=N_REF)
+        ref = _reference(pairs, law)
         f_star = np.broadcast_to(law.cdf(pairs.u_star), got.shape)
         ends = np.zeros(got.shape)
         if law.family != "fixed":
@@ -135,6 +161,17 @@ def _scan(pairs, law, points=300):
     assert not bad.any(), (np.argwhere(bad)[:5], u[bad][:5])
 
 
+@pytest.mark.parametrize("mode", ["ode", "paper"])
+def test_reference_is_the_quadrature(mode):
+    """The one-call reference is bitwise :func:`sticking_probability`'s quadrature."""
+    rng = np.random.default_rng(1)
+    pairs = _hard_set(mode, False)[0]
+    for law in _laws(pairs.u_star, rng):
+        np.testing.assert_array_equal(
+            _reference(pairs, law, 64),
+            sticking_probability(law, pairs.u_star, pairs.collide, nodes=64))
+
+
 @pytest.mark.parametrize("mode, slip", NUMERIC)
 def test_numeric_tiers_against_the_reference(mode, slip):
     """Each numeric tier on the hard set: every law within the bound of the 4096-node
@@ -150,7 +187,7 @@ def test_numeric_tiers_against_the_reference(mode, slip):
         windows += _check(pairs, laws)
         _scan(pairs, laws[0])
     if mode != "ode_selfconsistent":  # its rupture leaves no window in this set
-        assert windows >= 10
+        assert windows >= (5 if mode in SLOW else 10)
 
 
 @pytest.mark.parametrize("mode, slip", [("ode", False), ("auto", False), ("paper", False)])
@@ -219,7 +256,7 @@ def test_stokes_takes_the_cdf_at_u_star():
             report = {}
             got = sticking_probability(law, pairs.u_star, no_kernel, pair=pairs.pair,
                                        report=report)
-            ref = sticking_probability(law, pairs.u_star, pairs.collide, nodes=N_REF)
+            ref = _reference(pairs, law)
             f_star = law.cdf(pairs.u_star)
             np.testing.assert_array_equal(got, np.where(1.0 - f_star > 1e-12, f_star, 1.0))
             np.testing.assert_allclose(got, ref, rtol=0.0, atol=1e-9)

@@ -42,14 +42,26 @@ When ``e_w`` is monotonic the sum is zero and ``P = F(u0*)`` exactly, whatever `
 a sticking window above ``u0*`` is resolved to ``(1 - F(u0*)) / (2N)`` in probability.
 
 Given the collisions as the fused kernels take them (``pair``, as scenes, maps and beds
-pass it), the set of speeds above ``u0*`` at which the pair sticks again is found in
-compiled code instead (``agglomtool.collision.sticking``: modes ``"relative"`` and
-``"paper"`` without body forces on the axis) and the CDF integrated over it exactly::
+pass it), the set of speeds above ``u0*`` at which the pair sticks again is found instead
+and the CDF integrated over it::
 
     P = F(u0*) + sum_k F(b_k) - F(max(a_k, u0*))
 
-Collisions without a proven bracket there keep the quadrature above, which is also the
-reference the compiled set is tested against.
+- modes ``"relative"`` and ``"paper"`` without body forces on the axis: in compiled code
+  from the tier's structure (``agglomtool.collision.sticking``), each end to 1e-13 of
+  ``sqrt(Ca)``;
+- mode ``"stokes"``: the set is empty (Ennis' criterion sticks below one speed only),
+  ``P = F(u0*)`` with no collision evaluated;
+- the other tiers and flags (``"ode"``, ``"ode_selfconsistent"``, ``"auto"``, ``"paper"``
+  with a body force on the axis, ``drag_slip="particle"``): bracketed with the tier's own
+  kernel between candidate speeds that include the ``N`` nodes above and mode
+  ``"relative"``'s windows, each end bisected to 1e-12 of the speed
+  (``agglomtool.collision.sticking_numeric``, whose docstring states what is proven and
+  what is not: a window narrower than the candidates' spacing and away from the seeds);
+- fixed speeds: the verdict at the speed itself (exact, as the one node).
+
+Elements without a proven bracket (no verdict, a bisection that did not settle) keep the
+quadrature above, which is also the reference the sets are tested against.
 """
 
 from __future__ import annotations
@@ -166,15 +178,17 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
         lies above ``u0*`` (elsewhere ``P = 1`` without a collision); the same numbers.
     pair : callable, optional
         ``pair(u_star)`` -> ``(ins, steps, shape, tier, body, particle_slip)``, the
-        collisions as the fused kernels take them (``agglomtool.collision.fused``), or
-        None where the tier has no compiled sticking set. Given (and not None), the set of
-        speeds above ``u0*`` at which the pair sticks again is found in compiled code
-        (``agglomtool.collision.sticking``) and the law's CDF integrated over it:
-        exact, no quadrature. Collisions whose set has no proven bracket are integrated by
+        collisions as the fused kernels take them (``agglomtool.collision.fused``;
+        ``tier`` the fused tier's code, or the mode's name for the other tiers), or None.
+        Given (and not None), the set of speeds above ``u0*`` at which the pair sticks
+        again is found as the module docstring says, per tier, and the law's CDF
+        integrated over it. Elements whose set has no proven bracket are integrated by
         the ``nodes`` quadrature as without ``pair``.
     report : dict, optional
-        Filled with ``"exact"`` (elements whose ``P`` came from the compiled sticking set)
-        and ``"quadrature"`` (elements integrated by the nodes).
+        Filled with ``"exact"`` (elements whose ``P`` came from a compiled or proven
+        sticking set: modes relative and paper on the axis, stokes, fixed speeds),
+        ``"bracketed"`` (elements bracketed with the tier's kernel) and ``"quadrature"``
+        (elements integrated by the nodes).
     out : numpy.ndarray, optional
         A C-contiguous float64 array of ``shape`` (a map's result) into which the compiled
         sticking set's ``P`` is written; it is then the array returned.
