@@ -29,12 +29,11 @@ from agglomtool.collision.sticking_numeric import U_RTOL, stick_indicator
 #: (mode, particle slip): the tiers and flags that take the bracketing.
 NUMERIC = [("ode", False), ("ode_selfconsistent", False), ("auto", False), ("paper", False),
            ("relative", True), ("paper", True)]
+#: Where mode "ode_selfconsistent"'s verdict flickers above its u0* (relative to it):
+#: test_ode_selfconsistent_flickers_above_u_star.
+FLICKER = 3e-4
 #: The random pairs (tests/test_sticking_exact.py's draw) with windows above u0*.
 WITH_WINDOWS = (10, 61, 92)
-
-
-#: The ODE tiers' hard set at fewer angles (their 4096-node reference is slow).
-SLOW = ("ode", "ode_selfconsistent")
 
 
 def _hard_set(mode, slip):
@@ -42,13 +41,11 @@ def _hard_set(mode, slip):
     p, liquid, gas = water
     out = []
     rand = _random_pairs(11, 100, angles=7)
-    slow = mode in SLOW
     for k in WITH_WINDOWS:
         kw = rand[k].kw
-        beta = kw["beta_deg"][::3] if slow else kw["beta_deg"]
-        out.append(Pairs(kw["p_i"], kw["p_j"], kw["liquid"], AIR, beta, kw["e"], mode=mode,
-                         slip=slip))
-    beta = np.array([30.0, 200.0] if slow else [30.0, 90.0, 200.0, 315.0])
+        out.append(Pairs(kw["p_i"], kw["p_j"], kw["liquid"], AIR, kw["beta_deg"], kw["e"],
+                         mode=mode, slip=slip))
+    beta = np.array([30.0, 90.0, 200.0, 315.0])
     for partner in (at.Particle(d=p.d, rho=4330.0, h0=p.h0, ha=p.ha),
                     at.Particle(d=600e-6, rho=p.rho, h0=p.h0, ha=p.ha)):
         out.append(Pairs(p, partner, liquid, gas, beta, 0.9, mode=mode, slip=slip))
@@ -105,9 +102,10 @@ def _sets(pairs, law):
     return within, cand, stuck, cross, ok
 
 
-def _check(pairs, laws):
-    """Every law against the 4096-node reference within its bound, nothing left to the
-    quadrature; returns the number of elements with a window above u0*."""
+def _check(pairs, laws, band=0.0):
+    """Every law against the 4096-node reference within its bound (plus the probability
+    between u0* and ``u0* (1 + band)``), nothing left to the quadrature; returns the
+    number of elements with a window above u0*."""
     windows = 0
     for law in laws:
         report = {}
@@ -123,6 +121,8 @@ def _check(pairs, laws):
             windows += int(np.count_nonzero(ends))
         nodes = 1 if law.family == "fixed" else N_REF
         bound = 1e-9 + ends * (1.0 - f_star) / (2.0 * nodes)
+        if band:
+            bound = bound + law.cdf(pairs.u_star * (1.0 + band)) - f_star
         err = np.abs(got - ref)
         worst = np.unravel_index(np.argmax(err - bound), got.shape)
         assert np.all(err <= bound), (law.family, worst, got[worst], ref[worst], ends[worst])
@@ -172,7 +172,11 @@ def test_reference_is_the_quadrature(mode):
             sticking_probability(law, pairs.u_star, pairs.collide, nodes=64))
 
 
-@pytest.mark.parametrize("mode, slip", NUMERIC)
+@pytest.mark.parametrize("mode, slip", [
+    pytest.param(*x, marks=pytest.mark.xfail(
+        strict=True, reason="ode_selfconsistent's verdict flickers just above u0* "
+        "(test_ode_selfconsistent_flickers_above_u_star)"))
+    if x[0] == "ode_selfconsistent" else x for x in NUMERIC])
 def test_numeric_tiers_against_the_reference(mode, slip):
     """Each numeric tier on the hard set: every law within the bound of the 4096-node
     reference, nothing left to the quadrature, and the sets against a dense kernel scan.
@@ -182,12 +186,10 @@ def test_numeric_tiers_against_the_reference(mode, slip):
     windows = 0
     for pairs in _hard_set(mode, slip):
         laws = _laws(pairs.u_star, rng)
-        if mode == "ode_selfconsistent":
-            del laws[2]  # test_ode_selfconsistent_flickers_above_u_star
         windows += _check(pairs, laws)
         _scan(pairs, laws[0])
     if mode != "ode_selfconsistent":  # its rupture leaves no window in this set
-        assert windows >= (5 if mode in SLOW else 10)
+        assert windows >= 10
 
 
 @pytest.mark.parametrize("mode, slip", [("ode", False), ("auto", False), ("paper", False)])
@@ -195,7 +197,7 @@ def test_no_window_missed_on_a_random_set(mode, slip):
     """A seeded random set (other draws than the hard set's): the bracketed sets against a
     dense scan of the tier's kernel."""
     rng = np.random.default_rng(3)
-    for k, base in enumerate(_random_pairs(12, 30, angles=4)):
+    for k, base in enumerate(_random_pairs(12, 60, angles=5)):
         kw = base.kw
         pairs = Pairs(kw["p_i"], kw["p_j"], kw["liquid"], AIR, kw["beta_deg"], kw["e"],
                       mode=mode, slip=slip)
@@ -266,7 +268,7 @@ def test_stokes_takes_the_cdf_at_u_star():
 def test_ode_selfconsistent_flickers_above_u_star():
     """Mode "ode_selfconsistent"'s verdict is no union of a few intervals just above its
     ``u0*``: on the Table 2 water case against ilmenite it changes at more than ten speeds
-    within 2e-4 of ``u0*`` (its integration's resolution; mode "ode" does not). A law
+    within ``FLICKER`` of ``u0*`` (its integration's resolution; mode "ode" does not). A law
     concentrated there (``sigma_ln = 1e-3``) puts percents of probability on that flicker,
     which no bracketing from a few candidates resolves (:mod:`.sticking_numeric`: what is
     not proven); the 4096-node reference samples it. Measured here, and the comparison
@@ -274,14 +276,18 @@ def test_ode_selfconsistent_flickers_above_u_star():
     pairs = _hard_set("ode_selfconsistent", False)[3]
     fused = pairs.pair(pairs.u_star)
     sticks = stick_indicator(fused[0], fused[1], fused[3], fused[4], fused[5])
-    x = np.linspace(0.0, 2e-4, 201)
+    x = np.linspace(0.0, 3.0 * FLICKER, 601)
     stuck, known = sticks(np.zeros(x.size, dtype=np.int64), pairs.u_star[0] * (1.0 + x))
     assert known.all()
-    assert np.count_nonzero(stuck[1:] != stuck[:-1]) > 10
+    changes = np.flatnonzero(stuck[1:] != stuck[:-1])
+    assert changes.size > 10
+    assert x[changes[-1] + 1] <= FLICKER  # and none beyond the band
 
 
-@pytest.mark.xfail(strict=True, reason="ode_selfconsistent's verdict flickers just above "
-                   "u0* (test_ode_selfconsistent_flickers_above_u_star)")
-def test_ode_selfconsistent_concentrated_law_against_the_reference():
-    pairs = _hard_set("ode_selfconsistent", False)[3]
-    _check(pairs, [SpeedModel("lognormal", u0=pairs.u_star, sigma_ln=1e-3)])
+def test_ode_selfconsistent_within_its_flicker_band():
+    """Mode "ode_selfconsistent" on the hard set: within the bound plus the law's
+    probability in the band where its verdict flickers (``FLICKER`` above ``u0*``, the
+    bound the bed page states for this tier), nothing left to the quadrature."""
+    rng = np.random.default_rng(26)
+    for pairs in _hard_set("ode_selfconsistent", False):
+        _check(pairs, _laws(pairs.u_star, rng), band=FLICKER)
