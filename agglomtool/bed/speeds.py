@@ -349,6 +349,7 @@ def bracket_elements(speeds: SpeedModel, u_star, fused, shape, within, nodes=16)
         TAIL,
         bracket,
         candidate_rows,
+        collision_candidates,
         relative_seeds,
         stick_indicator,
     )
@@ -368,10 +369,13 @@ def bracket_elements(speeds: SpeedModel, u_star, fused, shape, within, nodes=16)
     q_top = np.maximum(1.0 - TAIL, q[:, -1:])
     node_u = np.broadcast_to(law.quantile(q), q.shape)
     top = np.broadcast_to(law.quantile(q_top), (where.size, 1))[:, 0]
-    seeds = relative_seeds(ins, steps, n_c, us_c, body)[coll]
-    cand = candidate_rows(us, node_u, top, seeds)
     sticks = stick_indicator(ins, steps, tier, body, particle_slip)
-    stuck, cross, ok = bracket(sticks, coll, cand)
+    # the collision's own candidates once per collision, the law's nodes per element
+    colls, inv = np.unique(coll, return_inverse=True)
+    seeds = relative_seeds(ins, steps, n_c, us_c, body)[colls]
+    col_speeds, col_pre = collision_candidates(sticks, colls, us_c[colls], seeds)
+    cand, pre = candidate_rows(col_speeds[inv], col_pre[inv], node_u, top)
+    stuck, cross, ok = bracket(sticks, coll, cand, pre)
     return law, cand, stuck, cross, ok
 
 

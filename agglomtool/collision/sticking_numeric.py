@@ -53,7 +53,8 @@ from .sticking import EXACT, MAX_WINDOWS, sticking_windows
 from .tiers import evaluate
 
 __all__ = ["U_RTOL", "TAIL", "NEAR", "SEED_OFFSETS", "MAX_BISECTIONS", "stick_indicator",
-           "relative_seeds", "bracket", "candidate_rows"]
+           "relative_seeds", "bracket", "collision_candidates",
+           "candidate_rows"]
 
 #: Relative width in speed to which a change of the stick indicator is bisected.
 U_RTOL = 1e-12
@@ -63,6 +64,8 @@ TAIL = 1e-13
 NEAR = (1e-6, 1e-4, 1e-2)
 #: Relative offsets of the seeds around each end of a "relative" window.
 SEED_OFFSETS = (1e-3, 3e-2)
+#: Collisions per kernel call (the inputs of a call are gathered into new arrays).
+CHUNK = 1 << 17
 #: Bisection steps allowed to one bracket (a geometric bisection from 1e-300 to 1e300 to
 #: ``U_RTOL`` takes about 50).
 MAX_BISECTIONS = 200
@@ -86,6 +89,10 @@ def stick_indicator(ins, steps, tier, body, particle_slip):
 
     def sticks(idx, u):
         m = int(np.size(idx))
+        if m > CHUNK:
+            parts = [sticks(idx[k:k + CHUNK], u[k:k + CHUNK]) for k in range(0, m, CHUNK)]
+            return (np.concatenate([a for a, _ in parts]),
+                    np.concatenate([b for _, b in parts]))
         if m == 0:
             return np.zeros(0, dtype=bool), np.zeros(0, dtype=bool)
         sub, st = _sub_inputs(ins, steps, idx, u)
@@ -122,10 +129,11 @@ def relative_seeds(ins, steps, n, u_star, body):
     return np.stack(cols, axis=1)
 
 
-def bracket(sticks, coll, cand, rtol=U_RTOL):
+def bracket(sticks, coll, cand, pre=None, rtol=U_RTOL):
     """The stick indicator of the rows ``coll`` (collision per row) along their candidate
     speeds ``cand`` (``(m, K)``, each row sorted ascending, finite, ``>= 0``; a repeated
-    speed is evaluated once).
+    speed is evaluated once). ``pre``: verdicts known beforehand, ``(m, K)`` float (1
+    sticks, 0 rebounds, -1 no verdict, NaN not known: evaluated here).
 
     Returns ``(stuck, cross, ok)``: ``stuck`` ``(m, K)`` the verdicts at the candidates
     (a speed of 0 takes the next candidate's: it cannot collide), ``cross`` ``(m, K - 1)``
@@ -136,9 +144,14 @@ def bracket(sticks, coll, cand, rtol=U_RTOL):
     new = np.ones((m, k_n), dtype=bool)
     new[:, 1:] = cand[:, 1:] != cand[:, :-1]
     new &= cand > 0.0
-    rows, cols = np.nonzero(new)
     stuck = np.zeros((m, k_n), dtype=bool)
     ok = np.ones(m, dtype=bool)
+    if pre is None:
+        pre = np.full((m, k_n), np.nan)
+    given = new & ~np.isnan(pre)
+    stuck[given] = pre[given] == 1.0
+    ok &= ~np.any(given & (pre == -1.0), axis=1)
+    rows, cols = np.nonzero(new & ~given)
     s, known = sticks(coll[rows], cand[rows, cols])
     stuck[rows, cols] = s
     np.logical_and.at(ok, rows, known)
@@ -176,21 +189,37 @@ def bracket(sticks, coll, cand, rtol=U_RTOL):
     return stuck, cross, ok
 
 
-def _finite_rows(a):
-    """Each row sorted, NaN replaced by the row's largest finite value (a repeat)."""
-    a = np.sort(a, axis=1)  # NaN last
-    top = np.nanmax(a, axis=1, keepdims=True)
-    return np.where(np.isnan(a), top, a)
-
-
-def candidate_rows(u_star, nodes, top, seeds):
-    """The candidate speeds of :func:`bracket`: ``u_star`` (``(m,)``), the speeds
-    :data:`NEAR` above it, the law's ``nodes`` (``(m, N)``), ``top`` (``(m,)``) and the
-    ``seeds`` (``(m, S)``, NaN where none) that lie above ``u_star`` and below ``top``;
-    sorted per row."""
+def collision_candidates(sticks, colls, u_star, seeds):
+    """The candidates that depend on the collision alone, evaluated once per collision:
+    ``u_star`` (``(n,)``, of the collisions ``colls``), the speeds :data:`NEAR` above it
+    and the ``seeds`` (``(n, S)``, NaN where none). Returns ``(speeds, verdicts)``, both
+    ``(n, 1 + len(NEAR) + S')`` (the seed columns that hold a seed), the verdicts as
+    :func:`bracket`'s ``pre`` (NaN where the speed is NaN or 0)."""
     us = u_star[:, None]
     near = us * (1.0 + np.asarray(NEAR))[None, :]
-    seeds = np.where((seeds > us) & (seeds < top[:, None]), seeds, np.nan)
-    parts = [us, near, nodes, top[:, None], seeds]
-    return _finite_rows(np.concatenate(parts, axis=1))
+    seeds = np.where(seeds > us, seeds, np.nan)
+    seeds = seeds[:, ~np.all(np.isnan(seeds), axis=0)]
+    speeds = np.concatenate([us, near, seeds], axis=1)
+    pre = np.full(speeds.shape, np.nan)
+    r, c = np.nonzero(speeds > 0.0)
+    s, known = sticks(colls[r], speeds[r, c])
+    pre[r, c] = np.where(known, s.astype(float), -1.0)
+    return speeds, pre
+
+
+def candidate_rows(col_speeds, col_pre, nodes, top):
+    """The rows of :func:`bracket`: the collision's candidates (``col_speeds``,
+    ``col_pre`` of :func:`collision_candidates`, one row per element) with the law's
+    ``nodes`` (``(m, N)``) and ``top`` (``(m,)``), those above ``top`` dropped; sorted per
+    row (a dropped speed repeats the row's last). Returns ``(cand, pre)``."""
+    m = nodes.shape[0]
+    speeds = np.concatenate([col_speeds, nodes, top[:, None]], axis=1)
+    pre = np.concatenate([col_pre, np.full((m, nodes.shape[1] + 1), np.nan)], axis=1)
+    speeds[:, 1:col_speeds.shape[1]] = np.where(
+        col_speeds[:, 1:] < top[:, None], col_speeds[:, 1:], np.nan)
+    order = np.argsort(speeds, axis=1)  # NaN last
+    speeds = np.take_along_axis(speeds, order, axis=1)
+    pre = np.take_along_axis(pre, order, axis=1)
+    last = np.nanmax(speeds, axis=1, keepdims=True)
+    return np.where(np.isnan(speeds), last, speeds), pre
 
