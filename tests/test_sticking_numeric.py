@@ -93,16 +93,16 @@ def _reference(pairs, law, n=N_REF):
     return np.where(open_, f_star + rest * np.count_nonzero(stuck, axis=-1) / n, 1.0)
 
 
-def _sets(pairs, law):
+def _sets(pairs, law, nodes=16):
     """The bracketed sets of the elements with probability above u0* (as the propensity
-    finds them, 16 nodes): ``(within, cand, stuck, cross, ok)``."""
+    finds them with ``nodes``): ``(within, cand, stuck, cross, ok)``."""
     within = (1.0 - np.broadcast_to(law.cdf(pairs.u_star), pairs.shape)) > 1e-12
     _, cand, stuck, cross, ok = bracket_elements(law, pairs.u_star, pairs.pair(pairs.u_star),
-                                                 pairs.shape, within)
+                                                 pairs.shape, within, nodes)
     return within, cand, stuck, cross, ok
 
 
-def _check(pairs, laws, band=0.0):
+def _check(pairs, laws, band=0.0, nodes=16):
     """Every law against the 4096-node reference within its bound (plus the probability
     between u0* and ``u0* (1 + band)``), nothing left to the quadrature; returns the
     number of elements with a window above u0*."""
@@ -110,12 +110,12 @@ def _check(pairs, laws, band=0.0):
     for law in laws:
         report = {}
         got = sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair,
-                                   report=report)
+                                   report=report, nodes=nodes)
         ref = _reference(pairs, law)
         f_star = np.broadcast_to(law.cdf(pairs.u_star), got.shape)
         ends = np.zeros(got.shape)
         if law.family != "fixed":
-            within, _, stuck, _, ok = _sets(pairs, law)
+            within, _, stuck, _, ok = _sets(pairs, law, nodes)
             assert ok.all()
             ends[within] = np.count_nonzero(stuck[:, 1:] != stuck[:, :-1], axis=1)
             windows += int(np.count_nonzero(ends))
@@ -295,3 +295,14 @@ def test_ode_selfconsistent_within_its_flicker_band():
     rng = np.random.default_rng(26)
     for pairs in _hard_set("ode_selfconsistent", False):
         _check(pairs, _laws(pairs.u_star, rng), band=FLICKER)
+
+
+def test_the_nodes_are_candidates():
+    """``nodes`` reaches the bracketing: with the reference's 4096 nodes among the
+    candidates, mode "ode_selfconsistent"'s flicker is seen node by node and the law
+    concentrated on it agrees with the reference within the bound (it does not with 16)."""
+    pairs = _hard_set("ode_selfconsistent", False)[3]
+    law = [SpeedModel("lognormal", u0=pairs.u_star, sigma_ln=1e-3)]
+    _check(pairs, law, nodes=N_REF)
+    with pytest.raises(AssertionError):
+        _check(pairs, law, nodes=16)

@@ -245,7 +245,7 @@ def _with_pair(speeds: SpeedModel, u_star, fused, shape, out, nodes):
     counts = {"exact": int(p.size - (0 if left is None else np.count_nonzero(left))),
               "bracketed": 0}
     if left is not None:
-        exact, bracketed, left = _bracketed(speeds, u_star, fused, shape, left, p)
+        exact, bracketed, left = _bracketed(speeds, u_star, fused, shape, left, p, nodes)
         counts["exact"] += exact
         counts["bracketed"] = bracketed
     return p, left, counts
@@ -379,10 +379,11 @@ def bracket_elements(speeds: SpeedModel, u_star, fused, shape, within, nodes=16)
     return law, cand, stuck, cross, ok
 
 
-def _bracketed(speeds: SpeedModel, u_star, fused, shape, left, p):
-    """``P`` into ``p`` at the elements ``left`` by bracketing (fixed speeds: the verdict
-    at the speed itself, exact). Returns ``(exact, bracketed, still_left)``: the elements
-    done each way, and those left to the quadrature (None where none)."""
+def _bracketed(speeds: SpeedModel, u_star, fused, shape, left, p, nodes):
+    """``P`` into ``p`` at the elements ``left`` by bracketing, the law's ``nodes`` among
+    the candidates (fixed speeds: the verdict at the speed itself, exact). Returns
+    ``(exact, bracketed, still_left)``: the elements done each way, and those left to the
+    quadrature (None where none)."""
     f_star = np.broadcast_to(speeds.cdf(u_star), shape)
     rest = 1.0 - f_star
     open_ = left & (rest > 1e-12)
@@ -408,7 +409,8 @@ def _bracketed(speeds: SpeedModel, u_star, fused, shape, left, p):
         ok[positive] = known
         val = f_star[open_] + rest[open_] * stuck / 1
         return exact + _put(p, open_, val, ok), 0, _unproven(open_, ok)
-    law, cand, stuck, cross, ok = bracket_elements(speeds, u_star, fused, shape, open_)
+    law, cand, stuck, cross, ok = bracket_elements(speeds, u_star, fused, shape, open_,
+                                                   nodes)
     f_c = law.cdf(cand)
     f_x = law.cdf(cross)
     s = stuck.astype(float)
