@@ -9,12 +9,14 @@ the particle's own speed the stages are no longer the quadratics of :mod:`.relat
 those, the set is found by the tier's own kernel, in batches:
 
 1. **Candidates.** Each element (a collision under its speed law) gets a sorted row of
-   candidate speeds above ``u0*``: ``u0*`` itself, two speeds just above it, the law's
-   equal-probability nodes (the quadrature's), a top speed above which the law holds at
-   most :data:`TAIL` of probability, and seeds from mode "relative"'s compiled windows for
-   the same collision (:func:`.sticking.sticking_windows`, with the body forces as given
-   and the emulsion's slip), widened: speeds just inside and just outside each end and the
-   window's middle. The kernel is evaluated at every candidate (one batch).
+   candidate speeds above ``u0*``: ``u0*`` itself, the speeds :data:`NEAR` just above it,
+   the law's equal-probability nodes (the quadrature's ``N``), a top speed above which the
+   law holds at most :data:`TAIL` of probability, and seeds from mode "relative"'s
+   compiled windows for the same collision (:func:`.sticking.sticking_windows`, with the
+   body forces as given and the emulsion's slip), widened: speeds just inside and just
+   outside each end and the window's middle. The kernel is evaluated at every candidate,
+   those of the collision alone (``u0*``, :data:`NEAR`, the seeds) once per collision, the
+   nodes and the top once per element (two batches).
 2. **Brackets.** Between two adjacent candidates where the indicator changes (one sticks,
    the other rebounds) the change is bisected with the tier's kernel, every step one batch
    over the brackets still open, each bracket to its own convergence (a bracket that
@@ -84,8 +86,8 @@ def _sub_inputs(ins, steps, idx, u):
 def stick_indicator(ins, steps, tier, body, particle_slip):
     """``sticks(idx, u) -> (stuck, known)``: the verdict of ``tier`` (a fused tier code, or
     a mode name) on collisions ``idx`` of the fused inputs ``ins, steps`` at head-on speeds
-    ``u`` (the arithmetic of :func:`agglomtool.collide` at those speeds), and where it is
-    known (``e_w`` not NaN)."""
+    ``u`` (the arithmetic of :func:`agglomtool.collide` at those speeds; mode "auto" at its
+    default tolerance, as scenes run it), and where it is known (``e_w`` not NaN)."""
 
     def sticks(idx, u):
         m = int(np.size(idx))
