@@ -119,8 +119,8 @@ def _check(pairs, laws, band=0.0, nodes=16):
             assert ok.all()
             ends[within] = np.count_nonzero(stuck[:, 1:] != stuck[:, :-1], axis=1)
             windows += int(np.count_nonzero(ends))
-        nodes = 1 if law.family == "fixed" else N_REF
-        bound = 1e-9 + ends * (1.0 - f_star) / (2.0 * nodes)
+        n_ref = 1 if law.family == "fixed" else N_REF
+        bound = 1e-9 + ends * (1.0 - f_star) / (2.0 * n_ref)
         if band:
             bound = bound + law.cdf(pairs.u_star * (1.0 + band)) - f_star
         err = np.abs(got - ref)
