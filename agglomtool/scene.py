@@ -851,16 +851,16 @@ class Resolved:
         """The collisions of this scene as the fused kernels take them, for the compiled
         sticking set of :func:`~agglomtool.bed.speeds.sticking_probability` (its ``pair``):
         ``(ins, steps, shape, tier, body, particle_slip)`` over the broadcast of the
-        inputs and ``u_star``; None where the tier has no fused kernel."""
+        inputs and ``u_star``; ``tier`` the fused tier's code, or the mode's name where it
+        has no fused kernel."""
         mode = self.v["mode"]
-        if mode not in _FUSED:
-            return None
         p_i, p_j = self.particles
         c = self._common()
         shape, ins, steps, _ = _fused_inputs(
             p_i, p_j, c["liquid"], c["gas"], c["bed"], c["beta_deg"], c["e"],
             np.zeros(np.shape(u_star)), None, check=False)
-        return ins, steps, shape, _FUSED[mode], c["body_forces"], c["drag_slip"] == "particle"
+        return (ins, steps, shape, _FUSED.get(mode, mode), c["body_forces"],
+                c["drag_slip"] == "particle")
 
     @cached_property
     def u_star(self):

@@ -65,13 +65,11 @@ class Pairs:
         return at.collide(u0=u0, details=False, **self.kw)
 
     def pair(self, u_star):
-        if self.mode not in _FUSED:
-            return None
         k = self.kw
         shape, ins, steps, _ = _fused_inputs(k["p_i"], k["p_j"], k["liquid"], k["gas"],
                                              k["bed"], k["beta_deg"], k["e"],
                                              np.zeros(np.shape(u_star)), None, check=False)
-        return ins, steps, shape, _FUSED[self.mode], self.body, self.slip
+        return ins, steps, shape, _FUSED.get(self.mode, self.mode), self.body, self.slip
 
     def windows(self):
         fused = self.pair(self.u_star)
@@ -261,10 +259,12 @@ def test_knife_edges():
     pytest.fail("no window above u0* in the random set")
 
 
-@pytest.mark.parametrize("mode", ["stokes", "auto", "ode"])
-def test_other_tiers_take_the_quadrature(mode):
-    """Tiers without a compiled sticking set: the propensity is the node quadrature, the
-    same numbers with ``pair`` as without, and the report says so."""
+@pytest.mark.parametrize("mode", ["stokes", "auto", "ode", "ode_selfconsistent"])
+def test_other_tiers_take_their_own_sets(mode):
+    """Tiers without a compiled sticking set: "stokes" takes ``F(u0*)`` (counted exact),
+    the others the bracketing of :mod:`agglomtool.collision.sticking_numeric` (counted
+    bracketed); none is left to the quadrature, and where no window lies above u0* the
+    numbers are bitwise the quadrature's (tests/test_sticking_numeric.py: the hard set)."""
     p, liquid, gas = _water()
     pairs = Pairs(p, at.Particle(d=600e-6, rho=2650.0, h0=p.h0, ha=p.ha), liquid, gas,
                   np.array([0.0, 90.0]), 0.9, mode=mode)
@@ -274,13 +274,15 @@ def test_other_tiers_take_the_quadrature(mode):
                                pair=pairs.pair, report=report)
     ref = sticking_probability(law, pairs.u_star, pairs.collide, nodes=16)
     np.testing.assert_array_equal(got, ref)
-    assert report == {"exact": 0, "quadrature": got.size}
+    done = "exact" if mode == "stokes" else "bracketed"
+    assert report[done] == got.size and report["quadrature"] == 0, report
 
 
-def test_fallbacks_are_counted_and_equal_the_quadrature():
-    """Mode "paper" with body forces and a drag that depends on the particles' speed have
-    no proven bracket: those elements are integrated by the nodes (bitwise the reference)
-    and counted."""
+def test_fallbacks_are_bracketed():
+    """Mode "paper" with body forces off the axis and a drag that depends on the particles'
+    speed have no compiled set: those elements are bracketed with the tier's own kernel
+    (bitwise the quadrature where no window lies above u0*) and counted; the axis' element
+    of mode "paper" keeps the compiled set."""
     p, liquid, gas = _water()
     q = at.Particle(d=600e-6, rho=4330.0, h0=p.h0, ha=p.ha)
     for mode, slip in (("paper", False), ("relative", True)):
@@ -292,7 +294,7 @@ def test_fallbacks_are_counted_and_equal_the_quadrature():
                                    pair=pairs.pair, report=report)
         ref = sticking_probability(law, pairs.u_star, pairs.collide, nodes=16)
         np.testing.assert_array_equal(got, ref)
-        assert report["quadrature"] == got.size
+        assert report == {"exact": 0, "bracketed": got.size, "quadrature": 0}, report
 
 
 def test_a_map_takes_the_compiled_set():
@@ -311,7 +313,7 @@ def test_a_map_takes_the_compiled_set():
                                collide_on=r.collide_on, pair=r.sticking_pair, report=report)
     ref = sticking_probability(r.speeds, r.u_star, r.collide, nodes=N_REF, shape=shape,
                                collide_on=r.collide_on)
-    assert report == {"exact": got.size, "quadrature": 0}
+    assert report == {"exact": got.size, "bracketed": 0, "quadrature": 0}
     np.testing.assert_allclose(got, ref, rtol=0.0, atol=1e-9)
     ds = at.sweep(s, U_Umf=values["U_Umf"].ravel(), h0=values["h0"].ravel(),
                   beta_deg=values["beta_deg"].ravel())

@@ -42,14 +42,26 @@ When ``e_w`` is monotonic the sum is zero and ``P = F(u0*)`` exactly, whatever `
 a sticking window above ``u0*`` is resolved to ``(1 - F(u0*)) / (2N)`` in probability.
 
 Given the collisions as the fused kernels take them (``pair``, as scenes, maps and beds
-pass it), the set of speeds above ``u0*`` at which the pair sticks again is found in
-compiled code instead (``agglomtool.collision.sticking``: modes ``"relative"`` and
-``"paper"`` without body forces on the axis) and the CDF integrated over it exactly::
+pass it), the set of speeds above ``u0*`` at which the pair sticks again is found instead
+and the CDF integrated over it::
 
     P = F(u0*) + sum_k F(b_k) - F(max(a_k, u0*))
 
-Collisions without a proven bracket there keep the quadrature above, which is also the
-reference the compiled set is tested against.
+- modes ``"relative"`` and ``"paper"`` without body forces on the axis: in compiled code
+  from the tier's structure (``agglomtool.collision.sticking``), each end to 1e-13 of
+  ``sqrt(Ca)``;
+- mode ``"stokes"``: the set is empty (Ennis' criterion sticks below one speed only),
+  ``P = F(u0*)`` with no collision evaluated;
+- the other tiers and flags (``"ode"``, ``"ode_selfconsistent"``, ``"auto"``, ``"paper"``
+  with a body force on the axis, ``drag_slip="particle"``): bracketed with the tier's own
+  kernel between candidate speeds that include the ``N`` nodes above and mode
+  ``"relative"``'s windows, each end bisected to 1e-12 of the speed
+  (``agglomtool.collision.sticking_numeric``, whose docstring states what is proven and
+  what is not: a window narrower than the candidates' spacing and away from the seeds);
+- fixed speeds: the verdict at the speed itself (exact, as the one node).
+
+Elements without a proven bracket (no verdict, a bisection that did not settle) keep the
+quadrature above, which is also the reference the sets are tested against.
 """
 
 from __future__ import annotations
@@ -166,15 +178,17 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
         lies above ``u0*`` (elsewhere ``P = 1`` without a collision); the same numbers.
     pair : callable, optional
         ``pair(u_star)`` -> ``(ins, steps, shape, tier, body, particle_slip)``, the
-        collisions as the fused kernels take them (``agglomtool.collision.fused``), or
-        None where the tier has no compiled sticking set. Given (and not None), the set of
-        speeds above ``u0*`` at which the pair sticks again is found in compiled code
-        (``agglomtool.collision.sticking``) and the law's CDF integrated over it:
-        exact, no quadrature. Collisions whose set has no proven bracket are integrated by
+        collisions as the fused kernels take them (``agglomtool.collision.fused``;
+        ``tier`` the fused tier's code, or the mode's name for the other tiers), or None.
+        Given (and not None), the set of speeds above ``u0*`` at which the pair sticks
+        again is found as the module docstring says, per tier, and the law's CDF
+        integrated over it. Elements whose set has no proven bracket are integrated by
         the ``nodes`` quadrature as without ``pair``.
     report : dict, optional
-        Filled with ``"exact"`` (elements whose ``P`` came from the compiled sticking set)
-        and ``"quadrature"`` (elements integrated by the nodes).
+        Filled with ``"exact"`` (elements whose ``P`` came from a compiled or proven
+        sticking set: modes relative and paper on the axis, stokes, fixed speeds),
+        ``"bracketed"`` (elements bracketed with the tier's kernel) and ``"quadrature"``
+        (elements integrated by the nodes).
     out : numpy.ndarray, optional
         A C-contiguous float64 array of ``shape`` (a map's result) into which the compiled
         sticking set's ``P`` is written; it is then the array returned.
@@ -189,20 +203,67 @@ def sticking_probability(speeds: SpeedModel, u_star, collide, *, nodes: int = 16
     u_star = np.asarray(u_star, dtype=float)
     fused = None if pair is None else pair(u_star)
     if fused is not None:
-        found = _exact(speeds, u_star, fused, shape, out)
+        found = _with_pair(speeds, u_star, fused, shape, out, nodes)
         if found is not None:
-            p, left = found
-            if report is not None:
-                report["exact"] = int(p.size - (0 if left is None else np.count_nonzero(left)))
-                report["quadrature"] = int(0 if left is None else np.count_nonzero(left))
+            p, left, counts = found
             if left is not None and left.any():
                 p[left] = _quadrature(speeds, u_star, collide, nodes, p.shape, collide_on,
                                       within=left)[left]
+            if report is not None:
+                report.update(counts, quadrature=int(0 if left is None
+                                                      else np.count_nonzero(left)))
             return p
     p = _quadrature(speeds, u_star, collide, nodes, shape, collide_on)
     if report is not None:
-        report["exact"], report["quadrature"] = 0, int(p.size)
+        report.update(exact=0, bracketed=0, quadrature=int(p.size))
     return p
+
+
+def _with_pair(speeds: SpeedModel, u_star, fused, shape, out, nodes):
+    """``(P, left, counts)`` from the tier's sticking set (``fused``: what ``pair``
+    returned): the compiled set of :mod:`agglomtool.collision.sticking` (modes "relative"
+    and "paper"), the empty set of mode "stokes", the bracketing of
+    :mod:`agglomtool.collision.sticking_numeric` (the other tiers, and the collisions of
+    the compiled tiers without a proven set); ``left`` (None where it would hold no True)
+    where the quadrature must fill ``P`` in; ``counts`` the elements whose ``P`` is exact
+    (``"exact"``) and bracketed (``"bracketed"``). None where the collisions' shape does
+    not broadcast to ``shape``."""
+    tier = fused[3]
+    shape = _element_shape(speeds, u_star, fused[2], shape)
+    if shape is None:
+        return None
+    if tier == "stokes":
+        # Ennis' criterion: nothing above a rebounding u0* sticks (sticking_numeric's
+        # docstring): P = F(u0*), as the quadrature's sum of zeros gives it
+        f_star = np.broadcast_to(speeds.cdf(u_star), shape)
+        p = np.where(1.0 - f_star > 1e-12, f_star, 1.0)
+        return p, None, {"exact": int(p.size), "bracketed": 0}
+    if isinstance(tier, str):
+        p, left = np.empty(shape), np.ones(shape, dtype=bool)
+    else:
+        p, left = _exact(speeds, u_star, fused, shape, out)
+    counts = {"exact": int(p.size - (0 if left is None else np.count_nonzero(left))),
+              "bracketed": 0}
+    if left is not None:
+        exact, bracketed, left = _bracketed(speeds, u_star, fused, shape, left, p, nodes)
+        counts["exact"] += exact
+        counts["bracketed"] = bracketed
+    return p, left, counts
+
+
+def _element_shape(speeds: SpeedModel, u_star, cshape, shape):
+    """The elements' shape (``shape``, or the broadcast of ``u_star``, the collisions'
+    ``cshape`` and the law), None where the collisions do not broadcast to it."""
+    cshape = tuple(cshape)
+    if shape is None:
+        shape = np.broadcast_shapes(u_star.shape, cshape, np.shape(speeds.median()))
+    shape = tuple(shape)
+    try:
+        if np.broadcast_shapes(shape, cshape) != shape:
+            return None
+    except ValueError:
+        return None
+    return shape
 
 
 #: Family codes of the compiled integration (``agglomtool.collision.sticking``).
@@ -219,8 +280,8 @@ def _flat_param(a, shape):
 
 def _exact(speeds: SpeedModel, u_star, fused, shape, out=None):
     """``(P, left)``: ``P`` from the compiled sticking sets, ``left`` (a boolean array, None
-    where it would hold no True) where a collision's set was not proven and the quadrature
-    must fill ``P`` in; None where the collisions' shape does not broadcast to ``shape``.
+    where it would hold no True) where a collision's set was not proven (``shape``: the
+    elements', to which the collisions broadcast).
     ``out``: as for :func:`sticking_probability` (used where the elements are one pass's)."""
     from ..collision.sticking import (
         propensity_exact,
@@ -230,14 +291,6 @@ def _exact(speeds: SpeedModel, u_star, fused, shape, out=None):
 
     ins, steps, cshape, tier, body, particle_slip = fused
     cshape = tuple(cshape)
-    if shape is None:
-        shape = np.broadcast_shapes(u_star.shape, cshape, np.shape(speeds.median()))
-    shape = tuple(shape)
-    try:
-        if np.broadcast_shapes(shape, cshape) != shape:
-            return None
-    except ValueError:
-        return None
     n_c = int(np.prod(cshape, dtype=np.int64))
     us = np.ascontiguousarray(np.broadcast_to(u_star, cshape), dtype=float).reshape(-1)
     fam = speeds.family
@@ -272,6 +325,117 @@ def _exact(speeds: SpeedModel, u_star, fused, shape, out=None):
     # one reduction decides the common case (no NaN: the minimum is NaN exactly when some
     # element is); the mask only where the quadrature has elements to fill in
     return p, (np.isnan(p) if p.size and math.isnan(p.min()) else None)
+
+
+def _column(speeds: SpeedModel) -> SpeedModel:
+    """The law of 1-D elements (:meth:`SpeedModel.at`) with each varying parameter as a
+    column, so that it broadcasts against ``(elements, speeds)`` arrays."""
+
+    def col(a):
+        return a if a is None or a.ndim == 0 else a[:, None]
+
+    return SpeedModel(speeds.family, u0=col(speeds.u0), sigma_ln=col(speeds.sigma_ln),
+                      granular_temperature=col(speeds.theta))
+
+
+def bracket_elements(speeds: SpeedModel, u_star, fused, shape, within, nodes=16):
+    """The sticking sets of the elements ``within`` (a boolean array of ``shape``, the
+    elements where probability lies above ``u0*``) by the bracketing of
+    :mod:`agglomtool.collision.sticking_numeric` with ``nodes`` of the law's quantile
+    nodes among the candidates. Returns ``(law, cand, stuck, cross, ok)``: the elements'
+    law (:func:`_column`), their candidate speeds and verdicts, the crossings and where
+    they are proven (:func:`~agglomtool.collision.sticking_numeric.bracket`)."""
+    from ..collision.sticking_numeric import (
+        TAIL,
+        bracket,
+        candidate_rows,
+        collision_candidates,
+        relative_seeds,
+        stick_indicator,
+    )
+
+    ins, steps, cshape, tier, body, particle_slip = fused
+    cshape = tuple(cshape)
+    n_c = int(np.prod(cshape, dtype=np.int64))
+    us_c = np.ascontiguousarray(np.broadcast_to(u_star, cshape), dtype=float).reshape(-1)
+    where = np.flatnonzero(within)
+    coll = np.broadcast_to(np.arange(n_c, dtype=np.int64).reshape(cshape),
+                           shape).reshape(-1)[where]
+    us = us_c[coll]
+    law = _column(speeds.at(within, shape))
+    f_o = law.cdf(us[:, None])
+    r_o = 1.0 - f_o
+    q = f_o + r_o * ((np.arange(nodes) + 0.5) / nodes)[None, :]
+    q_top = np.maximum(1.0 - TAIL, q[:, -1:])
+    node_u = np.broadcast_to(law.quantile(q), q.shape)
+    top = np.broadcast_to(law.quantile(q_top), (where.size, 1))[:, 0]
+    sticks = stick_indicator(ins, steps, tier, body, particle_slip)
+    # the collision's own candidates once per collision, the law's nodes per element
+    colls, inv = np.unique(coll, return_inverse=True)
+    seeds = relative_seeds(ins, steps, n_c, us_c, body)[colls]
+    col_speeds, col_pre = collision_candidates(sticks, colls, us_c[colls], seeds)
+    cand, pre = candidate_rows(col_speeds[inv], col_pre[inv], node_u, top)
+    stuck, cross, ok = bracket(sticks, coll, cand, pre)
+    return law, cand, stuck, cross, ok
+
+
+def _bracketed(speeds: SpeedModel, u_star, fused, shape, left, p, nodes):
+    """``P`` into ``p`` at the elements ``left`` by bracketing, the law's ``nodes`` among
+    the candidates (fixed speeds: the verdict at the speed itself, exact). Returns
+    ``(exact, bracketed, still_left)``: the elements done each way, and those left to the
+    quadrature (None where none)."""
+    f_star = np.broadcast_to(speeds.cdf(u_star), shape)
+    rest = 1.0 - f_star
+    open_ = left & (rest > 1e-12)
+    p[left & ~open_] = 1.0
+    exact = int(np.count_nonzero(left & ~open_))
+    if not open_.any():
+        return exact, 0, None
+    if speeds.family == "fixed":
+        from ..collision.sticking_numeric import stick_indicator
+
+        ins, steps, cshape, tier, body, particle_slip = fused
+        n_c = int(np.prod(cshape, dtype=np.int64))
+        where = np.flatnonzero(open_)
+        coll = np.broadcast_to(np.arange(n_c, dtype=np.int64).reshape(tuple(cshape)),
+                               shape).reshape(-1)[where]
+        u = np.broadcast_to(speeds.u0, shape).reshape(-1)[where]
+        positive = u > 0.0  # a speed of 0 cannot collide: sticks, as the quadrature says
+        s, known = stick_indicator(ins, steps, tier, body, particle_slip)(
+            coll[positive], u[positive])
+        stuck = np.ones(where.size)
+        stuck[positive] = s
+        ok = np.ones(where.size, dtype=bool)
+        ok[positive] = known
+        val = f_star[open_] + rest[open_] * stuck / 1
+        return exact + _put(p, open_, val, ok), 0, _unproven(open_, ok)
+    law, cand, stuck, cross, ok = bracket_elements(speeds, u_star, fused, shape, open_,
+                                                   nodes)
+    f_c = law.cdf(cand)
+    f_x = law.cdf(cross)
+    s = stuck.astype(float)
+    val = (f_c[:, 0] + np.sum(s[:, :-1] * (f_x - f_c[:, :-1])
+                              + s[:, 1:] * (f_c[:, 1:] - f_x), axis=1)
+           + s[:, -1] * (1.0 - f_c[:, -1]))
+    return exact, _put(p, open_, np.minimum(val, 1.0), ok), _unproven(open_, ok)
+
+
+def _put(p, mask, val, ok):
+    """``p[mask] = val`` where ``ok`` (``val``, ``ok``: one per element of ``mask``, in
+    its order); returns how many were written."""
+    sub = p[mask]
+    sub[ok] = val[ok]
+    p[mask] = sub
+    return int(np.count_nonzero(ok))
+
+
+def _unproven(mask, ok):
+    """The elements of ``mask`` where not ``ok``, as a boolean array (None where none)."""
+    if ok.all():
+        return None
+    still = np.zeros(mask.shape, dtype=bool)
+    still[mask] = ~ok
+    return still
 
 
 def _trailing(cshape: tuple, shape: tuple):

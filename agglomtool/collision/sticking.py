@@ -34,8 +34,9 @@ outside where that lies above ``u0*``). Mode "paper" without body forces equals 
 "relative" to rounding (:mod:`.relative`) and takes the same set, checked with the paper's
 kernel. Where no bracket is proven (mode "paper" with body forces, a drag that depends on
 the particles' speed, a failed check, an iteration that did not settle) the collision is
-flagged :data:`FALLBACK` and the caller integrates it by the node quadrature (the checked
-reference).
+flagged :data:`FALLBACK` and the caller brackets its set with the tier's own kernel
+(:mod:`.sticking_numeric`), or, where no bracket settles there either, integrates it by
+the node quadrature (the checked reference).
 
 Accuracy: the window ends are bisected to ``T_RTOL`` (1e-13) of ``t``, i.e. ``2e-13`` of
 the speed at contact; in probability each end is then within ``f(u) u 1e-12`` of the true

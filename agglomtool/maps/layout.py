@@ -339,9 +339,11 @@ def _dataset_attrs(base: dict, grid: dict, nodes: int) -> dict:
         "propensity_method": (
             "F(u0*) plus the probability of the speeds above u0* at which the pair sticks "
             "again, found in compiled code (modes relative, and paper without body forces "
-            "on the axis: agglomtool.collision.sticking), elsewhere the sticking indicator "
-            f"integrated over {nodes} equal-probability nodes above u0* "
-            "(agglomtool.bed.speeds)"),
+            "on the axis: agglomtool.collision.sticking), none in mode stokes, elsewhere "
+            "bracketed with the tier's kernel from candidates that include "
+            f"{nodes} equal-probability nodes above u0* "
+            "(agglomtool.collision.sticking_numeric; the nodes' quadrature where no bracket "
+            "settles: agglomtool.bed.speeds)"),
         "quadrature_nodes": int(nodes),
         "material_sources": json.dumps(sources),
     }
