@@ -40,13 +40,24 @@ def _number(where: str, key: str, value):
     return float(value)
 
 
+def _plain_number(text: str) -> bool:
+    """``"2"``, ``"1e-6"``: a number written as a string, no unit."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def _same_kind(where: str, key: str, values: list) -> None:
     """A list of values of a numeric field holds quantities with units or bare SI numbers, not
     both: ``["20 degC", "80 degC", 5]`` reads as a range written as a list (5 would be 5 K)."""
-    texts = [v for v in values if isinstance(v, str)]
+    unit = FIELD_META[key][0]
+    if unit in ("", "-", "1", "dimensionless"):
+        return  # a number is a number: "2" and 4.0 mean what they say
+    texts = [v for v in values if isinstance(v, str) and not _plain_number(v)]
     bare = [v for v in values if isinstance(v, int | float) and not isinstance(v, bool)]
     if texts and bare:
-        unit = FIELD_META[key][0]
         ranged = (f", or a range: {key} = {{ start = {texts[0]!r}, stop = {texts[-1]!r}, "
                   "num = ... }" if len(texts) > 1 else "")
         raise ConfigError(

@@ -123,6 +123,11 @@ def test_a_grid_list_mixing_units_and_bare_numbers_is_refused(axis, first_bare):
 
 
 def test_a_grid_list_of_bare_numbers_or_of_quantities_is_taken():
+    # a dimensionless field's "2" and 4.0 mean the same; a number in quotes is no unit
+    text = '[scene]\nliquid = "water"\nT = "50 degC"\n[grid]\nU_Umf = ["2", 4.0]\n'
+    assert parse_config(tomllib.loads(text)).grid["U_Umf"] == pytest.approx([2.0, 4.0])
+    text = text.replace('U_Umf = ["2", 4.0]', 'h0 = ["2e-6", 4e-6]')
+    assert parse_config(tomllib.loads(text)).grid["h0"] == pytest.approx([2e-6, 4e-6])
     text = '[scene]\nliquid = "water"\nT = "50 degC"\n[grid]\nT = ["20 degC", "80 degC"]\n'
     assert parse_config(tomllib.loads(text)).grid["T"] == pytest.approx([293.15, 353.15])
     text = text.replace('["20 degC", "80 degC"]', "[293.15, 353.15]")
