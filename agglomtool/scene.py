@@ -23,7 +23,7 @@ from functools import cached_property
 from typing import Any
 
 import numpy as np
-from numba import vectorize
+from numba import njit, prange, vectorize
 
 from . import materials
 from ._fields import (
@@ -35,11 +35,11 @@ from ._fields import (
     U_CEILING,
     short_unit,
 )
-from ._jit import CACHE
+from ._jit import CACHE, parallel_launch
 from ._validate import check_range, check_typed, suggestion, unknown_name
 from .api import _FUSED, MODES, _fused_inputs, collide, critical_impact_speed
 from .bed.speed_models import IMPACT_SPEED_MODELS, mixed_law, speed_law
-from .bed.speeds import SPEED_FAMILIES, SpeedModel, sticking_probability
+from .bed.speeds import _LN2, SPEED_FAMILIES, SpeedModel, sticking_probability
 from .inputs import Bed, Liquid, Particle
 from .pair import DRAG_SLIP_MODES, wet_mass
 from .plausibility import PlausibilityWarning, scene_findings, warn_findings
@@ -870,20 +870,24 @@ class Resolved:
         ceiling = float(np.max(self.num("u_ceiling")))
         return critical_impact_speed(p_i, p_j, u_max=ceiling, **self._common())
 
+    def stokes_parts(self) -> tuple:
+        """``(2 m_r, 1.5 pi mu_l r^2)`` of :meth:`stokes`: ``St = (2 m_r u0) / that``."""
+        p_i, p_j = self.particles
+        m_i = wet_mass(p_i, self.liquid.rho)
+        m_j = wet_mass(p_j, self.liquid.rho)
+        m_r = m_i * m_j / (m_i + m_j)
+        r = 2.0 / (2.0 / p_i.d + 2.0 / p_j.d)
+        return m_r * 2.0, 1.5 * math.pi * self.liquid.mu * r * r
+
     def stokes(self, u0, out=None):
         """Viscous Stokes number of the pair at head-on speed ``u0`` [-]:
         ``St = m_r w / (1.5 pi mu_l r^2)`` with the wet reduced mass ``m_r``, relative
         speed ``w = 2 u0`` and harmonic radius ``r``; for identical particles it is the
         paper's ``St = 2 m v0 / (3 pi mu_l r^2)`` (Eq. 77) with ``v0 = u0``. ``out``: a
         float64 array of the result's shape to write it into (then returned)."""
-        p_i, p_j = self.particles
-        m_i = wet_mass(p_i, self.liquid.rho)
-        m_j = wet_mass(p_j, self.liquid.rho)
-        m_r = m_i * m_j / (m_i + m_j)
-        r = 2.0 / (2.0 / p_i.d + 2.0 / p_j.d)
         # the formula's operations in its order, in one array divided in place where its
         # shape is the result's (a new array costs more than the arithmetic)
-        m2, den = m_r * 2.0, 1.5 * math.pi * self.liquid.mu * r * r
+        m2, den = self.stokes_parts()
         shape = np.broadcast_shapes(np.shape(m2), np.shape(u0), np.shape(den))
         if not (out is not None and out.dtype == np.float64 and out.shape == shape):
             out = None
@@ -901,6 +905,69 @@ def _margin_of(u_typ, u_star):  # pragma: no cover - compiled
     if math.isinf(u_star):
         return 0.0
     return u_typ / u_star
+
+
+@njit(parallel=True, cache=CACHE)
+def _typical_pass(base, median_of, ln2, u_star, m2, den, u_typ, margin, st):
+    """One pass over a map's block (4-D arrays of one shape, inputs broadcast): the typical
+    speed ``u_typ`` (``sqrt(base ln 2)``, the Maxwellian median, where ``median_of``, else
+    ``base``), the margin (:func:`_margin_of`) and ``St = (m2 u_typ) / den``
+    (:meth:`Resolved.stokes`), each written into its array with the arithmetic of the
+    numpy passes it replaces."""
+    a, b, c, d = margin.shape
+    for row in prange(a * b * c):  # pragma: no cover - compiled
+        i = row // (b * c)
+        j = (row // c) % b
+        k = row % c
+        for m in range(d):
+            u = base[i, j, k, m]
+            if median_of:
+                u = math.sqrt(u * ln2)
+            u_typ[i, j, k, m] = u
+            us = u_star[i, j, k, m]
+            margin[i, j, k, m] = 0.0 if math.isinf(us) else u / us
+            st[i, j, k, m] = (m2[i, j, k, m] * u) / den[i, j, k, m]
+
+
+def _as_4d(a, shape):
+    """``a`` broadcast to the block's ``shape`` (no copy), as 4-D (leading axes of 1)."""
+    view = np.broadcast_to(np.asarray(a, dtype=np.float64), shape)
+    return view.reshape((1,) * (4 - len(shape)) + tuple(shape))
+
+
+def _typical_in_one_pass(r: Resolved, u_star, into: dict):
+    """The typical speed, margin and ``St`` of a map's block written by
+    :func:`_typical_pass` into ``into``'s arrays (the block's result), the typical speed
+    returned as :func:`collision_outputs` passes it to the collision; None (nothing
+    written) where ``into`` lacks one of them or they are not float64 arrays of one shape
+    of at most 4 axes to which the inputs broadcast."""
+    targets: list[np.ndarray] = []
+    for k in ("u_typical", "margin", "St"):
+        t = into.get(k)
+        if t is None or t.dtype != np.float64 or not t.flags.writeable:
+            return None
+        targets.append(t)
+    shape = targets[0].shape
+    if len(shape) > 4 or any(t.shape != shape for t in targets):
+        return None
+    speeds = r.speeds
+    # The Maxwellian median computed in the pass where it is the block's own array (as
+    # SpeedModel.median writes it into its ``out``); else as before, then read here.
+    median_of = speeds.family == "maxwellian" and speeds.theta.shape == shape
+    u_typ = targets[0] if median_of else speeds.median()
+    m2, den = r.stokes_parts()
+    try:
+        if np.broadcast_shapes(np.shape(u_typ), np.shape(u_star), np.shape(m2),
+                               np.shape(den)) != shape:
+            return None
+    except ValueError:
+        return None
+    base = speeds.theta if median_of else u_typ
+    assert base is not None  # (a Maxwellian law has its theta, the others their median)
+    four = [t.reshape((1,) * (4 - len(shape)) + shape) for t in targets]
+    parallel_launch(_typical_pass, _as_4d(base, shape), median_of, _LN2,
+                    _as_4d(u_star, shape), _as_4d(m2, shape), _as_4d(den, shape), *four)
+    return u_typ
 
 
 def capillary_number(mu_l, gamma, u_star):
@@ -962,7 +1029,12 @@ def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
     the margin is computed, with no temporaries of the block's size; the other outputs
     are returned as views, for the caller to write once."""
     into = {} if out is None else out
-    u_typ = r.speeds.median(out=into.get("u_typical"))  # r.u_typical, in its block
+    # A map's block: the typical speed, margin and St in one compiled pass, written into
+    # its result (the same arithmetic as the numpy passes below, element by element).
+    u_typ = _typical_in_one_pass(r, u_star, into)
+    done = u_typ is not None
+    if not done:
+        u_typ = r.speeds.median(out=into.get("u_typical"))  # r.u_typical, in its block
     res = r.collide(u_typ, out={k: into.get(k) for k in ("e_w", "stage", "agglomerated")})
     # The block's shape: names (solids, mode, ...) reach the kernel as one scalar each, so
     # the collision's shape alone can miss their (size-1) axes and those of u0*.
@@ -975,13 +1047,17 @@ def collision_outputs(r: Resolved, u_star, nodes: int, out=None) -> dict:
     target = None if out is None else out.get("margin")
     u_typ_f, u_star_f = np.asarray(u_typ, dtype=float), np.asarray(u_star, dtype=float)
     with np.errstate(divide="ignore"):
-        if (target is not None and target.shape == tuple(shape)
+        if done:
+            margin = target
+        elif (target is not None and target.shape == tuple(shape)
                 and target.dtype == np.float64):
             margin = target  # written once into the result
             _margin_of(u_typ_f, u_star_f, out=target)
         else:
             margin = b(_margin_of(u_typ_f, u_star_f), shape)
-    st = r.stokes(u_typ, out=into.get("St"))
+    st = into["St"] if done else r.stokes(u_typ, out=into.get("St"))
+    if done:
+        u_typ = into["u_typical"]
 
     def view(name, a):  # an output already in its block of ``out`` is that block
         return a if a is into.get(name) else b(a, shape)
