@@ -909,30 +909,52 @@ def _margin_of(u_typ, u_star):  # pragma: no cover - compiled
 
 @njit(parallel=True, cache=CACHE)
 def _typical_pass(base, median_of, ln2, u_star, m2, den, u_typ, margin, st):
-    """One pass over a map's block (4-D arrays of one shape, inputs broadcast): the typical
-    speed ``u_typ`` (``sqrt(base ln 2)``, the Maxwellian median, where ``median_of``, else
-    ``base``), the margin (:func:`_margin_of`) and ``St = (m2 u_typ) / den``
-    (:meth:`Resolved.stokes`), each written into its array with the arithmetic of the
-    numpy passes it replaces."""
+    """One pass over a map's block (4-D outputs of one shape; each input 4-D, of length 1
+    or the block's on each axis, broadcast here): the typical speed ``u_typ``
+    (``sqrt(base ln 2)``, the Maxwellian median, where ``median_of``, else ``base``), the
+    margin (:func:`_margin_of`) and ``St = (m2 u_typ) / den`` (:meth:`Resolved.stokes`),
+    each written into its array with the arithmetic of the numpy passes it replaces. The
+    inputs are read row by row with a step of 0 or 1 (a loop the compiler vectorizes)."""
     a, b, c, d = margin.shape
     for row in prange(a * b * c):  # pragma: no cover - compiled
         i = row // (b * c)
         j = (row // c) % b
         k = row % c
+        rb = _row(base, i, j, k)
+        ru = _row(u_star, i, j, k)
+        rm = _row(m2, i, j, k)
+        rd = _row(den, i, j, k)
+        sb = 1 if rb.shape[0] > 1 else 0
+        su = 1 if ru.shape[0] > 1 else 0
+        sm = 1 if rm.shape[0] > 1 else 0
+        sd = 1 if rd.shape[0] > 1 else 0
+        o_typ = u_typ[i, j, k]
+        o_margin = margin[i, j, k]
+        o_st = st[i, j, k]
         for m in range(d):
-            u = base[i, j, k, m]
+            u = rb[m * sb]
             if median_of:
                 u = math.sqrt(u * ln2)
-            u_typ[i, j, k, m] = u
-            us = u_star[i, j, k, m]
-            margin[i, j, k, m] = 0.0 if math.isinf(us) else u / us
-            st[i, j, k, m] = (m2[i, j, k, m] * u) / den[i, j, k, m]
+            o_typ[m] = u
+            us = ru[m * su]
+            o_margin[m] = 0.0 if math.isinf(us) else u / us
+            o_st[m] = (rm[m * sm] * u) / rd[m * sd]
 
 
-def _as_4d(a, shape):
-    """``a`` broadcast to the block's ``shape`` (no copy), as 4-D (leading axes of 1)."""
-    view = np.broadcast_to(np.asarray(a, dtype=np.float64), shape)
-    return view.reshape((1,) * (4 - len(shape)) + tuple(shape))
+@njit(inline="always", cache=CACHE)
+def _row(a, i, j, k):  # pragma: no cover - compiled
+    """The last axis of the 4-D ``a`` at the block's row ``(i, j, k)`` (0 where ``a``'s
+    axis has length 1: broadcast)."""
+    return a[i if a.shape[0] > 1 else 0, j if a.shape[1] > 1 else 0,
+             k if a.shape[2] > 1 else 0]
+
+
+def _as_4d(a, ndim: int):
+    """``a`` (of at most ``ndim`` axes, broadcasting to the block's) as a C-contiguous
+    float64 4-D array of its own values (no copy where it is one already), leading axes of
+    length 1 added: the block's axes at the end, as the outputs'."""
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    return a.reshape((1,) * (4 - a.ndim) + a.shape) if a.ndim <= ndim else None
 
 
 def _typical_in_one_pass(r: Resolved, u_star, into: dict):
@@ -963,10 +985,11 @@ def _typical_in_one_pass(r: Resolved, u_star, into: dict):
     except ValueError:
         return None
     base = speeds.theta if median_of else u_typ
-    assert base is not None  # (a Maxwellian law has its theta, the others their median)
+    ins = [_as_4d(x, len(shape)) for x in (base, u_star, m2, den)]
+    if any(x is None for x in ins):
+        return None
     four = [t.reshape((1,) * (4 - len(shape)) + shape) for t in targets]
-    parallel_launch(_typical_pass, _as_4d(base, shape), median_of, _LN2,
-                    _as_4d(u_star, shape), _as_4d(m2, shape), _as_4d(den, shape), *four)
+    parallel_launch(_typical_pass, ins[0], median_of, _LN2, ins[1], ins[2], ins[3], *four)
     return u_typ
 
 
