@@ -644,6 +644,13 @@ def _bubble_chain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - com
     :func:`bubble_fraction_kunii_levenspiel` and :func:`granular_temperature_bubble_wake`
     in turn, or -1 where any of their checks would object (the caller then takes them in
     turn for the message)."""
+    return _chain_steps(excess, Umf, d_b, D_t, eps_mf, f_w)
+
+
+@njit(cache=CACHE)
+def _chain_steps(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """The chain's steps of one element, written once for :func:`_bubble_chain` and the
+    map pass's :func:`_chain_one`: the granular temperature, or -1 where a check objects."""
     if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0):
         return -1.0
     u_b = excess + _rise_one(d_b, D_t)
@@ -663,6 +670,13 @@ def bubble_domain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - com
     wakes leave no emulsion (:func:`solids_downflow_kunii_levenspiel` refuses); 4 for any
     other input the chain refuses. ``excess`` is ``U - Umf`` (> 0), ``d_b`` the bubble
     size. The same compiled operations as the chain, so the same verdict."""
+    return _domain_code(excess, Umf, d_b, D_t, eps_mf, f_w)
+
+
+@njit(cache=CACHE)
+def _domain_code(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+    """:func:`bubble_domain`'s code of one element, written once for it and the map
+    pass's :func:`_chain_code`."""
     if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0
             and 0.0 < excess < math.inf and 0.0 < f_w < math.inf):
         return 4
@@ -1011,34 +1025,17 @@ def _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk):  # pra
 def _chain_one(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
     """:func:`_bubble_chain` of one element (``excess`` -1 where :func:`_excess_one`
     refused it): its granular temperature, or -1 where a check objects."""
-    if not (0.0 < excess and 0.0 < d_b < math.inf and 0.0 < D_t < math.inf
-            and 0.0 < eps_mf < 1.0):
+    if not 0.0 < excess:
         return -1.0
-    u_b = excess + _rise_one(d_b, D_t)
-    if not 0.0 < u_b < math.inf:
-        return -1.0
-    delta = _fraction_one(excess, Umf, u_b, eps_mf)
-    if not delta < 1.0:
-        return -1.0
-    return _wake_one(delta, u_b, f_w)
+    return _chain_steps(excess, Umf, d_b, D_t, eps_mf, f_w)
 
 
 @njit(cache=CACHE)
 def _chain_code(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
     """The :func:`bubble_domain` code of an element :func:`_chain_one` refuses (the same
     checks in the same order: the same verdict); 4 for any refusal it does not name."""
-    if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0
-            and 0.0 < excess < math.inf and 0.0 < f_w < math.inf):
-        return 4
-    u_b = excess + _rise_one(d_b, D_t)
-    if not 0.0 < u_b < math.inf:
-        return 4
-    delta = _fraction_one(excess, Umf, u_b, eps_mf)
-    if not delta < 1.0:
-        return 2
-    if not 1.0 - delta - f_w * delta > 0.0:
-        return 3
-    return 4
+    code = _domain_code(excess, Umf, d_b, D_t, eps_mf, f_w)
+    return 4 if code == 0 else code
 
 
 def _run(kernel, ins, st, shp, *args, columns=1):
