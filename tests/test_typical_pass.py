@@ -6,6 +6,7 @@ import warnings
 
 import numpy as np
 import pytest
+from _map_laws import LAWS
 
 import agglomtool.scene as scene_mod
 from agglomtool.maps import sweep
@@ -15,14 +16,6 @@ WATER = Scene()
 SLAG = Scene(liquid="hypothetical-slag", h0=0.15e-6, d_i=1000e-6)
 BASE = {"water": (WATER, dict(T=np.linspace(283.15, 363.15, 4), h0=np.geomspace(1e-6, 30e-6, 5))),
         "slag": (SLAG, dict(T=np.linspace(900.0, 1300.0, 4), h0=np.geomspace(0.12e-6, 2e-6, 5)))}
-LAWS = {
-    "excess-gas": ({}, dict(U_Umf=np.linspace(1.2, 8.0, 6))),
-    "fixed": ({"speed": "fixed", "u0": 0.1}, dict(u0=np.geomspace(0.01, 2.0, 6))),
-    "lognormal": ({"speed": "lognormal", "u0": 0.1, "sigma_ln": 0.5},
-                  dict(u0=np.geomspace(0.01, 2.0, 6))),
-    "maxwellian": ({"speed": "maxwellian", "granular_temperature": 0.01},
-                   dict(granular_temperature=np.geomspace(1e-4, 1.0, 6))),
-}
 OUTPUTS = ("u_typical", "margin", "St")
 
 
