@@ -20,6 +20,11 @@ class PlausibilityWarning(UserWarning):
     """Valid input that looks wrong (a unit slip, a size outside a solid's range, ...)."""
 
 
+def material_key(name) -> str:
+    """A material's name as the database spells it: lower case, words joined by ``-``."""
+    return "-".join(str(name).strip().lower().replace("_", " ").split())
+
+
 def suggestion(value, known, *, material: bool = True) -> str:
     """``" (did you mean 'x'?)"`` for the name of ``known`` closest to a mistyped ``value``
     (a missing suffix, a swapped or missing letter), or ``""`` where none is close.
@@ -27,8 +32,7 @@ def suggestion(value, known, *, material: bool = True) -> str:
     (lower case, words joined by ``-``); otherwise a key, compared as written."""
     if not isinstance(value, str):
         return ""
-    key = ("-".join(value.strip().lower().replace("_", " ").split()) if material
-           else value.strip())
+    key = material_key(value) if material else value.strip()
     known = [str(k) for k in known]
     near = difflib.get_close_matches(key, known, n=1, cutoff=0.6)
     if not near:  # a prefix: "k-silicate" for "k-silicate-ash-melt"

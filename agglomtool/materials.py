@@ -41,6 +41,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any, cast
 
+from ._validate import material_key as _key
 from ._validate import unknown_name
 from .inputs import Liquid, Particle
 
@@ -702,10 +703,6 @@ def load(extra_dirs=None) -> MappingProxyType:
     _, db = _content_db(dirs, _read_all(dirs))
     _LAST[dirs] = (state, db)
     return db
-
-
-def _key(name: str) -> str:
-    return "-".join(str(name).strip().lower().replace("_", " ").split())
 
 
 def _get(kind: str, name: str, extra_dirs):

@@ -8,7 +8,7 @@ import numpy as np
 from scipy.special import ndtri
 
 from .. import materials
-from .._validate import check_range, check_typed
+from .._validate import check_range, check_typed, unknown_name
 from ..plausibility import component_findings, warn_findings
 from ..units import is_quantity, to_si, to_si_array
 
@@ -87,8 +87,7 @@ class Component:
             object.__setattr__(self, "d", d)
         known = materials.names("solid")
         if not isinstance(self.solid, str) or materials._key(self.solid) not in known:
-            raise ValueError(f"solid = {self.solid!r} is not in the materials database; known "
-                             f"solids: {', '.join(known)}")
+            raise unknown_name("solid", self.solid, "solid", known)
         if np.ndim(self.fraction):
             raise ValueError(f"fraction = {self.fraction!r} must be a single number in [0, 1] "
                              "(sweep the fraction with bed_sweep(..., fraction=[...], mix=...))")
