@@ -317,14 +317,21 @@ def _exact(speeds: SpeedModel, u_star, fused, shape, out=None):
         p1, p2 = _flat_param(p1, shape), _flat_param(p2, shape)
         windows = sticking_windows(ins, steps, n_c, tier, us, body=body,
                                    particle_slip=particle_slip)
-        idx = np.ascontiguousarray(np.broadcast_to(
-            np.arange(n_c, dtype=np.int64).reshape(cshape), shape)).reshape(-1)
+        idx = np.ascontiguousarray(_collision_of(cshape, shape)).reshape(-1)
         p = propensity_from_windows(idx, _FAMILY_CODES[fam], p1, p2, us, windows)
     if p is not out:
         p = p.reshape(shape)
     # one reduction decides the common case (no NaN: the minimum is NaN exactly when some
     # element is); the mask only where the quadrature has elements to fill in
     return p, (np.isnan(p) if p.size and math.isnan(p.min()) else None)
+
+
+def _collision_of(cshape, shape) -> np.ndarray:
+    """The collision (flat index into ``cshape``) of each element of ``shape``, to which
+    the collisions broadcast: a read-only broadcast view."""
+    cshape = tuple(cshape)
+    n_c = int(np.prod(cshape, dtype=np.int64))
+    return np.broadcast_to(np.arange(n_c, dtype=np.int64).reshape(cshape), shape)
 
 
 def _column(speeds: SpeedModel) -> SpeedModel:
@@ -359,8 +366,7 @@ def bracket_elements(speeds: SpeedModel, u_star, fused, shape, within, nodes=16)
     n_c = int(np.prod(cshape, dtype=np.int64))
     us_c = np.ascontiguousarray(np.broadcast_to(u_star, cshape), dtype=float).reshape(-1)
     where = np.flatnonzero(within)
-    coll = np.broadcast_to(np.arange(n_c, dtype=np.int64).reshape(cshape),
-                           shape).reshape(-1)[where]
+    coll = _collision_of(cshape, shape).reshape(-1)[where]
     us = us_c[coll]
     law = _column(speeds.at(within, shape))
     f_o = law.cdf(us[:, None])
@@ -395,10 +401,8 @@ def _bracketed(speeds: SpeedModel, u_star, fused, shape, left, p, nodes):
         from ..collision.sticking_numeric import stick_indicator
 
         ins, steps, cshape, tier, body, particle_slip = fused
-        n_c = int(np.prod(cshape, dtype=np.int64))
         where = np.flatnonzero(open_)
-        coll = np.broadcast_to(np.arange(n_c, dtype=np.int64).reshape(tuple(cshape)),
-                               shape).reshape(-1)[where]
+        coll = _collision_of(cshape, shape).reshape(-1)[where]
         u = np.broadcast_to(speeds.u0, shape).reshape(-1)[where]
         positive = u > 0.0  # a speed of 0 cannot collide: sticks, as the quadrature says
         s, known = stick_indicator(ins, steps, tier, body, particle_slip)(
@@ -407,7 +411,7 @@ def _bracketed(speeds: SpeedModel, u_star, fused, shape, left, p, nodes):
         stuck[positive] = s
         ok = np.ones(where.size, dtype=bool)
         ok[positive] = known
-        val = f_star[open_] + rest[open_] * stuck / 1
+        val = f_star[open_] + rest[open_] * stuck  # the one node's sum, P exactly
         return exact + _put(p, open_, val, ok), 0, _unproven(open_, ok)
     law, cand, stuck, cross, ok = bracket_elements(speeds, u_star, fused, shape, open_,
                                                    nodes)
