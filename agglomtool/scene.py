@@ -902,6 +902,12 @@ def _margin_of(u_typ, u_star):  # pragma: no cover - compiled
     """The margin ``u_typ / u0*`` of one element, 0 where ``u0*`` is infinite (no
     collision sticks there): ``np.where(np.isinf(u_star), 0.0, u_typ / u_star)`` in one
     pass, written where the caller says (``out``)."""
+    return _margin_one(u_typ, u_star)
+
+
+@njit(inline="always", cache=CACHE)
+def _margin_one(u_typ, u_star):  # pragma: no cover - compiled
+    """The margin's rule, written once for :func:`_margin_of` and :func:`_typical_pass`."""
     if math.isinf(u_star):
         return 0.0
     return u_typ / u_star
@@ -936,8 +942,7 @@ def _typical_pass(base, median_of, ln2, u_star, m2, den, u_typ, margin, st):
             if median_of:
                 u = math.sqrt(u * ln2)
             o_typ[m] = u
-            us = ru[m * su]
-            o_margin[m] = 0.0 if math.isinf(us) else u / us
+            o_margin[m] = _margin_one(u, ru[m * su])
             o_st[m] = (rm[m * sm] * u) / rd[m * sd]
 
 
