@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import logging
 
+import numba
 import numpy as np
 import xarray as xr
 from numba import njit, prange
@@ -33,6 +34,7 @@ from .layout import (  # noqa: F401  (re-exported: the sweep's layout, as before
     _dataset_attrs,
     _first_point,
     _grid_values,
+    auto_block,
     grid_findings,
 )
 from .plan import _dataset, _lazy_arrays, _plan, build  # noqa: F401  (re-exported)
@@ -53,8 +55,10 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     scene : Scene
         The operating point; fields not in ``grid`` keep its values.
     chunks : "auto", int, dict or None
-        Block size: ``"auto"`` (about 2.6e5 points per block), a number of points per
-        block, a ``{dim: size}`` dict, or ``None`` (one block per category combination).
+        Block size: ``"auto"`` (about 2.6e5 points per block; a map computed in memory
+        here takes larger blocks on 8 or more threads, ``auto_block`` of
+        ``agglomtool.maps.layout``), a number of points per block, a ``{dim: size}`` dict,
+        or ``None`` (one block per category combination).
         Dimensions holding names (solids, liquid, gas, mode, ...) are always chunked by 1.
     nodes : int
         Quadrature nodes of the impact-speed distribution for the propensity.
@@ -211,14 +215,17 @@ def _sweep(scene: Scene, *, chunks, nodes, store, progress, compute, overwrite, 
         from .store import _check_path
 
         _check_path(store)  # before any work: a file is not a store
-    plan = _plan(scene, chunks, nodes, grid)
-    if store is None and not compute:
-        return _dataset(plan, _lazy_arrays(plan))
-    if client is None:
+    if client is None and (compute or store is not None):  # (a lazy map needs none)
         from .store import _active_client
 
         client = _active_client()
     on_cluster = client is not None and client is not False
+    if chunks == "auto" and store is None and compute and not on_cluster:
+        # in memory, here: larger blocks on many threads (auto_block says why)
+        chunks = auto_block(numba.get_num_threads())
+    plan = _plan(scene, chunks, nodes, grid)
+    if store is None and not compute:
+        return _dataset(plan, _lazy_arrays(plan))
     if store is None:  # before any work: nothing is computed, nothing grows
         _est.check_memory(_est.estimate_plan(plan))
     announce = _est.announcer(plan, store)

@@ -37,13 +37,33 @@ from .meta import (
 )
 from .speed_flag import flagged_collision_outputs
 
-__all__ = ["GROUPS", "DEFAULT_BLOCK", "SPEED_FIELDS", "GridError", "grid_findings"]
+__all__ = ["GROUPS", "DEFAULT_BLOCK", "auto_block", "SPEED_FIELDS", "GridError", "grid_findings"]
 
 logger = logging.getLogger("agglomtool.maps")
 
 #: Default number of grid points per dask block (bounded memory: about 30 MB of
 #: temporaries per collision batch).
 DEFAULT_BLOCK = 2**18
+
+#: The most times :data:`DEFAULT_BLOCK` that :func:`auto_block` gives (memory: about
+#: 240 MB of temporaries per collision batch).
+MAX_BLOCK_FACTOR = 8
+
+
+def auto_block(threads: int) -> int:
+    """Points per block of a map computed in memory in this process with ``chunks="auto"``
+    on ``threads`` threads: :data:`DEFAULT_BLOCK` up to 7 threads, ``threads // 4`` times
+    it above (at most :data:`MAX_BLOCK_FACTOR` times).
+
+    Every compiled kernel splits a block into pieces of 4096 collisions among the threads,
+    and between its launches the calling thread works alone (Python, the block's numpy
+    steps). A block of 2**18 points is 64 pieces: 16 per thread on 4 threads, 4 on 16, where
+    one thread left with a fifth holds up the rest and the block's fixed serial costs are
+    paid 17 times per 4e6-point map. About 16 pieces per thread keeps the kernels' ends even
+    and the serial part per point small. Only the in-memory path: a store's or a cluster's
+    blocks are its chunks and tasks, whose size must not depend on the machine that starts
+    the sweep. The values do not depend on the block (each point is computed alone)."""
+    return DEFAULT_BLOCK * min(MAX_BLOCK_FACTOR, max(1, int(threads) // 4))
 
 SPEED_FIELDS = ("u0", "speed", "sigma_ln", "granular_temperature", "fluctuation_ratio",
                 "U", "U_Umf", "bed_height", "column_diameter", "orifice_area", "height",
