@@ -1,7 +1,7 @@
 """Strong scaling of 4e6-point operating maps and of a 30 x 30 bed sweep over Numba threads.
 
     python benchmarks/bench_scaling.py [--threads 1 2 4 8 16] [--repeats 3] [--bed]
-                                       [--profile DIR] [--cluster N]
+                                       [--profile DIR] [--cluster N] [--chunks N]
 
 For each thread count (``numba.set_num_threads``; the process must start with at least as
 many, ``NUMBA_NUM_THREADS``), best and median of ``--repeats`` of:
@@ -20,7 +20,9 @@ adds the 30 x 30 ``bed_sweep`` of the 3-component x 20-class water bed of
 ``bench_bed.py`` at 2 threads and at the most; ``--profile DIR`` writes a cProfile of one
 water map at the most threads (the serial remainder: time spent outside the compiled
 kernels); ``--ceiling`` first times a synthetic compute-bound kernel over the same thread
-counts (what the machine gives a perfectly parallel loop); ``--cluster N`` times the water
+counts (what the machine gives a perfectly parallel loop); ``--chunks N`` gives the in-process maps
+blocks of N points instead of the sweep's ``"auto"`` (which grows with the threads: the
+earlier fixed 262144 points is ``--chunks 262144``); ``--cluster N`` times the water
 map on a LocalCluster of N one-thread workers, in memory and into a store, with the client
 process's CPU time. The figures depend on the machine: the script prints its core count
 and load average.
@@ -145,10 +147,14 @@ def main() -> None:
     ap.add_argument("--bed", action="store_true")
     ap.add_argument("--profile", metavar="DIR")
     ap.add_argument("--cluster", type=int, default=0)
+    ap.add_argument("--chunks", type=int, default=None,
+                    help="the in-process maps' block size in points (default: the sweep's "
+                         "'auto', which grows with the threads)")
     ap.add_argument("--ceiling", action="store_true",
                     help="first, a synthetic compute-bound kernel: the machine's own scaling")
     a = ap.parse_args()
     threads = [n for n in a.threads if n <= numba.config.NUMBA_NUM_THREADS]
+    chunks = "auto" if a.chunks is None else a.chunks
     import agglomtool
 
     print(f"agglomtool from {os.path.dirname(agglomtool.__file__)}", flush=True)
@@ -173,7 +179,7 @@ def main() -> None:
         line = [f"{n:2d} threads"]
         for name, (scene, axes) in AXES.items():
             kt: list[float] = []
-            ts = timed(lambda s=scene, x=axes: sweep(s, **x), a.repeats, kt)
+            ts = timed(lambda s=scene, x=axes: sweep(s, chunks=chunks, **x), a.repeats, kt)
             med[name, n] = statistics.median(ts)
             rest = [t - k for t, k in zip(ts, kt, strict=True)]
             line.append(f"{name} map {fmt(ts)} (in kernels {statistics.median(kt):.3f} s; "
@@ -199,7 +205,7 @@ def main() -> None:
         for name, (scene, axes) in AXES.items():
             prof = cProfile.Profile()
             prof.enable()
-            sweep(scene, **axes)
+            sweep(scene, chunks=chunks, **axes)
             prof.disable()
             path = os.path.join(a.profile, f"profile_{name}_{top}.txt")
             with open(path, "w") as f:
