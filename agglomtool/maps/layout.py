@@ -55,14 +55,15 @@ def auto_block(threads: int) -> int:
     on ``threads`` threads: :data:`DEFAULT_BLOCK` up to 7 threads, ``threads // 4`` times
     it above (at most :data:`MAX_BLOCK_FACTOR` times).
 
-    Every compiled kernel splits a block into pieces of 4096 collisions among the threads,
-    and between its launches the calling thread works alone (Python, the block's numpy
-    steps). A block of 2**18 points is 64 pieces: 16 per thread on 4 threads, 4 on 16, where
-    one thread left with a fifth holds up the rest and the block's fixed serial costs are
-    paid 17 times per 4e6-point map. About 16 pieces per thread keeps the kernels' ends even
-    and the serial part per point small. Only the in-memory path: a store's or a cluster's
-    blocks are its chunks and tasks, whose size must not depend on the machine that starts
-    the sweep. The values do not depend on the block (each point is computed alone)."""
+    Each block is a few compiled parallel launches, and between them the calling thread
+    works alone (Python, the block's numpy steps, a launch's start and end). A block of
+    2**18 points leaves each of 16 threads 16,384 collisions per launch (the fused loop
+    then cuts its pieces below 4096 to keep 8 per thread), and a 4e6-point map pays the
+    block's fixed serial costs 17 times. ``threads // 4`` times the block keeps about
+    65,000 points per thread and pays them 4 or 5 times. Only the in-memory path: a
+    store's or a cluster's blocks are its chunks and tasks, whose size must not depend on
+    the machine that starts the sweep. The values do not depend on the block (each point
+    is computed alone)."""
     return DEFAULT_BLOCK * min(MAX_BLOCK_FACTOR, max(1, int(threads) // 4))
 
 SPEED_FIELDS = ("u0", "speed", "sigma_ln", "granular_temperature", "fluctuation_ratio",
