@@ -100,6 +100,18 @@ def _excess(U, Umf):
     return excess
 
 
+def _own(v):
+    """``v``'s own values: where ``v`` is an array whose step along an axis is 0 (a
+    broadcast view, which holds one value along that axis), the view of its first element
+    along each such axis, which broadcasts back to ``v``; else ``v``. A check or a
+    reduction over it costs what ``v``'s distinct values do, not its broadcast size, and
+    names the same first element (the first in C order of ``v`` that a check finds lies
+    at index 0 along those axes)."""
+    if isinstance(v, np.ndarray) and 0 in v.strides:
+        return v[tuple(slice(0, 1) if s == 0 else slice(None) for s in v.strides)]
+    return v
+
+
 def geldart_group(d_p, rho_p, rho_g=0.0) -> np.ndarray:
     """Geldart's (1973) powder group: ``"A"``, ``"B"`` or ``"D"`` (an array of strings).
 
@@ -141,6 +153,7 @@ def _check_group(name: str, d_p, rho_p, rho_g, allowed=("B",), why=None) -> None
     ``name`` (``why``: the reason, default that the correlation was fitted to them)."""
     if d_p is None or rho_p is None:
         return
+    d_p, rho_p, rho_g = _own(d_p), _own(rho_p), _own(rho_g)
     # the group's bounds as numbers (a string per element would cost more than the
     # correlation on a map), in one compiled pass; the first element outside is named
     rho_p, rho_g = np.asarray(rho_p, dtype=float), np.asarray(rho_g, dtype=float)
@@ -294,6 +307,7 @@ def _mori_wen_ranges(D_t, Umf, excess, d_p) -> None:
     largest values, no NaN among them) or ``d_p`` leave the data of Mori and Wen (1975),
     naming the first such input and its extreme value."""
     rng = MORI_WEN_RANGE
+    D_t, Umf, d_p = _own(D_t), _own(Umf), _own(d_p)
     checks = [("D_t", D_t, "m"), ("Umf", np.asarray(Umf, float), "m/s"),
               ("U - Umf", excess, "m/s")] + ([("d_p", np.asarray(d_p, float), "m")]
                                              if d_p is not None else [])
@@ -1203,6 +1217,10 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
     shape = _map_shape(*values)
     if shape is None:
         return None
+    # the inputs beside U and U_mf by their own values (a broadcast view's checks and
+    # copies cost its distinct values; they broadcast to the same shape)
+    h, A0, D_t, eps_mf, wake_fraction, d_p, rho_p, rho_g = (
+        _own(v) for v in (h, A0, D_t, eps_mf, wake_fraction, d_p, rho_p, rho_g))
     mori_wen = correlation == "mori-wen"
     try:  # the small inputs' checks, as the plain path makes them (it raises for them)
         h = check_range("h", h, 0.0, None, unit="m")
@@ -1346,6 +1364,7 @@ def collisional_theta_map(U, Umf, d_p, rho_p, rho_g, eps_mf, e, *, partial=False
     shape = _map_shape(U, Umf, d_p, rho_p, rho_g, eps_mf, e)
     if shape is None:
         return None
+    d_p, rho_p, rho_g, eps_mf, e = (_own(v) for v in (d_p, rho_p, rho_g, eps_mf, e))
     try:  # the plain path's checks (it raises for them), in its order
         d_p = check_range("d_p", d_p, 0.0, None, lo_open=True, unit="m")
         rho_p = check_range("rho_p", rho_p, 0.0, None, lo_open=True, unit="kg/m3")
