@@ -1310,6 +1310,7 @@ def _collisional_block(ins, st, shp, plan, out, code, stats, blk):  # pragma: no
     x0, x1, x2, x3, x4 = ins
     sqrt_pi = math.sqrt(math.pi)
     off = np.empty(5, np.int64)
+    buf = np.empty((5, chunk))
     n1 = 0
     n5 = 0
     for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
@@ -1329,10 +1330,16 @@ def _collisional_block(ins, st, shp, plan, out, code, stats, blk):  # pragma: no
                 n1 += c == 1
                 n5 += c == 5
                 code[k + j] = c
-        else:
+        else:  # gathered into buffers first (a loop of varying steps stays scalar)
             for j in range(m):
-                t, c = _collisional_one(x0[o0 + j * s0], x1[o1 + j * s1], x2[o2 + j * s2],
-                                        x3[o3 + j * s3], x4[o4 + j * s4], sqrt_pi)
+                buf[0, j] = x0[o0 + j * s0]
+                buf[1, j] = x1[o1 + j * s1]
+                buf[2, j] = x2[o2 + j * s2]
+                buf[3, j] = x3[o3 + j * s3]
+                buf[4, j] = x4[o4 + j * s4]
+            for j in range(m):
+                t, c = _collisional_one(buf[0, j], buf[1, j], buf[2, j], buf[3, j],
+                                        buf[4, j], sqrt_pi)
                 out[k + j] = t
                 n1 += c == 1
                 n5 += c == 5
