@@ -95,28 +95,39 @@ def bench_speed_models(repeats: int = 5) -> None:
         print(f"{m:>20}: best {min(times[m]):.3f} s, median {med:.3f} s of {repeats} "
               f"({100 * (med / ref - 1):+.1f} % against {models[0]}; all: "
               f"{', '.join(f'{x:.2f}' for x in times[m])})")
-    # The speed law alone on 1e6 points (what a model adds, whatever the quadrature does)
+    # The speed law alone on 1e6 points (what a model adds, whatever the quadrature does):
+    # random points (every input of one element per point), and a map's layout (U over
+    # a 100**3 grid, U_mf over its first two axes, the gas density over the first, the
+    # rest one value each: the steps of 0 along axes a map's passes take); wall time and
+    # the process's CPU time (all threads: what more threads divide)
     from agglomtool.bed.speed_models import speed_law
 
     rng = np.random.default_rng(0)
     n = 1_000_000
     Umf = rng.uniform(0.2, 0.4, n)
-    inputs = {"U": Umf * rng.uniform(1.5, 4.0, n), "Umf": Umf, "d_p": np.full(n, 1e-3),
+    random = {"U": Umf * rng.uniform(1.5, 4.0, n), "Umf": Umf, "d_p": np.full(n, 1e-3),
               "rho_p": 2650.0, "rho_g": 0.3, "eps": 0.55, "e": 0.9,
               "fluctuation_ratio": 1.0, "column_diameter": 0.3, "orifice_area": 0.0,
               "height": 0.15, "wake_fraction": 0.25}
+    Umf = np.linspace(0.2, 0.4, 100)[:, None, None] * np.linspace(1.0, 1.1, 100)[:, None]
+    on_map = {**random, "U": Umf * np.linspace(1.5, 4.0, 100), "Umf": Umf,
+              "d_p": np.float64(1e-3), "rho_g": np.linspace(0.4, 0.25, 100)[:, None, None]}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        for m in models:
-            law_t = []
-            for _ in range(repeats):
-                t = time.perf_counter()
-                speed_law(m, {k: inputs[k] for k in IMPACT_SPEED_MODELS[m].needs}).median()
-                law_t.append(time.perf_counter() - t)
-            best, med = min(law_t), np.median(law_t)
-            print(f"{m:>20}: speed law and median on 1e6 points best {1e3 * best:.1f} ms, "
-                  f"median {1e3 * med:.1f} ms ({100 * med / ref:.1f} % of the excess-gas "
-                  "map's median)")
+        for label, inputs in (("random", random), ("map layout", on_map)):
+            for m in models:
+                x = {k: inputs[k] for k in IMPACT_SPEED_MODELS[m].needs}
+                law_t, cpu_t = [], []
+                for _ in range(repeats):
+                    c, t = time.process_time(), time.perf_counter()
+                    speed_law(m, x).median()
+                    law_t.append(time.perf_counter() - t)
+                    cpu_t.append(time.process_time() - c)
+                best, med = min(law_t), np.median(law_t)
+                print(f"{m:>20}: speed law and median on 1e6 points ({label}) best "
+                      f"{1e3 * best:.1f} ms, median {1e3 * med:.1f} ms ({100 * med / ref:.1f} "
+                      f"% of the excess-gas map's median), CPU median "
+                      f"{1e3 * np.median(cpu_t):.1f} ms")
     print(f"load average {load} at start, {os.getloadavg()} at end")
 
 

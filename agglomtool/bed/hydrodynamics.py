@@ -100,6 +100,18 @@ def _excess(U, Umf):
     return excess
 
 
+def _own(v):
+    """``v``'s own values: where ``v`` is an array whose step along an axis is 0 (a
+    broadcast view, which holds one value along that axis), the view of its first element
+    along each such axis, which broadcasts back to ``v``; else ``v``. A check or a
+    reduction over it costs what ``v``'s distinct values do, not its broadcast size, and
+    names the same first element (the first in C order of ``v`` that a check finds lies
+    at index 0 along those axes)."""
+    if isinstance(v, np.ndarray) and 0 in v.strides:
+        return v[tuple(slice(0, 1) if s == 0 else slice(None) for s in v.strides)]
+    return v
+
+
 def geldart_group(d_p, rho_p, rho_g=0.0) -> np.ndarray:
     """Geldart's (1973) powder group: ``"A"``, ``"B"`` or ``"D"`` (an array of strings).
 
@@ -141,6 +153,7 @@ def _check_group(name: str, d_p, rho_p, rho_g, allowed=("B",), why=None) -> None
     ``name`` (``why``: the reason, default that the correlation was fitted to them)."""
     if d_p is None or rho_p is None:
         return
+    d_p, rho_p, rho_g = _own(d_p), _own(rho_p), _own(rho_g)
     # the group's bounds as numbers (a string per element would cost more than the
     # correlation on a map), in one compiled pass; the first element outside is named
     rho_p, rho_g = np.asarray(rho_p, dtype=float), np.asarray(rho_g, dtype=float)
@@ -294,6 +307,7 @@ def _mori_wen_ranges(D_t, Umf, excess, d_p) -> None:
     largest values, no NaN among them) or ``d_p`` leave the data of Mori and Wen (1975),
     naming the first such input and its extreme value."""
     rng = MORI_WEN_RANGE
+    D_t, Umf, d_p = _own(D_t), _own(Umf), _own(d_p)
     checks = [("D_t", D_t, "m"), ("Umf", np.asarray(Umf, float), "m/s"),
               ("U - Umf", excess, "m/s")] + ([("d_p", np.asarray(d_p, float), "m")]
                                              if d_p is not None else [])
@@ -419,16 +433,36 @@ def _rise_with_wall(d_b, D_t):  # pragma: no cover - compiled
     return _rise_one(d_b, D_t)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, error_model="numpy")
 def _rise_one(d_b, D_t):  # pragma: no cover - compiled
     """The rise velocity of one bubble (shared by the vectorized forms)."""
+    return _rise_of(d_b, D_t, _wall_of(d_b, D_t))
+
+
+@njit(cache=CACHE, error_model="numpy")
+def _wall_regime(ratio):  # pragma: no cover - compiled
+    """Whether a bubble of ``d_b / D_t = ratio`` rises with Wallis's wall factor
+    (``0.125 <= ratio < 0.6``; a NaN too, as the comparisons leave it there)."""
+    return not ratio >= SLUGGING_RATIO and not ratio < 0.125
+
+
+@njit(cache=CACHE, error_model="numpy")
+def _wall_of(d_b, D_t):  # pragma: no cover - compiled
+    """``exp(-1.49 d_b / D_t)`` where :func:`_wall_regime`, else 0 (not used there)."""
     ratio = d_b / D_t
-    if ratio >= SLUGGING_RATIO:
-        return 0.35 * math.sqrt(GRAVITY * D_t)
+    return math.exp(-1.49 * ratio) if _wall_regime(ratio) else 0.0
+
+
+@njit(cache=CACHE, error_model="numpy")
+def _rise_of(d_b, D_t, wall):  # pragma: no cover - compiled
+    """The rise velocity of one bubble, ``wall`` its :func:`_wall_of`: every form
+    computed and the one that applies selected (no branch: a loop of these vectorizes;
+    no form can raise, so the numpy error model, which checks no division)."""
+    ratio = d_b / D_t
+    slug = 0.35 * math.sqrt(GRAVITY * D_t)
     free = 0.711 * math.sqrt(GRAVITY * d_b)
-    if ratio < 0.125:
-        return free
-    return free * (1.2 * math.exp(-1.49 * ratio))
+    rise = free if ratio < 0.125 else free * (1.2 * wall)
+    return slug if ratio >= SLUGGING_RATIO else rise
 
 
 def bubble_velocity_davidson_harrison(U, Umf, d_b, D_t=None):
@@ -517,19 +551,15 @@ def _fraction(excess, Umf, u_b, eps_mf):  # pragma: no cover - compiled
     return _fraction_one(excess, Umf, u_b, eps_mf)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, error_model="numpy")
 def _fraction_one(excess, Umf, u_b, eps_mf):  # pragma: no cover - compiled
-    """The bubble fraction of one element (shared by the vectorized forms)."""
+    """The bubble fraction of one element (shared by the vectorized forms): the regime's
+    numerator and denominator selected, one division (no branch)."""
     ratio = u_b / (Umf / eps_mf)
-    if ratio < 1.0:
-        return excess / (u_b + 2.0 * Umf)
-    if ratio < 3.0:
-        return excess / (u_b + Umf)
-    if ratio <= 5.0:
-        return excess / u_b
-    if ratio <= 10.0:
-        return excess / (u_b - Umf)
-    return (excess + Umf) / u_b
+    num = excess if ratio <= 10.0 else excess + Umf
+    den = (u_b + 2.0 * Umf if ratio < 1.0 else u_b + Umf if ratio < 3.0
+           else u_b if ratio <= 5.0 else u_b - Umf if ratio <= 10.0 else u_b)
+    return num / den
 
 
 def solids_downflow_kunii_levenspiel(delta, u_b, wake_fraction):
@@ -627,14 +657,15 @@ def _wake_checked(delta, u_b, f_w):  # pragma: no cover - compiled
     return _wake_one(delta, u_b, f_w)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, error_model="numpy")
 def _wake_one(delta, u_b, f_w):  # pragma: no cover - compiled
-    """The wakes' granular temperature of one element, or -1 outside the domain."""
-    if (0.0 <= delta < 1.0 and 0.0 <= u_b < math.inf and 0.0 < f_w < math.inf
-            and 1.0 - delta - f_w * delta > 0.0):
-        phi = f_w * delta / (1.0 - delta)
-        return phi * u_b * u_b / (3.0 * (1.0 - phi))
-    return -1.0
+    """The wakes' granular temperature of one element, or -1 outside the domain (computed,
+    then selected: no branch)."""
+    ok = ((0.0 <= delta) & (delta < 1.0) & (0.0 <= u_b) & (u_b < math.inf) & (0.0 < f_w)
+          & (f_w < math.inf) & (1.0 - delta - f_w * delta > 0.0))
+    phi = f_w * delta / (1.0 - delta)
+    theta = phi * u_b * u_b / (3.0 * (1.0 - phi))
+    return theta if ok else -1.0
 
 
 @vectorize(cache=CACHE)
@@ -647,19 +678,26 @@ def _bubble_chain(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - com
     return _chain_steps(excess, Umf, d_b, D_t, eps_mf, f_w)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, error_model="numpy")
 def _chain_steps(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
-    """The chain's steps of one element, written once for :func:`_bubble_chain` and the
-    map pass's :func:`_chain_one`: the granular temperature, or -1 where a check objects."""
-    if not (0.0 < d_b < math.inf and 0.0 < D_t < math.inf and 0.0 < eps_mf < 1.0):
-        return -1.0
-    u_b = excess + _rise_one(d_b, D_t)
-    if not 0.0 < u_b < math.inf:
-        return -1.0
+    """The chain's steps of one element (:func:`_chain_given` with its wall factor)."""
+    return _chain_given(excess, Umf, d_b, D_t, eps_mf, f_w, _wall_of(d_b, D_t))
+
+
+@njit(cache=CACHE, error_model="numpy")
+def _chain_given(excess, Umf, d_b, D_t, eps_mf, f_w, wall):  # pragma: no cover - compiled
+    """The chain's steps of one element, ``wall`` the bubble's :func:`_wall_of`, written
+    once for :func:`_bubble_chain` and the map pass: the granular temperature, or -1 where
+    a check objects. Every step computed and the checks combined (no branch: the map
+    pass's loop of these vectorizes; a step past a failed check gives a number that is
+    not used, and none raises)."""
+    ok = ((0.0 < d_b) & (d_b < math.inf) & (0.0 < D_t) & (D_t < math.inf) & (0.0 < eps_mf)
+          & (eps_mf < 1.0))
+    u_b = excess + _rise_of(d_b, D_t, wall)
+    ok = ok & (0.0 < u_b) & (u_b < math.inf)
     delta = _fraction_one(excess, Umf, u_b, eps_mf)
-    if not delta < 1.0:
-        return -1.0
-    return _wake_one(delta, u_b, f_w)
+    theta = _wake_one(delta, u_b, f_w)
+    return theta if ok & (delta < 1.0) else -1.0
 
 
 @vectorize(cache=CACHE)
@@ -914,7 +952,7 @@ def _bubble_pass(ins, st, shp, plan, mori_wen, theta, code, stats):  # pragma: n
         _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, error_model="numpy")
 def _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk):  # pragma: no cover
     """Block ``blk`` of :func:`_bubble_pass`."""
     chunk, per_row, per_block = plan
@@ -925,11 +963,18 @@ def _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk):  # pra
     s5, s6, s7, s8 = st[5, last], st[6, last], st[7, last], st[8, last]
     x0, x1, x2, x3, x4, x5, x6, x7, x8 = ins
     off = np.empty(9, np.int64)
-    # a piece's excess gas and bubble sizes first, then its chain: the chain's
-    # regimes branch on the bubble size, and a branch mispredicted costs less when the
-    # size is at hand than when it is still being computed
+    # a piece's excess gas and bubble sizes first, then the wall factors its chain
+    # takes, then its chain, each a loop of its own: the chain's loop has no branch and
+    # no call (the exp, a call to the C library, has its loop), so the compiler
+    # vectorizes it
     ex_buf = np.empty(chunk)
     db_buf = np.empty(chunk)
+    wall_buf = np.empty(chunk)
+    at = np.empty(chunk, np.int64)
+    umf_buf = np.empty(chunk)
+    dt_buf = np.empty(chunk)
+    eps_buf = np.empty(chunk)
+    fw_buf = np.empty(chunk)
     counts = np.zeros(6, np.int64)
     worst = -math.inf
     lo = math.inf
@@ -981,20 +1026,47 @@ def _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk):  # pra
                     d_b = 0.54 * P * fac * _G_M02
                 ex_buf[j] = excess
                 db_buf[j] = d_b
-        # the chain, and the least and largest excess and the largest bubble
-        largest = -math.inf
+        # the wall factor where the chain takes it: the elements listed first (no
+        # branch), then one exp each (the C library's, as before)
+        n_wall = 0
+        for j in range(m):
+            wall_buf[j] = 0.0
+            at[n_wall] = j
+            n_wall += _wall_regime(db_buf[j] / x6[o6 + j * s6])
+        for i in range(n_wall):
+            j = at[i]
+            wall_buf[j] = _wall_of(db_buf[j], x6[o6 + j * s6])
+        # the chain: where U_mf and the bed do not vary along the row (a map's usual
+        # row), read once; else by their steps
         refused = 0
-        for j in range(m):  # (one loop for every layout: one copy of the chain)
-            excess = ex_buf[j]
-            d_b = db_buf[j]
-            lo = min(lo, excess)
-            hi = max(hi, excess)
-            largest = max(largest, d_b)
-            t = _chain_one(excess, x1[o1 + j * s1], d_b, x6[o6 + j * s6], x7[o7 + j * s7],
-                           x8[o8 + j * s8])
-            if not t >= 0.0:
-                refused += 1
-            theta[k + j] = t
+        if s1 == 0 and s6 == 0 and s7 == 0 and s8 == 0:
+            Umf, D_t, eps_mf, f_w = x1[o1], x6[o6], x7[o7], x8[o8]
+            for j in range(m):
+                t = _chain_one(ex_buf[j], Umf, db_buf[j], D_t, eps_mf, f_w, wall_buf[j])
+                refused += not t >= 0.0
+                theta[k + j] = t
+        else:  # gathered into buffers first, so that the chain's loop reads them in
+            # steps of one (a loop of varying steps does not vectorize)
+            for j in range(m):
+                umf_buf[j] = x1[o1 + j * s1]
+                dt_buf[j] = x6[o6 + j * s6]
+                eps_buf[j] = x7[o7 + j * s7]
+                fw_buf[j] = x8[o8 + j * s8]
+            for j in range(m):
+                t = _chain_one(ex_buf[j], umf_buf[j], db_buf[j], dt_buf[j], eps_buf[j],
+                               fw_buf[j], wall_buf[j])
+                refused += not t >= 0.0
+                theta[k + j] = t
+        # the least and largest excess (Mori and Wen's ranges) and the largest bubble
+        largest = -math.inf
+        if mori_wen:
+            for j in range(m):
+                lo = min(lo, ex_buf[j])
+                hi = max(hi, ex_buf[j])
+                largest = max(largest, db_buf[j])
+        else:
+            for j in range(m):
+                largest = max(largest, db_buf[j])
         # the largest d_b / D_t: over one column, the largest bubble over it (a
         # division by a positive number keeps the order: the same number)
         if s6 == 0:
@@ -1021,13 +1093,13 @@ def _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk):  # pra
     stats[blk, 7] = hi
 
 
-@njit(cache=CACHE)
-def _chain_one(excess, Umf, d_b, D_t, eps_mf, f_w):  # pragma: no cover - compiled
+@njit(cache=CACHE, error_model="numpy")
+def _chain_one(excess, Umf, d_b, D_t, eps_mf, f_w, wall):  # pragma: no cover - compiled
     """:func:`_bubble_chain` of one element (``excess`` -1 where :func:`_excess_one`
-    refused it): its granular temperature, or -1 where a check objects."""
-    if not 0.0 < excess:
-        return -1.0
-    return _chain_steps(excess, Umf, d_b, D_t, eps_mf, f_w)
+    refused it; ``wall`` its :func:`_wall_of`): its granular temperature, or -1 where a
+    check objects (no branch)."""
+    theta = _chain_given(excess, Umf, d_b, D_t, eps_mf, f_w, wall)
+    return theta if 0.0 < excess else -1.0
 
 
 @njit(cache=CACHE)
@@ -1145,6 +1217,10 @@ def bubble_theta_map(correlation, U, Umf, h, A0, D_t, eps_mf, wake_fraction, *, 
     shape = _map_shape(*values)
     if shape is None:
         return None
+    # the inputs beside U and U_mf by their own values (a broadcast view's checks and
+    # copies cost its distinct values; they broadcast to the same shape)
+    h, A0, D_t, eps_mf, wake_fraction, d_p, rho_p, rho_g = (
+        _own(v) for v in (h, A0, D_t, eps_mf, wake_fraction, d_p, rho_p, rho_g))
     mori_wen = correlation == "mori-wen"
     try:  # the small inputs' checks, as the plain path makes them (it raises for them)
         h = check_range("h", h, 0.0, None, unit="m")
@@ -1223,7 +1299,7 @@ def _collisional_pass(ins, st, shp, plan, out, code, stats):  # pragma: no cover
         _collisional_block(ins, st, shp, plan, out, code, stats, blk)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, error_model="numpy")
 def _collisional_block(ins, st, shp, plan, out, code, stats, blk):  # pragma: no cover
     """Block ``blk`` of :func:`_collisional_pass`."""
     chunk, per_row, per_block = plan
@@ -1234,6 +1310,7 @@ def _collisional_block(ins, st, shp, plan, out, code, stats, blk):  # pragma: no
     x0, x1, x2, x3, x4 = ins
     sqrt_pi = math.sqrt(math.pi)
     off = np.empty(5, np.int64)
+    buf = np.empty((5, chunk))
     n1 = 0
     n5 = 0
     for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
@@ -1242,22 +1319,45 @@ def _collisional_block(ins, st, shp, plan, out, code, stats, blk):  # pragma: no
         _row_offsets(off, st, shp, row, j0)
         o0, o1, o2, o3, o4 = off[0], off[1], off[2], off[3], off[4]
         k = row * row_len + j0
-        # without branches (selections), which the compiler vectorizes; the excess is
-        # _excess_one's
-        for j in range(min(row_len - j0, chunk)):
-            U = x0[o0 + j * s0]
-            Umf = x1[o1 + j * s1]
-            excess = U - Umf
-            valid = 0.0 <= U < math.inf and 0.0 < Umf < math.inf
-            ok = valid and excess > 0.0
-            power = excess * x2[o2 + j * s2] * GRAVITY * x3[o3 + j * s3] * sqrt_pi
-            out[k + j] = power / x4[o4 + j * s4] if ok else math.nan
-            c = 0 if ok else (1 if valid else 5)
-            n1 += c == 1
-            n5 += c == 5
-            code[k + j] = c
+        m = min(row_len - j0, chunk)
+        # without branches (selections), which the compiler vectorizes where the steps
+        # are known: a map's usual row, U along it and the rest constant
+        if s0 == 1 and s1 == 0 and s2 == 0 and s3 == 0 and s4 == 0:
+            Umf, a, d_p, den = x1[o1], x2[o2], x3[o3], x4[o4]
+            for j in range(m):
+                t, c = _collisional_one(x0[o0 + j], Umf, a, d_p, den, sqrt_pi)
+                out[k + j] = t
+                n1 += c == 1
+                n5 += c == 5
+                code[k + j] = c
+        else:  # gathered into buffers first (a loop of varying steps stays scalar)
+            for j in range(m):
+                buf[0, j] = x0[o0 + j * s0]
+                buf[1, j] = x1[o1 + j * s1]
+                buf[2, j] = x2[o2 + j * s2]
+                buf[3, j] = x3[o3 + j * s3]
+                buf[4, j] = x4[o4 + j * s4]
+            for j in range(m):
+                t, c = _collisional_one(buf[0, j], buf[1, j], buf[2, j], buf[3, j],
+                                        buf[4, j], sqrt_pi)
+                out[k + j] = t
+                n1 += c == 1
+                n5 += c == 5
+                code[k + j] = c
     stats[blk, 0] = n1
     stats[blk, 1] = n5
+
+
+@njit(cache=CACHE, error_model="numpy")
+def _collisional_one(U, Umf, a, d_p, den, sqrt_pi):  # pragma: no cover - compiled
+    """:func:`_collisional_pass` of one element (``a`` is ``1 - rho_g / rho_p``, ``den``
+    the denominator): ``(Theta**1.5, code)``, NaN and 1 or 5 where refused; the excess is
+    :func:`_excess_one`'s, as selections (no branch; the denominator is positive)."""
+    excess = U - Umf
+    valid = (0.0 <= U) & (U < math.inf) & (0.0 < Umf) & (Umf < math.inf)
+    ok = valid & (excess > 0.0)
+    power = excess * a * GRAVITY * d_p * sqrt_pi
+    return (power / den if ok else math.nan), (0 if ok else (1 if valid else 5))
 
 
 def collisional_theta_map(U, Umf, d_p, rho_p, rho_g, eps_mf, e, *, partial=False):
@@ -1271,6 +1371,7 @@ def collisional_theta_map(U, Umf, d_p, rho_p, rho_g, eps_mf, e, *, partial=False
     shape = _map_shape(U, Umf, d_p, rho_p, rho_g, eps_mf, e)
     if shape is None:
         return None
+    d_p, rho_p, rho_g, eps_mf, e = (_own(v) for v in (d_p, rho_p, rho_g, eps_mf, e))
     try:  # the plain path's checks (it raises for them), in its order
         d_p = check_range("d_p", d_p, 0.0, None, lo_open=True, unit="m")
         rho_p = check_range("rho_p", rho_p, 0.0, None, lo_open=True, unit="kg/m3")
