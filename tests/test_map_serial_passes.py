@@ -117,3 +117,42 @@ def test_a_map_launches_both_passes(monkeypatch):
     U = ds["U"].transpose("T", "h0", "U_Umf").values
     Umf = ds["Umf"].transpose("T", "h0").values[:, :, None]
     assert U.tobytes() == np.multiply(axes["U_Umf"], Umf).tobytes()
+
+
+@pytest.mark.parametrize("given", [False, True])
+def test_agglomerated_of_many_collisions_in_one_pass(monkeypatch, given):
+    """``agglomerated`` of a large collide: one compiled pass, numpy's ``e_w == 0`` bit for
+    bit (NaN and -0.0 included), into the caller's array where one is given."""
+    import agglomtool.api as api
+
+    calls = _counted(monkeypatch, api, "_agglomerated_pass")
+    e_w = np.random.default_rng(2).uniform(0.0, 1.0, 5000)
+    e_w[::3] = 0.0
+    e_w[1::7] = -0.0
+    e_w[2::11] = np.nan
+    out = np.ones(5000, dtype=bool) if given else None
+    got = api._agglomerated(e_w.reshape(50, 100), None if out is None else out.reshape(50, 100))
+    assert len(calls) == 1
+    assert got.dtype == np.bool_ and got.shape == (50, 100)
+    assert got.tobytes() == np.equal(e_w, 0.0).tobytes()
+    if given:
+        assert np.shares_memory(got, out)
+    small = api._agglomerated(e_w[:10])  # a few collisions: numpy's comparison itself
+    assert len(calls) == 1 and small.tobytes() == np.equal(e_w[:10], 0.0).tobytes()
+
+
+def test_collide_agglomerated_is_e_w_zero(monkeypatch):
+    import agglomtool as at
+    import agglomtool.api as api
+
+    calls = _counted(monkeypatch, api, "_agglomerated_pass")
+    rng = np.random.default_rng(4)
+    n = 6000
+    p = at.Particle(d=rng.uniform(200e-6, 600e-6, n), rho=2650.0,
+                    h0=rng.uniform(0.5e-6, 40e-6, n), ha=0.5e-6)
+    res = at.collide(p, p, liquid=at.Liquid(mu=1e-3, gamma=0.072, rho=1000.0),
+                     gas=at.Gas(mu=18.48e-6, rho=1.168), u0=rng.uniform(0.01, 2.0, n),
+                     details=False)
+    assert len(calls) == 1
+    assert 0 < res.agglomerated.sum() < n  # both outcomes among them
+    assert res.agglomerated.tobytes() == (res.e_w == 0.0).tobytes()

@@ -68,12 +68,11 @@ def _excess_theta(U, Umf, ratio):  # pragma: no cover - compiled
 
 @njit(inline="always", cache=CACHE)
 def _excess_theta_one(U, Umf, ratio):  # pragma: no cover - compiled
-    """The rule of :func:`_excess_theta`, written once for it and :func:`_excess_pass`."""
+    """The rule of :func:`_excess_theta`, written once for it and :func:`_excess_pass` (a
+    selection, not a branch: a loop of it vectorizes)."""
     excess = U - Umf
-    if excess <= 0.0:
-        return -1.0
     t = ratio * excess
-    return t * t
+    return -1.0 if excess <= 0.0 else t * t
 
 
 @njit(parallel=True, cache=CACHE)
@@ -102,10 +101,23 @@ def _excess_block(ins, st, shp, plan, out, stats, blk):  # pragma: no cover - co
         hd._row_offsets(off, st, shp, row, j0)
         o0, o1, o2 = off[0], off[1], off[2]
         k = row * row_len + j0
-        for j in range(min(row_len - j0, chunk)):
-            t = _excess_theta_one(x0[o0 + j * s0], x1[o1 + j * s1], x2[o2 + j * s2])
-            refused += t < 0.0
-            out[k + j] = t
+        m = min(row_len - j0, chunk)
+        o = out[k:k + m]
+        if s0 == 1 and s1 == 0 and s2 == 0:
+            # a map's usual row: U runs along it, U_mf and the ratio do not (contiguous
+            # views: a loop the compiler vectorizes)
+            u = x0[o0:o0 + m]
+            Umf = x1[o1]
+            ratio = x2[o2]
+            for j in range(m):
+                t = _excess_theta_one(u[j], Umf, ratio)
+                refused += t < 0.0
+                o[j] = t
+        else:
+            for j in range(m):
+                t = _excess_theta_one(x0[o0 + j * s0], x1[o1 + j * s1], x2[o2 + j * s2])
+                refused += t < 0.0
+                o[j] = t
     stats[blk, 0] = refused
 
 
