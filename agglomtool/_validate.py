@@ -15,6 +15,8 @@ import math
 
 import numpy as np
 
+from ._fields import CORE_RANGES, FIELD_RANGES, short_unit
+
 
 class PlausibilityWarning(UserWarning):
     """Valid input that looks wrong (a unit slip, a size outside a solid's range, ...)."""
@@ -83,8 +85,9 @@ def as_float_array(name: str, value, allowed: str = "finite numbers") -> np.ndar
             raise ValueError(f"{name} = nan is not a number; allowed: {allowed}")
         return np.array(value, dtype=np.float64)
     arr = _float_array(name, value, allowed)
-    # One reduction, no mask: the minimum is NaN exactly when some element is.
-    if arr.size and math.isnan(arr.min()):
+    # One reduction, no mask: the minimum is NaN exactly when some element is (one
+    # element: itself, read as a Python float).
+    if arr.size and math.isnan(arr.item() if arr.size == 1 else arr.min()):
         _raise_nan(name, arr, allowed)
     return arr
 
@@ -158,19 +161,27 @@ def check_range(
                 and (hi is None or (value < hi if hi_open else value <= hi))
                 and value != -math.inf and (allow_inf or value != math.inf)):
             return np.array(value, dtype=np.float64)
-    rng = _range_text(lo, hi, lo_open, hi_open, unit, allow_inf)
-    arr = _float_array(name, value, rng)
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.size:
+        arr = value  # what _float_array returns (its range text is for its messages)
+    else:
+        arr = _float_array(name, value, _range_text(lo, hi, lo_open, hi_open, unit,
+                                                    allow_inf))
     if arr.size:
         # Two reductions decide the common case (every value allowed) without a mask; the
         # masks below only run to name the first bad value. The minimum is NaN exactly
-        # when some element is.
-        mn, mx = arr.min(), arr.max()
+        # when some element is. One element is its own minimum and maximum (read as a
+        # Python float, the same number: no reduction's call to pay).
+        if arr.size == 1:
+            mn = mx = arr.item()
+        else:
+            mn, mx = arr.min(), arr.max()
         if math.isnan(mn):
-            _raise_nan(name, arr, rng)
+            _raise_nan(name, arr, _range_text(lo, hi, lo_open, hi_open, unit, allow_inf))
         if ((lo is None or (mn > lo if lo_open else mn >= lo))
                 and (hi is None or (mx < hi if hi_open else mx <= hi))
                 and mn != -np.inf and (allow_inf or mx != np.inf)):
             return arr
+    rng = _range_text(lo, hi, lo_open, hi_open, unit, allow_inf)
     bad = np.zeros(arr.shape, dtype=bool)
     if lo is not None:
         bad |= (arr <= lo) if lo_open else (arr < lo)
@@ -195,8 +206,6 @@ def check_field(name: str, value, *, key: str | None = None, allow_inf: bool = F
     """``value`` checked against the physical range of field ``key`` (default ``name``) of
     :data:`agglomtool._fields.CORE_RANGES` or :data:`~agglomtool._fields.FIELD_RANGES`, the
     one table of ranges. ``scalar``: one number is required, not a list or an array."""
-    from ._fields import CORE_RANGES, FIELD_RANGES, short_unit
-
     key = name if key is None else key
     if key in CORE_RANGES:
         lo, hi, lo_open, hi_open, unit = CORE_RANGES[key]

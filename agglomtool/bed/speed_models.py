@@ -128,7 +128,7 @@ def _excess_gas(x) -> SpeedModel:
     # the same numbers), which counts the refused elements as it goes.
     shape = hd._map_shape(U, Umf, ratio)
     ins = None if shape is None else hd._map_inputs((U, Umf, ratio), shape)
-    if ins is not None:
+    if shape is not None and ins is not None:
         theta = np.empty(shape)
         if not hd._run(_excess_pass, *ins, theta.reshape(-1)).any():
             return SpeedModel("maxwellian", granular_temperature=theta)
