@@ -89,3 +89,68 @@ def test_fused_inputs_copies_and_strides_as_numpy_broadcasts():
             assert flat.tobytes() == np.broadcast_to(view, shape).tobytes()
             checked += 1
     assert checked > 200
+
+
+def _bad_count(a, lo=None, hi=None, lo_open=False, hi_open=False, allow_inf=False):
+    """The refused elements by numpy's masks, written from check_range's documented rule."""
+    bad = np.isnan(a) | np.isneginf(a)
+    if lo is not None:
+        bad |= (a <= lo) if lo_open else (a < lo)
+    if hi is not None:
+        bad |= ((a >= hi) if hi_open else (a > hi)) & ~(np.isposinf(a) & allow_inf)
+    if not allow_inf:
+        bad |= np.isposinf(a)
+    return int(bad.sum())
+
+
+def _large(seed=0, n=70_000):
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(-0.5, 1.5, n)
+    a[rng.integers(0, n, 40)] = rng.choice(VALUES, 40)
+    return a
+
+
+@pytest.mark.parametrize("kw", BOUNDS)
+def test_refused_count_compiled_as_written_and_as_numpy(kw):
+    from agglomtool import _validate
+
+    a = _large()
+    full = dict(lo=None, hi=None, lo_open=False, hi_open=False, allow_inf=False) | kw
+    want = _bad_count(a, **full)
+    assert want > 0
+    assert _validate._refused(a, **full) == want
+    lo, hi = full["lo"], full["hi"]
+    plain = _validate._count_refused(  # the plain Python loop, as written
+        a[:5000], -math.inf if lo is None else lo, math.inf if hi is None else hi,
+        full["lo_open"] and lo is not None, full["hi_open"] and hi is not None,
+        full["allow_inf"])
+    assert plain == _bad_count(a[:5000], **full)
+
+
+@pytest.mark.parametrize("kw", BOUNDS)
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_large_arrays_counted_in_one_pass_as_the_reductions(monkeypatch, kw, seed):
+    """A large C-contiguous array is checked by the compiled count; the same values in a
+    strided array by numpy's reductions: the same verdict and message (index included)."""
+    from agglomtool import _validate
+
+    calls = []
+    real = _validate._refused
+
+    def counted(*args):
+        calls.append(args)
+        return real(*args)
+
+    monkeypatch.setattr(_validate, "_refused", counted)
+    a = _large(seed)
+    if seed == 2:  # every value allowed (for these bounds): the array itself returned
+        a = np.clip(np.nan_to_num(a, nan=0.5), 0.25, 0.75)
+    strided = np.empty(2 * a.size)[::2]
+    strided[...] = a
+    got = _verdict(lambda: check_range("x", a, **kw))
+    assert len(calls) == 1
+    ref = _verdict(lambda: check_range("x", strided, **kw))
+    assert len(calls) == 1  # (not C-contiguous: numpy's reductions)
+    assert got == ref
+    if got[0] == "ok":
+        assert check_range("x", a, **kw) is a
