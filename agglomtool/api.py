@@ -464,7 +464,8 @@ def _agglomerated(e_w, out=None):
     """``np.equal(e_w, 0.0, out=out)``: where the pair sticks (``out``: a C-contiguous
     bool array of ``e_w``'s shape, or None); many collisions (a map's block) in one
     compiled pass on every thread, the same comparison per element."""
-    if e_w.size < SERIAL_BELOW or not e_w.flags.c_contiguous:
+    if (e_w.size < SERIAL_BELOW or not e_w.flags.c_contiguous
+            or (out is not None and not out.flags.c_contiguous)):
         return np.equal(e_w, 0.0, out=out)
     if out is None:
         out = np.empty(e_w.shape, dtype=np.bool_)

@@ -139,6 +139,10 @@ def test_agglomerated_of_many_collisions_in_one_pass(monkeypatch, given):
         assert np.shares_memory(got, out)
     small = api._agglomerated(e_w[:10])  # a few collisions: numpy's comparison itself
     assert len(calls) == 1 and small.tobytes() == np.equal(e_w[:10], 0.0).tobytes()
+    strided = np.ones(10000, dtype=bool)[::2]  # not contiguous: numpy's, into it
+    got = api._agglomerated(e_w, strided)
+    assert len(calls) == 1 and got is strided
+    assert strided.tobytes() == np.equal(e_w, 0.0).tobytes()
 
 
 def test_collide_agglomerated_is_e_w_zero(monkeypatch):
