@@ -38,6 +38,7 @@ from ._fields import (
 from ._jit import CACHE, parallel_launch
 from ._validate import check_range, check_typed, suggestion, unknown_name
 from .api import _FUSED, MODES, _fused_inputs, collide, critical_impact_speed
+from .bed.hydrodynamics import MAP_PASS_MIN
 from .bed.speed_models import IMPACT_SPEED_MODELS, mixed_law, speed_law
 from .bed.speeds import _LN2, SPEED_FAMILIES, SpeedModel, sticking_probability
 from .inputs import Bed, Liquid, Particle
@@ -755,9 +756,16 @@ class Resolved:
                 or target.dtype != np.float64 or not target.flags.writeable):
             return
         Umf = self.Umf
-        if np.broadcast_shapes(np.shape(U_Umf), np.shape(Umf)) != target.shape:
+        shape = target.shape
+        if np.broadcast_shapes(np.shape(U_Umf), np.shape(Umf)) != shape:
             return
-        self.__dict__["U"] = np.multiply(U_Umf, Umf, out=target)
+        if target.size < MAP_PASS_MIN or len(shape) > 4:
+            self.__dict__["U"] = np.multiply(U_Umf, Umf, out=target)
+            return
+        # a map's block: the same product per element, on every thread
+        parallel_launch(_product_pass, _as_4d(U_Umf, len(shape)), _as_4d(Umf, len(shape)),
+                        target.reshape((1,) * (4 - len(shape)) + shape))
+        self.__dict__["U"] = target
 
     @cached_property
     def bed(self) -> Bed:
@@ -944,6 +952,25 @@ def _typical_pass(base, median_of, ln2, u_star, m2, den, u_typ, margin, st):
             o_typ[m] = u
             o_margin[m] = _margin_one(u, ru[m * su])
             o_st[m] = (rm[m * sm] * u) / rd[m * sd]
+
+
+@njit(parallel=True, cache=CACHE)
+def _product_pass(a, b, out):
+    """``out = a * b`` (numpy's multiply, element by element) over a map's block: ``out``
+    4-D, ``a`` and ``b`` 4-D of length 1 or ``out``'s on each axis, read row by row with a
+    step of 0 or 1 (as :func:`_typical_pass` reads its inputs)."""
+    p, q, r, d = out.shape
+    for row in prange(p * q * r):  # pragma: no cover - compiled
+        i = row // (q * r)
+        j = (row // r) % q
+        k = row % r
+        ra = _row(a, i, j, k)
+        rb = _row(b, i, j, k)
+        sa = 1 if ra.shape[0] > 1 else 0
+        sb = 1 if rb.shape[0] > 1 else 0
+        o = out[i, j, k]
+        for m in range(d):
+            o[m] = ra[m * sa] * rb[m * sb]
 
 
 @njit(inline="always", cache=CACHE)

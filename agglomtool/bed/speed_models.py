@@ -29,7 +29,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from numba import vectorize
+from numba import njit, prange, vectorize
 
 from .._jit import CACHE
 from .._validate import PlausibilityWarning
@@ -63,23 +63,83 @@ def _excess_theta(U, Umf, ratio):  # pragma: no cover - compiled
     included, as numpy's formula gives it); -1 where it is (no square is negative): the
     caller then takes the plain path, whose error names the value. One pass, no
     temporaries; the same operations as the formula, so the same numbers."""
+    return _excess_theta_one(U, Umf, ratio)
+
+
+@njit(inline="always", cache=CACHE)
+def _excess_theta_one(U, Umf, ratio):  # pragma: no cover - compiled
+    """The rule of :func:`_excess_theta`, written once for it and :func:`_excess_pass` (a
+    selection, not a branch: a loop of it vectorizes)."""
     excess = U - Umf
-    if excess <= 0.0:
-        return -1.0
     t = ratio * excess
-    return t * t
+    return -1.0 if excess <= 0.0 else t * t
+
+
+@njit(parallel=True, cache=CACHE)
+def _excess_pass(ins, st, shp, plan, out, stats):  # pragma: no cover - compiled
+    """:func:`_excess_theta` of a map's elements on every thread (``ins``: U, Umf, ratio,
+    read by their broadcast steps: :func:`.hydrodynamics._map_inputs`) into ``out``;
+    ``stats[blk, 0]``: how many of block ``blk``'s elements it refused (-1 written)."""
+    for blk in prange(stats.shape[0]):  # each block a serial loop (compiles faster)
+        _excess_block(ins, st, shp, plan, out, stats, blk)
+
+
+@njit(cache=CACHE)
+def _excess_block(ins, st, shp, plan, out, stats, blk):  # pragma: no cover - compiled
+    """Block ``blk`` of :func:`_excess_pass` (the pieces of :func:`.hydrodynamics._plan`)."""
+    chunk, per_row, per_block = plan
+    last = shp.shape[0] - 1
+    row_len = shp[last]
+    pieces = (out.shape[0] // row_len) * per_row
+    s0, s1, s2 = st[0, last], st[1, last], st[2, last]
+    x0, x1, x2 = ins
+    off = np.empty(3, np.int64)
+    refused = 0
+    for piece in range(blk * per_block, min(pieces, (blk + 1) * per_block)):
+        row = piece // per_row
+        j0 = (piece - row * per_row) * chunk
+        hd._row_offsets(off, st, shp, row, j0)
+        o0, o1, o2 = off[0], off[1], off[2]
+        k = row * row_len + j0
+        m = min(row_len - j0, chunk)
+        o = out[k:k + m]
+        if s0 == 1 and s1 == 0 and s2 == 0:
+            # a map's usual row: U runs along it, U_mf and the ratio do not (contiguous
+            # views: a loop the compiler vectorizes)
+            u = x0[o0:o0 + m]
+            Umf = x1[o1]
+            ratio = x2[o2]
+            for j in range(m):
+                t = _excess_theta_one(u[j], Umf, ratio)
+                refused += t < 0.0
+                o[j] = t
+        else:
+            for j in range(m):
+                t = _excess_theta_one(x0[o0 + j * s0], x1[o1 + j * s1], x2[o2 + j * s2])
+                refused += t < 0.0
+                o[j] = t
+    stats[blk, 0] = refused
 
 
 def _excess_gas(x) -> SpeedModel:
     U, Umf = np.asarray(x["U"], float), np.asarray(x["Umf"], float)
     ratio = np.asarray(x["fluctuation_ratio"], float)
-    # (the compiled comparison flags a NaN as an invalid operation, numpy's does not:
-    # that flag is not a warning here, as it was not with numpy)
-    with np.errstate(invalid="ignore"):
-        theta = np.asarray(_excess_theta(U, Umf, ratio))
-    # the smallest value ignoring NaN: the sentinel -1 wherever U does not exceed U_mf
-    if theta.size and not np.fmin.reduce(theta, axis=None) < 0.0:
-        return SpeedModel("maxwellian", granular_temperature=theta)
+    # A map's arrays: one compiled pass on every thread (the same operations per element:
+    # the same numbers), which counts the refused elements as it goes.
+    shape = hd._map_shape(U, Umf, ratio)
+    ins = None if shape is None else hd._map_inputs((U, Umf, ratio), shape)
+    if shape is not None and ins is not None:
+        theta = np.empty(shape)
+        if not hd._run(_excess_pass, *ins, theta.reshape(-1)).any():
+            return SpeedModel("maxwellian", granular_temperature=theta)
+    else:
+        # (the compiled comparison flags a NaN as an invalid operation, numpy's does not:
+        # that flag is not a warning here, as it was not with numpy)
+        with np.errstate(invalid="ignore"):
+            theta = np.asarray(_excess_theta(U, Umf, ratio))
+        # the smallest value ignoring NaN: the sentinel -1 wherever U does not exceed U_mf
+        if theta.size and not np.fmin.reduce(theta, axis=None) < 0.0:
+            return SpeedModel("maxwellian", granular_temperature=theta)
     excess = U - Umf
     if np.any(excess <= 0.0):
         bad = float(np.broadcast_to(U, excess.shape)[excess <= 0.0][0])

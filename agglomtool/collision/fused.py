@@ -775,14 +775,16 @@ def _flat_input(a, shape, n):
         a = np.asarray(a, dtype=np.float64)
     if a.size == 1:
         return np.array(a, dtype=np.float64).reshape(1), 0
-    if a.size != n:
-        a = np.broadcast_to(a, shape)
-    elif a.flags.c_contiguous and a.flags.writeable:
-        # Already as required (np.require would return ``a`` itself): no copy, and no new
-        # view of a 1-D array. Its elements are in the broadcast order: ``a`` has the
-        # shape's ``n`` elements, so its axes longer than 1 are the shape's, in order.
+    if a.size != n:  # broadcast into a copy of its own (numpy's copy broadcasts it)
+        full = np.empty(shape)
+        np.copyto(full, a)
+        return full.reshape(-1), 1
+    if a.flags.c_contiguous and a.flags.writeable:
+        # Already as required: no copy, and no new view of a 1-D array. Its elements are in
+        # the broadcast order: ``a`` has the shape's ``n`` elements, so its axes longer
+        # than 1 are the shape's, in order.
         return (a if a.ndim == 1 else a.reshape(-1)), 1
-    return np.require(a, dtype=np.float64, requirements=("C", "W")).reshape(-1), 1
+    return np.array(a, dtype=np.float64, order="C").reshape(-1), 1  # a writable copy
 
 
 def _own_values(a, shape, n):
@@ -796,7 +798,11 @@ def _own_values(a, shape, n):
     own = np.ascontiguousarray(a)
     if not own.flags.writeable:  # (the loops take one array type: writable, as the copies)
         own = own.copy()
-    return own.reshape(-1), [s // 8 for s in np.broadcast_to(own, shape).strides]
+    # its strides as np.broadcast_to(own, shape) has them: its own along an axis of the
+    # shape's length (longer than 1), else 0
+    lead = len(shape) - own.ndim
+    return own.reshape(-1), [0] * lead + [own.strides[d] // 8 if m == shape[lead + d] != 1
+                                          else 0 for d, m in enumerate(own.shape)]
 
 
 def _layout(shape, strides: dict):

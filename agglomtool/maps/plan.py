@@ -282,7 +282,8 @@ class SweepPlan:
         raw = _group_outputs(r, group, int(self.nodes), into, args[-1])
         if group != "collision":  # over every dimension: the group's own axes kept
             ones = tuple(sl[d].stop - sl[d].start if d in dims else 1 for d in self.grid)
-            raw = tuple(np.broadcast_to(o, ones).reshape(shape) for o in raw)
+            raw = tuple((o if np.shape(o) == ones else np.broadcast_to(o, ones)).reshape(shape)
+                        for o in raw)  # (most have those axes already: no view to make)
         return dict(zip(GROUPS[group][1], _finish(raw, shape, into), strict=True))
 
     def evaluate(self, sl: dict, wanted, out=None) -> dict:
