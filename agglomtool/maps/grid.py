@@ -282,7 +282,7 @@ def prefault(arrays) -> None:
     first 0.024-0.030 s, written again 0.0075 s). The values are left undefined, as
     ``np.empty``'s: every element is written by the sweep's blocks."""
     for a in arrays:
-        if a.nbytes >= 1 << 22 and a.flags.c_contiguous:
+        if a.nbytes >= 1 << 20 and a.flags.c_contiguous:
             parallel_launch(_touch, a.reshape(-1).view(np.uint8), PAGE)
 
 
