@@ -56,7 +56,9 @@ VARIABLE_META = {
     "St": ("1", "viscous Stokes number at the typical speed",
            "m_r 2 u_typical / (1.5 pi mu_l r**2)"),
     "e_w": ("1", "wet restitution coefficient at the typical speed", "0 where the pair sticks"),
-    "agglomerated": ("1", "sticks at the typical speed", "e_w == 0"),
+    "agglomerated": ("1", "sticks at the typical speed",
+                     "e_w == 0; false also where speed_flag is not 0 (no impact speed: "
+                     "neither outcome, e_w is NaN there)"),
     "stage": ("1", "stage where the outcome at the typical speed was decided",
               "agglomtool.Stage code"),
     "propensity": ("1", "agglomeration propensity",

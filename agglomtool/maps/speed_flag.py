@@ -95,7 +95,8 @@ def counts_text(counts: dict, total: int, what: str = "the map") -> str | None:
                         for c, n in counts.items())
     return (f"the impact-speed model has no answer at {sum(counts.values())} of {total} "
             f"points of {what}: {reasons}. Their propensity and every output made of "
-            "the impact speed are NaN, and speed_flag says why; the other points are "
+            "the impact speed are NaN (agglomerated false, stage -1: neither outcome), "
+            "and speed_flag says why; the other points are "
             f"computed. {' '.join(_REMEDY[c] for c in counts)}")
 
 
