@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from agglomtool.maps import build, grid, sweep
+from agglomtool.maps import build, layout, sweep
+from agglomtool.maps.estimate import estimate_sweep
 from agglomtool.maps.layout import DEFAULT_BLOCK, MAX_BLOCK_FACTOR, auto_block
 from agglomtool.scene import Scene
 
@@ -31,7 +32,7 @@ def _spy(monkeypatch, points):
         seen.append(threads)
         return points
 
-    monkeypatch.setattr(grid, "auto_block", fake)
+    monkeypatch.setattr(layout, "auto_block", fake)
     return seen
 
 
@@ -55,3 +56,13 @@ def test_store_lazy_and_explicit_blocks_do_not_follow_the_threads(monkeypatch, t
     sweep(WATER, chunks=DEFAULT_BLOCK, **AXES)
     sweep(WATER, chunks="auto", client=None, compute=False, **AXES)
     assert seen == []
+
+
+def test_the_estimate_plans_the_sweeps_blocks(monkeypatch):
+    """estimate_sweep counts the blocks the sweep will compute: the thread count's in
+    memory, the fixed size into a store."""
+    seen = _spy(monkeypatch, 35)
+    assert estimate_sweep(WATER, calibrate=False, **AXES).blocks == 6
+    assert seen == [numba.get_num_threads()]
+    assert estimate_sweep(WATER, calibrate=False, store="s", **AXES).blocks == 1
+    assert seen == [numba.get_num_threads()]

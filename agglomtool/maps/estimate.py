@@ -409,9 +409,11 @@ def estimate_sweep(scene, *, chunks="auto", nodes: int = 16, store=None, calibra
         the memory available and the store's free disk space;
         :meth:`SweepEstimate.describe` says it in one line.
     """
+    from .layout import sweep_chunks
     from .plan import _plan
 
-    plan = _plan(scene, chunks, nodes, grid)
+    # the blocks the sweep will plan (in memory, here: by the thread count)
+    plan = _plan(scene, sweep_chunks(chunks, store is None), nodes, grid)
     if calibrate is None:
         calibrate = plan.points >= CALIBRATE_ABOVE
     if not calibrate:

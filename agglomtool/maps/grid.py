@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import logging
 
-import numba
 import numpy as np
 import xarray as xr
 from numba import njit, prange
@@ -34,8 +33,8 @@ from .layout import (  # noqa: F401  (re-exported: the sweep's layout, as before
     _dataset_attrs,
     _first_point,
     _grid_values,
-    auto_block,
     grid_findings,
+    sweep_chunks,
 )
 from .plan import _dataset, _lazy_arrays, _plan, build  # noqa: F401  (re-exported)
 
@@ -220,9 +219,8 @@ def _sweep(scene: Scene, *, chunks, nodes, store, progress, compute, overwrite, 
 
         client = _active_client()
     on_cluster = client is not None and client is not False
-    if chunks == "auto" and store is None and compute and not on_cluster:
-        # in memory, here: larger blocks on many threads (auto_block says why)
-        chunks = auto_block(numba.get_num_threads())
+    # in memory, here: larger blocks on many threads (auto_block says why)
+    chunks = sweep_chunks(chunks, store is None and compute and not on_cluster)
     plan = _plan(scene, chunks, nodes, grid)
     if store is None and not compute:
         return _dataset(plan, _lazy_arrays(plan))

@@ -37,7 +37,8 @@ from .meta import (
 )
 from .speed_flag import flagged_collision_outputs
 
-__all__ = ["GROUPS", "DEFAULT_BLOCK", "auto_block", "SPEED_FIELDS", "GridError", "grid_findings"]
+__all__ = ["GROUPS", "DEFAULT_BLOCK", "auto_block", "sweep_chunks", "SPEED_FIELDS", "GridError",
+           "grid_findings"]
 
 logger = logging.getLogger("agglomtool.maps")
 
@@ -65,6 +66,18 @@ def auto_block(threads: int) -> int:
     the machine that starts the sweep. The values do not depend on the block (each point
     is computed alone)."""
     return DEFAULT_BLOCK * min(MAX_BLOCK_FACTOR, max(1, int(threads) // 4))
+
+
+def sweep_chunks(chunks, in_memory: bool):
+    """The ``chunks`` a sweep plans with: :func:`auto_block` on Numba's thread count for
+    ``"auto"`` where the map is computed in memory in this process (``in_memory``), else
+    ``chunks`` as given. Written once for :func:`agglomtool.maps.sweep` and
+    :func:`agglomtool.maps.estimate.estimate_sweep`, which must plan the same blocks."""
+    if isinstance(chunks, str) and chunks == "auto" and in_memory:
+        import numba
+
+        return auto_block(numba.get_num_threads())
+    return chunks
 
 SPEED_FIELDS = ("u0", "speed", "sigma_ln", "granular_temperature", "fluctuation_ratio",
                 "U", "U_Umf", "bed_height", "column_diameter", "orifice_area", "height",
