@@ -931,17 +931,11 @@ def _typical_pass(base, median_of, ln2, u_star, m2, den, u_typ, margin, st):
     inputs are read row by row with a step of 0 or 1 (a loop the compiler vectorizes)."""
     a, b, c, d = margin.shape
     for row in prange(a * b * c):  # pragma: no cover - compiled
-        i = row // (b * c)
-        j = (row // c) % b
-        k = row % c
-        rb = _row(base, i, j, k)
-        ru = _row(u_star, i, j, k)
-        rm = _row(m2, i, j, k)
-        rd = _row(den, i, j, k)
-        sb = 1 if rb.shape[0] > 1 else 0
-        su = 1 if ru.shape[0] > 1 else 0
-        sm = 1 if rm.shape[0] > 1 else 0
-        sd = 1 if rd.shape[0] > 1 else 0
+        i, j, k = _row_index(row, b, c)
+        rb, sb = _row(base, i, j, k)
+        ru, su = _row(u_star, i, j, k)
+        rm, sm = _row(m2, i, j, k)
+        rd, sd = _row(den, i, j, k)
         o_typ = u_typ[i, j, k]
         o_margin = margin[i, j, k]
         o_st = st[i, j, k]
@@ -961,13 +955,9 @@ def _product_pass(a, b, out):
     step of 0 or 1 (as :func:`_typical_pass` reads its inputs)."""
     p, q, r, d = out.shape
     for row in prange(p * q * r):  # pragma: no cover - compiled
-        i = row // (q * r)
-        j = (row // r) % q
-        k = row % r
-        ra = _row(a, i, j, k)
-        rb = _row(b, i, j, k)
-        sa = 1 if ra.shape[0] > 1 else 0
-        sb = 1 if rb.shape[0] > 1 else 0
+        i, j, k = _row_index(row, q, r)
+        ra, sa = _row(a, i, j, k)
+        rb, sb = _row(b, i, j, k)
         o = out[i, j, k]
         for m in range(d):
             o[m] = ra[m * sa] * rb[m * sb]
@@ -975,10 +965,19 @@ def _product_pass(a, b, out):
 
 @njit(inline="always", cache=CACHE)
 def _row(a, i, j, k):  # pragma: no cover - compiled
-    """The last axis of the 4-D ``a`` at the block's row ``(i, j, k)`` (0 where ``a``'s
-    axis has length 1: broadcast)."""
-    return a[i if a.shape[0] > 1 else 0, j if a.shape[1] > 1 else 0,
-             k if a.shape[2] > 1 else 0]
+    """``(values, step)``: the last axis of the 4-D ``a`` at the block's row ``(i, j, k)``
+    (0 where ``a``'s axis has length 1: broadcast), and the step to read it by along the
+    block's last axis (0 where it has one value, broadcast; else 1)."""
+    r = a[i if a.shape[0] > 1 else 0, j if a.shape[1] > 1 else 0,
+          k if a.shape[2] > 1 else 0]
+    return r, 1 if r.shape[0] > 1 else 0
+
+
+@njit(inline="always", cache=CACHE)
+def _row_index(row, b, c):  # pragma: no cover - compiled
+    """``(i, j, k)``: the block's row number ``row`` (C order over its first three axes,
+    of lengths ``(., b, c)``) as indices."""
+    return row // (b * c), (row // c) % b, row % c
 
 
 def _as_4d(a, ndim: int):
