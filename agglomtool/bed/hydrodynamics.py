@@ -67,14 +67,21 @@ def _excess_checked(U, Umf):  # pragma: no cover - compiled
     return _excess_one(U, Umf)
 
 
-@njit(cache=CACHE)
+@njit(inline="always", cache=CACHE)
+def _flows_valid(U, Umf):  # pragma: no cover - compiled
+    """Whether ``U`` and ``Umf`` are themselves accepted: ``0 <= U``, ``0 < Umf``, both
+    finite (NaN is not). The rule written once for :func:`_excess_one` and the map
+    passes' refusal codes (5 where it fails)."""
+    return (0.0 <= U) & (U < math.inf) & (0.0 < Umf) & (Umf < math.inf)
+
+
+@njit(inline="always", cache=CACHE)
 def _excess_one(U, Umf):  # pragma: no cover - compiled
-    """:func:`_excess_checked` of one element (shared with the map passes)."""
-    if U >= 0.0 and Umf > 0.0 and U < math.inf and Umf < math.inf:
-        excess = U - Umf
-        if excess > 0.0:
-            return excess
-    return -1.0
+    """:func:`_excess_checked` of one element (shared with the map passes): the difference
+    where :func:`_flows_valid` and positive, else -1; computed, then selected (no branch:
+    a loop of it vectorizes)."""
+    excess = U - Umf
+    return excess if _flows_valid(U, Umf) & (excess > 0.0) else -1.0
 
 
 def _excess(U, Umf):
@@ -990,16 +997,12 @@ def _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk):  # pra
         if s0 == 1 and s2 == 1 and s1 == 0 and s4 == 0 and s5 == 0:
             # a map's usual row: U and the powers run along it, U_mf, the plate and
             # the growth factor do not: a loop without branches, which the compiler
-            # vectorizes (the excess is _excess_one's, as a selection)
+            # vectorizes (_excess_one is a selection)
             Umf = x1[o1]
             fac = x5[o5]
-            umf_ok = 0.0 < Umf < math.inf
             perforated = x4[o4] > 0.0
             for j in range(m):
-                U = x0[o0 + j]
-                excess = U - Umf
-                excess = (excess if umf_ok and 0.0 <= U < math.inf and excess > 0.0
-                          else -1.0)
+                excess = _excess_one(x0[o0 + j], Umf)
                 P = x2[o2 + j]
                 if mori_wen:
                     d_bm = P * _MW_MAX
@@ -1079,7 +1082,7 @@ def _bubble_block(ins, st, shp, plan, mori_wen, theta, code, stats, blk):  # pra
                 Umf = x1[o1 + j * s1]
                 if ex_buf[j] < 0.0:  # refused by _excess_one
                     U = x0[o0 + j * s0]
-                    c = 1 if 0.0 <= U < math.inf and 0.0 < Umf < math.inf else 5
+                    c = 1 if _flows_valid(U, Umf) else 5
                 else:
                     c = _chain_code(ex_buf[j], Umf, db_buf[j], x6[o6 + j * s6],
                                     x7[o7 + j * s7], x8[o8 + j * s8])
@@ -1352,10 +1355,10 @@ def _collisional_block(ins, st, shp, plan, out, code, stats, blk):  # pragma: no
 def _collisional_one(U, Umf, a, d_p, den, sqrt_pi):  # pragma: no cover - compiled
     """:func:`_collisional_pass` of one element (``a`` is ``1 - rho_g / rho_p``, ``den``
     the denominator): ``(Theta**1.5, code)``, NaN and 1 or 5 where refused; the excess is
-    :func:`_excess_one`'s, as selections (no branch; the denominator is positive)."""
-    excess = U - Umf
-    valid = (0.0 <= U) & (U < math.inf) & (0.0 < Umf) & (Umf < math.inf)
-    ok = valid & (excess > 0.0)
+    :func:`_excess_one`'s (selections, no branch; the denominator is positive)."""
+    excess = _excess_one(U, Umf)
+    valid = _flows_valid(U, Umf)
+    ok = excess > 0.0
     power = excess * a * GRAVITY * d_p * sqrt_pi
     return (power / den if ok else math.nan), (0 if ok else (1 if valid else 5))
 
