@@ -11,7 +11,6 @@ numbers copied from the passes.
 
 import warnings
 
-import numba
 import numpy as np
 import pytest
 
@@ -229,63 +228,9 @@ def test_an_input_in_another_memory_order_gives_the_same_numbers(monkeypatch):
     _same(got, want)
 
 
-def test_numpy_power_in_pieces_is_numpy_power(monkeypatch):
-    """The powers between the passes, split over threads, give numpy's own bits."""
-    monkeypatch.setattr(numba, "get_num_threads", lambda: 3)
-    x = RNG.uniform(0.0, 3.0, 200_001) * RNG.choice([1e-3, 1.0, 1e3], 200_001)
-    got = x.copy()
-    hd._power(got, 0.4)
-    _same(got, x**0.4)
-
-
 def test_the_passes_are_parallel_and_cached():
     """The laws' passes run on every thread the collision kernels use, and are compiled
     once (cached on disk)."""
     for kernel in (hd._bubble_pass, hd._collisional_pass):
         assert kernel.targetoptions.get("parallel") is True
         assert kernel._cache.__class__.__name__ != "NullCache" or not hd.CACHE
-
-
-
-FORK_JOB = """
-import multiprocessing, sys
-import numba
-import numpy as np
-from agglomtool.bed import hydrodynamics as hd
-
-numba.get_num_threads = lambda: 2  # numpy's pieces on a pool of two threads
-
-
-def power_sum(n):
-    x = np.full(n, 2.0)
-    hd._power(x, 0.5)
-    return float(x.sum())
-
-
-if __name__ == "__main__":
-    n = 4 * hd._PIECES_FROM
-    want = power_sum(n)  # the parent's pool is started
-    with multiprocessing.get_context("fork").Pool(1) as pool:
-        got = pool.apply_async(power_sum, (n,)).get(timeout=60)
-    print(got == want)
-"""
-
-
-def test_a_forked_child_takes_numpy_pieces_on_a_pool_of_its_own(tmp_path):
-    """The pool of threads for numpy's pieces is the process's own: a child forked after
-    the parent used it (multiprocessing's default on Linux) does not wait for threads
-    it does not have (it did, for ever, before the pool was forgotten at a fork)."""
-    import os
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[1]
-    job = tmp_path / "fork_job.py"
-    job.write_text(FORK_JOB)
-    env = {**os.environ,
-           "PYTHONPATH": os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")])}
-    out = subprocess.run([sys.executable, str(job)], env=env, capture_output=True,
-                         text=True, timeout=300)
-    assert out.returncode == 0, out.stderr[-2000:]
-    assert out.stdout.split()[-1] == "True"
