@@ -7,7 +7,7 @@ temperature against coating thickness at ``U/U_mf`` = 2, 4 and 8, coloured by th
 agglomeration propensity, with ``u0*`` contours. The scene and the grid are
 ``examples/configs/biomass_window.toml``.
 
-The database's melt is so viscous (Giordano-Russell-Dingwell: 1e2-1e7 Pa s at these
+The database's melt is so viscous (Giordano-Russell-Dingwell: 4e2-4e7 Pa s at these
 temperatures) that any coating thicker than the 0.1 um asperities sticks at every speed up
 to the ``u0*`` ceiling (10 m/s): the picture hatches that region; the safe window is only
 where no bridge forms.
