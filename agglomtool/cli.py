@@ -337,7 +337,7 @@ def _cmd_materials(args: argparse.Namespace) -> int:
     from . import materials
 
     for kind in materials.KINDS:
-        print(f"{kind}s:")
+        print(f"{_plural(kind)}:")
         for name in materials.names(kind):
             entry = getattr(materials, "liquid_entry" if kind == "liquid" else kind)(name)
             extra = f" [{entry.model}]" if kind == "liquid" else ""
@@ -348,6 +348,11 @@ def _cmd_materials(args: argparse.Namespace) -> int:
     return 0
 
 
+def _plural(kind: str) -> str:
+    """The database's kind of entry in the plural ("gas" -> "gases")."""
+    return kind + ("es" if kind.endswith("s") else "s")
+
+
 def _database_names(kind: str) -> str:
     """The database's names of ``kind`` for a help text (reads TOML only)."""
     try:
@@ -355,7 +360,7 @@ def _database_names(kind: str) -> str:
 
         return ", ".join(materials.names(kind))
     except Exception:  # noqa: BLE001 - a broken user file must not break --help
-        return f"see 'agglomtool materials' ({kind}s)"
+        return f"see 'agglomtool materials' ({_plural(kind)})"
 
 
 def _default_text(name: str) -> str:
@@ -492,7 +497,8 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
     be.add_argument("config", help="TOML file with [scene], [[component]], [grid], [options]")
     be.add_argument("-o", "--output", required=True, help="netCDF file to write")
     be.add_argument("--efficiency", metavar="FILE",
-                    help="also write the coalescence-efficiency matrix (.csv or .nc)")
+                    help="also write the coalescence-efficiency matrix (.csv or .nc); for a "
+                    "file without [grid] (one operating point)")
     _add_progress_options(be)
     be.set_defaults(func=_cmd_bed)
 

@@ -68,3 +68,6 @@ def test_materials_lists_sources(capsys):
     assert main(["materials"]) == 0
     out = capsys.readouterr().out
     assert "silica-sand" in out and "k-silicate-ash-melt" in out and "source:" in out
+    # one heading per kind of entry, in the plural ("gass:" before)
+    headings = [line for line in out.splitlines() if line and not line.startswith(" ")]
+    assert headings == ["solids:", "liquids:", "gases:"]
