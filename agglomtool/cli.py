@@ -8,6 +8,7 @@ imported by the command that needs them, so ``--help`` and ``--version`` answer 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
 from collections.abc import Mapping
 from typing import Any
@@ -419,12 +420,18 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"agglomtool {__version__}")
     strict_help = ("treat plausibility warnings (unit slips, sizes outside a solid's range, "
                    "...) as errors; before or after the command")
+    threads_help = ("threads of the compiled kernels in this process (default: every core "
+                    "Numba found); fewer where other jobs hold cores, before or after the "
+                    "command")
     parser.add_argument("--strict", action="store_true", help=strict_help)
-    # Every command takes --strict too (after its name); SUPPRESS keeps a --strict given
-    # before the command from being reset by the command's default.
+    parser.add_argument("--threads", type=int, metavar="N", default=None, help=threads_help)
+    # Every command takes --strict and --threads too (after its name); SUPPRESS keeps one
+    # given before the command from being reset by the command's default.
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--strict", action="store_true", default=argparse.SUPPRESS,
                         help=strict_help)
+    common.add_argument("--threads", type=int, metavar="N", default=argparse.SUPPRESS,
+                        help=threads_help)
     sub = parser.add_subparsers(dest="command", required=True)
     _add_parser = sub.add_parser
     # every subcommand takes the common options  # mypy: patching the bound method
@@ -507,6 +514,27 @@ def build_parser(command: str | None = "collide") -> argparse.ArgumentParser:
     return parser
 
 
+@contextlib.contextmanager
+def _threads(n: int | None):
+    """Run with ``n`` threads in the compiled kernels (None: as they are), restored after."""
+    if n is None:
+        yield
+        return
+    import numba
+
+    most = numba.config.NUMBA_NUM_THREADS
+    if not 1 <= n <= most:
+        raise CommandError(f"--threads {n}: this process can use 1 to {most} threads (the "
+                           "cores Numba found; the environment variable NUMBA_NUM_THREADS "
+                           "sets that ceiling)")
+    before = numba.get_num_threads()
+    numba.set_num_threads(n)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     command = next((a for a in argv if not a.startswith("-")), None)
@@ -523,7 +551,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"agglomtool: warning: {message}", file=sys.stderr)
 
     try:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), _threads(args.threads):
             warnings.showwarning = show
             warnings.simplefilter("error" if args.strict else "default", PlausibilityWarning)
             return args.func(args)
