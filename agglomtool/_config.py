@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._fields import FIELD_META
+from ._fields import FIELD_META, SPEED_LAW_NEEDS
 from ._validate import suggestion
 from .plausibility import PlausibilityWarning, scene_findings
 from .scene import Scene, field_names
@@ -122,13 +122,15 @@ def check_tables(data: dict, source: str, allowed: tuple[str, ...]) -> None:
                           f"{', '.join(allowed)}")
 
 
-def parse_scene(scene_data, source: str = "config") -> Scene:
+def parse_scene(scene_data, source: str = "config", grid: dict | None = None) -> Scene:
     """The :class:`~agglomtool.Scene` of a configuration's ``[scene]`` table.
 
     Every field must be a Scene field with one value (numbers SI, or quantities with units
     as strings); an error is a :class:`ConfigError` naming ``source`` and the key. Its
     plausibility findings are not said here: a field that a grid sweeps has no scene value
-    to judge (see :func:`warn_scene_findings`).
+    to judge (see :func:`warn_scene_findings`). The value that the speed law the table
+    names needs (``u0`` of ``speed = "fixed"``), where the ``grid`` (``{name: SI values}``)
+    sweeps it and the table does not give it, is the grid's first: the sweep replaces it.
     """
     fields = field_names()
     if not isinstance(scene_data, dict):
@@ -141,6 +143,9 @@ def parse_scene(scene_data, source: str = "config") -> Scene:
         if isinstance(value, list | dict):
             raise ConfigError(f"{source}: [scene] {key} = {value!r} must be a single value; "
                               "put ranges in [grid]")
+    needed = SPEED_LAW_NEEDS.get(str(scene_data.get("speed")))
+    if grid and needed in grid and needed not in scene_data:
+        scene_data = {**scene_data, needed: float(np.ravel(grid[needed])[0])}
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlausibilityWarning)

@@ -104,10 +104,10 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         first-order index of the difference, and that index. ``attrs["verdicts"]``: one
         sentence per pair (``agglomtool.uncertainty.compare.verdicts``).
     """
-    from ..scene import Scene
+    from ..scene import Scene, swept_without_effect
     from ._sampling import resolve_seed
     from .monte_carlo import monte_carlo
-    from .scene_mc import split_uncertain
+    from .scene_mc import drawn_speeds, split_uncertain
 
     if not isinstance(scene, Scene):
         raise ValueError(f"scene = {scene!r} is not allowed: an agglomtool.Scene is required")
@@ -118,6 +118,11 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         raise ValueError(f"bins = {bins!r} must be an integer in [2, n = {n}]")
     resolve_seed(seed)  # every request checked before the first draw
     split_uncertain(uncertain)
+    speeds = [str(v) for v in opts] if field == "speed" else [scene.speed]
+    found = swept_without_effect(scene.values(), {field: opts},
+                                 speeds + list(drawn_speeds(scene, uncertain)), what="")
+    if found:
+        raise ValueError(f"compare {field}: {found[1]}")
     scenes = []
     for v in opts:
         try:
