@@ -405,11 +405,17 @@ def swept_without_effect(values: dict, swept, speeds=None, *,
     of ``speeds`` reads at the scene ``values``, and why, as ``(field, message)``; ``None``
     if each is read. ``speeds``: the speed laws or models that compute at some point (default the
     scene's ``speed``; a swept ``speed`` and the models a robust map may draw add theirs).
-    A field only a speed law or model reads is refused where none of them does: a map axis
-    along which nothing changes is no answer to what it asks. ``what`` begins the message
+    A field only a speed law or model reads is refused where none of them does, and
+    ``U_Umf`` where ``U`` is given or swept: a map axis along which nothing changes is no
+    answer to what it asks. ``what`` begins the message
     (``"grid "``: a map's or a bed's axis)."""
     speeds = (values["speed"],) if speeds is None else tuple(dict.fromkeys(speeds))
     shown = speeds[0] if len(speeds) == 1 else list(speeds)
+    if "U_Umf" in swept and ("U" in swept or values.get("U") is not None):
+        by = ("the grid sweeps U" if "U" in swept
+              else f"the scene gives U = {float(values['U']):g} m/s")
+        return "U_Umf", (f"{what}U_Umf has no effect: {by}, and U_Umf sets U (U_Umf x U_mf) "
+                         "only where U is not given; leave U unset to sweep U_Umf")
     readers = _speed_readers()
     for name in swept:
         read_by = readers.get(name)

@@ -181,3 +181,20 @@ def test_compare_refuses_options_of_a_field_its_speed_ignores():
     with _quiet():
         ds = at.compare(at.Scene(**WATER), uncertain="assumed", n=16, bed_height=[0.2, 1.0])
     assert ds.propensity_mean.shape == (2,)
+
+
+def test_a_U_Umf_axis_is_refused_where_U_is_given_or_swept():
+    # U = U_Umf x U_mf only where U is not given: the axis would be flat
+    given = at.Scene(**WATER, U=0.5)
+    with pytest.raises(ValueError, match=r"grid U_Umf has no effect: the scene gives U = 0.5 "
+                                         "m/s"):
+        at.sweep(given, U_Umf=[1.5, 3.0])
+    with pytest.raises(ValueError, match=r"grid U_Umf has no effect: the grid sweeps U"):
+        at.sweep(at.Scene(**WATER), U=[0.4, 0.6], U_Umf=[1.5, 3.0])
+    with pytest.raises(ValueError, match=r"grid U_Umf has no effect: the scene gives U"):
+        at.bed_sweep(given, BED, U_Umf=[1.5, 3.0])
+    with pytest.raises(ValueError, match=r"compare U_Umf: U_Umf has no effect"):
+        at.compare(given, uncertain="assumed", n=16, U_Umf=[1.5, 3.0])
+    # a U axis replaces the scene's U_Umf as any axis replaces the scene's value
+    ds = at.sweep(at.Scene(**WATER), U=[0.4, 0.6])
+    assert ds.propensity.values[0] > ds.propensity.values[1]
