@@ -135,12 +135,15 @@ def _cmd_bed(args: argparse.Namespace) -> int:
     from .bed.config import load_bed_config
     from .bed.export import export_efficiency
     from .bed.propensity import bed_propensity, bed_sweep
-    from .maps.export import write_map
+    from .maps.export import check_output_dir, write_map
 
     cfg = load_bed_config(args.config)
     out = Path(args.output)
     if out.is_dir():
         raise CommandError(f"output {str(out)!r} is a directory; give a file name (.nc)")
+    for path in (out, args.efficiency):  # before the bed is computed
+        if path:
+            check_output_dir(path)
     opts = cfg.options
     if cfg.grid:
         if args.efficiency:
