@@ -339,8 +339,9 @@ def _cmd_materials(args: argparse.Namespace) -> int:
     """What the materials database holds, with sources."""
     from . import materials
 
+    plural = {"gas": "gases"}
     for kind in materials.KINDS:
-        print(f"{kind}s:")
+        print(f"{plural.get(kind, kind + 's')}:")
         for name in materials.names(kind):
             entry = getattr(materials, "liquid_entry" if kind == "liquid" else kind)(name)
             extra = f" [{entry.model}]" if kind == "liquid" else ""

@@ -68,3 +68,10 @@ def test_materials_lists_sources(capsys):
     assert main(["materials"]) == 0
     out = capsys.readouterr().out
     assert "silica-sand" in out and "k-silicate-ash-melt" in out and "source:" in out
+
+
+def test_materials_headings_name_each_kind_in_english(capsys):
+    assert main(["materials"]) == 0
+    headings = [line for line in capsys.readouterr().out.splitlines()
+                if line and not line.startswith(" ")]
+    assert headings == ["solids:", "liquids:", "gases:"]
