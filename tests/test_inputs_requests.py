@@ -337,3 +337,17 @@ def test_what_a_person_types_means_the_same_whatever_pint_registry_is_active():
     assert at.Scene(T="50 degC").T == pytest.approx(323.15)
     q = pint.get_application_registry().Quantity(500, "um")  # a user's own Quantity
     assert at.Scene(d_i=q).d_i == pytest.approx(500e-6)
+
+
+def test_a_pressure_axis_that_boils_the_water_is_the_key_named():
+    # the swept P = 1 bar boils water at 110 degC: the grid's key, not the [scene], is named
+    text = """
+[scene]
+liquid = "water"
+T = "110 degC"
+[grid]
+P = ["1 bar", "2 bar"]
+"""
+    with _quiet(), pytest.raises(ConfigError, match=r"\[grid\] P: .*water at T = 383.15 K, "
+                                                    r"P = 100000 Pa is not a liquid"):
+        parse_config(tomllib.loads(text))
