@@ -945,8 +945,11 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
         _labels_inside(fig, axs)
     _place_texts(fig, axs, title, legend, notes)
     fig.layout = layout  # type: ignore[attr-defined]  # read by the CLI and the tests
-    if path is not None:
-        fig.savefig(path, dpi=150, bbox_inches="tight")
+    if path is not None:  # a name without a suffix is a PNG there (not name.png beside it)
+        from pathlib import Path
+
+        fmt = None if Path(path).suffix else "png"
+        fig.savefig(path, dpi=150, bbox_inches="tight", format=fmt)
     return fig
 
 

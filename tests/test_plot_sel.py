@@ -69,3 +69,13 @@ def test_a_value_between_grid_values_is_refused(ds):
 def test_a_material_is_selected_by_any_spelling_the_database_accepts(ds, spelling):
     layout = plan_layout(ds, sel={"solid_j": spelling, "U_Umf": 1.2})
     assert layout.sel["solid_j"] == "ilmenite"
+
+
+def test_a_picture_is_written_at_the_path_given(ds, tmp_path, capsys):
+    # a name without a suffix is written as PNG there, as the command says ("wrote pic"),
+    # not as pic.png beside it
+    sub = ds.sel(solid_j="ilmenite", drop=True).sel(U_Umf=1.2)
+    for name in ("pic", "pic.png"):
+        at.plots.operating_window(sub, path=tmp_path / name)
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pic", "pic.png"]
