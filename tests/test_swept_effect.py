@@ -198,3 +198,11 @@ def test_a_U_Umf_axis_is_refused_where_U_is_given_or_swept():
     # a U axis replaces the scene's U_Umf as any axis replaces the scene's value
     ds = at.sweep(at.Scene(**WATER), U=[0.4, 0.6])
     assert ds.propensity.values[0] > ds.propensity.values[1]
+
+
+@pytest.mark.parametrize("options", [dict(U_Umf=[2, 2.0]), dict(h0=["1 um", 1e-6]),
+                                     dict(solid_j=["silica-sand", "Silica_Sand"])])
+def test_compare_refuses_an_option_given_twice_in_two_spellings(options):
+    # the same option twice would be 'no difference in 100 %': an answer to nothing
+    with pytest.raises(ValueError, match=r"compare \w+: options repeat"):
+        at.compare(at.Scene(**WATER), uncertain="assumed", n=16, **options)
