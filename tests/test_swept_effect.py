@@ -206,3 +206,19 @@ def test_compare_refuses_an_option_given_twice_in_two_spellings(options):
     # the same option twice would be 'no difference in 100 %': an answer to nothing
     with pytest.raises(ValueError, match=r"compare \w+: options repeat"):
         at.compare(at.Scene(**WATER), uncertain="assumed", n=16, **options)
+
+
+@pytest.mark.parametrize("names", [["silica-sand", "silica_sand"], ["ilmenite", "Ilmenite"]])
+def test_a_material_axis_refuses_one_material_in_two_spellings(names):
+    # two columns of the same material under two labels would read as a comparison
+    with pytest.raises(ValueError, match=r"grid solid_j .*repeats"):
+        at.sweep(at.Scene(**WATER), solid_j=names)
+
+
+def test_a_material_axis_holds_the_names_the_database_spells():
+    with _quiet():
+        ds = at.sweep(at.Scene(**WATER), solid_j=["Silica_Sand", "ILMENITE"])
+        plain = at.sweep(at.Scene(**WATER), solid_j=["ilmenite", "olivine"])
+    assert list(ds.solid_j.values) == ["silica-sand", "ilmenite"]
+    assert float(ds.propensity.sel(solid_j="ilmenite")) == float(
+        plain.propensity.sel(solid_j="ilmenite"))

@@ -15,7 +15,8 @@ import re
 
 import numpy as np
 
-from .._validate import check_typed
+from .._fields import CHOICES
+from .._validate import check_typed, material_key
 from .._version import __version__
 from ..plausibility import scene_findings, warn_findings
 from ..scene import (
@@ -141,6 +142,10 @@ def _blamed(message: str, names) -> str | None:
     return min(found)[1] if found else None
 
 
+#: The fields that name a materials database entry (any spelling that normalises to it).
+_MATERIAL_FIELDS = tuple(f for f in CATEGORICAL_FIELDS if f not in CHOICES)
+
+
 def _axes(base: dict, grid: dict) -> dict:
     """Each axis alone: a known field, 1-D, non-empty, unique, in SI; names as strings."""
     out = {}
@@ -154,6 +159,8 @@ def _axes(base: dict, grid: dict) -> dict:
             if not vals or not all(isinstance(v, str) for v in vals):
                 raise GridError(f"grid {name} must be a non-empty list of names, got "
                                 f"{values!r}", name)
+            if name in _MATERIAL_FIELDS:  # as the database spells them: one name, one value
+                vals = [material_key(v) for v in vals]
             arr = np.array(vals)
         else:
             unit, long_name = FIELD_META[name]
