@@ -49,14 +49,20 @@ def _plain_number(text: str) -> bool:
     return True
 
 
-def _same_kind(where: str, key: str, values: list) -> None:
-    """A list of values of a numeric field holds quantities with units or bare SI numbers, not
-    both: ``["20 degC", "80 degC", 5]`` reads as a range written as a list (5 would be 5 K)."""
+def _same_kind(where: str, key: str, values: list, *, in_range: bool = False) -> None:
+    """A list of values of a numeric field (or a range's start and stop) holds quantities with
+    units or bare SI numbers, not both: ``["20 degC", "80 degC", 5]`` reads as a range written
+    as a list (5 would be 5 K), ``{ start = "800 degC", stop = 1200 }`` as 800-1200 degC."""
     unit = FIELD_META[key][0]
     if unit in ("", "-", "1", "dimensionless"):
         return  # a number is a number: "2" and 4.0 mean what they say
     texts = [v for v in values if isinstance(v, str) and not _plain_number(v)]
     bare = [v for v in values if isinstance(v, int | float) and not isinstance(v, bool)]
+    if texts and bare and in_range:
+        raise ConfigError(
+            (f"{where}: start and stop mix quantities with units ({texts[0]!r}) and bare "
+             f"numbers ({bare[0]!r}, read as {bare[0]!r} {unit}); give both with their "
+             "unit").replace("'", '"'))
     if texts and bare:
         ranged = (f", or a range: {key} = {{ start = {texts[0]!r}, stop = {texts[-1]!r}, "
                   "num = ... }" if len(texts) > 1 else "")
@@ -88,6 +94,7 @@ def _axis(where: str, value, key: str = ""):
                 raise ConfigError(f"{where}: a range needs {k!r}")
         if not numeric:
             raise ConfigError(f"{where}: a range (start, stop, num) needs a numeric field")
+        _same_kind(where, key, [value["start"], value["stop"]], in_range=True)
         start = _number(f"{where}.start", key, value["start"])
         stop = _number(f"{where}.stop", key, value["stop"])
         num = value["num"]

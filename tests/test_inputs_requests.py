@@ -351,3 +351,14 @@ P = ["1 bar", "2 bar"]
     with _quiet(), pytest.raises(ConfigError, match=r"\[grid\] P: .*water at T = 383.15 K, "
                                                     r"P = 100000 Pa is not a liquid"):
         parse_config(tomllib.loads(text))
+
+
+@pytest.mark.parametrize("axis", ['T = { start = "800 degC", stop = 1200, num = 5 }',
+                                  'h0 = { start = 1e-6, stop = "20 um", num = 3 }'])
+def test_a_range_mixing_a_unit_and_a_bare_number_is_refused(axis):
+    # { start = "800 degC", stop = 1200 } had swept 1073.15-1200 K: 800-927 degC, exit 0
+    text = f'[scene]\nliquid = "k-silicate-ash-melt"\n[grid]\n{axis}\n'
+    key = axis.split()[0]
+    with pytest.raises(ConfigError, match=rf"\[grid\] {key}: start and stop mix quantities "
+                                          r"with units .* and bare numbers .*give both"):
+        parse_config(tomllib.loads(text))
