@@ -17,7 +17,7 @@ import numpy as np
 from ._fields import FIELD_META, SPEED_LAW_NEEDS
 from ._validate import suggestion
 from .plausibility import PlausibilityWarning, scene_findings
-from .scene import Scene, field_names
+from .scene import Scene, field_names, typed_without_effect
 from .units import to_si
 
 __all__ = ["ConfigError", "check_tables", "parse_scene", "read_toml", "warn_scene_findings"]
@@ -156,9 +156,13 @@ def parse_scene(scene_data, source: str = "config", grid: dict | None = None) ->
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlausibilityWarning)
-            return Scene(**scene_data)
+            scene = Scene(**scene_data)
     except (ValueError, TypeError) as exc:
         raise ConfigError(f"{source}: [scene]: {exc}") from None
+    found = typed_without_effect(scene, scene_data)
+    if found:
+        raise ConfigError(f"{source}: [scene] {found[0]}: {found[1]}")
+    return scene
 
 
 def warn_scene_findings(scene: Scene, source: str, swept: list, stacklevel: int = 2) -> None:

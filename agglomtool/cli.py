@@ -242,13 +242,17 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 
 def _scene_from_args(args: argparse.Namespace):
-    from .scene import Scene
+    from .scene import Scene, typed_without_effect
 
     given = {name: getattr(args, f"scene_{name}") for name in DEFAULTS
              if getattr(args, f"scene_{name}", None) is not None}
     if "body_forces" in given:
         given["body_forces"] = given["body_forces"] == "on"
-    return Scene(**given)
+    scene = Scene(**given)
+    found = typed_without_effect(scene, given)
+    if found:
+        raise CommandError(f"--{found[0].replace('_', '-')}: {found[1]}")
+    return scene
 
 
 def _cmd_collide(args: argparse.Namespace) -> int:

@@ -438,6 +438,18 @@ def swept_without_effect(values: dict, swept, speeds=None, *,
     return None
 
 
+def typed_without_effect(scene: Scene, typed) -> tuple[str, str] | None:
+    """``(field, message)`` for a field typed (``typed``: the names a configuration's table
+    or a command line gave) that another typed field overrides in ``scene``: ``U_Umf``
+    beside ``U``. ``None`` if none is. A Scene built in Python cannot tell a value typed
+    from its default, so this is for those that can."""
+    if "U" in typed and "U_Umf" in typed and scene.U is not None:
+        return "U_Umf", (f"U_Umf = {scene.U_Umf:g} has no effect where U is given (U = "
+                         f"{scene.U:g} m/s): U_Umf sets U (U_Umf x U_mf) only where U is "
+                         "not given; give one of them")
+    return None
+
+
 def impact_speed_methods(scene: Scene, *, calibrated: bool = True) -> list[str]:
     """The ``speed`` names usable at ``scene``, in the order of the registry.
 

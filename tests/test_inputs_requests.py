@@ -362,3 +362,15 @@ def test_a_range_mixing_a_unit_and_a_bare_number_is_refused(axis):
     with pytest.raises(ConfigError, match=rf"\[grid\] {key}: start and stop mix quantities "
                                           r"with units .* and bare numbers .*give both"):
         parse_config(tomllib.loads(text))
+
+
+def test_a_scene_typed_with_both_U_and_U_Umf_is_refused(tmp_path, capsys):
+    # U_Umf sets U only where U is not given: typed beside U, it was dropped without a word
+    text = ('[scene]\nliquid = "water"\nT = "25 degC"\nU = 0.5\nU_Umf = 2\n'
+            '[grid]\nh0 = [1e-6, 5e-6]\n')
+    with pytest.raises(ConfigError, match=r"\[scene\] U_Umf: U_Umf = 2 has no effect where U "
+                                          r"is given \(U = 0.5 m/s\)"):
+        parse_config(tomllib.loads(text))
+    argv = ["collide", "--liquid", "water", "--T", "298.15", "--U", "0.5", "--U-Umf", "2"]
+    assert main(argv) == 2
+    assert "U_Umf = 2 has no effect where U is given" in capsys.readouterr().err
