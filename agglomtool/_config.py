@@ -14,10 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ._fields import FIELD_META
+from ._fields import FIELD_META, SPEED_LAW_NEEDS
 from ._validate import suggestion
 from .plausibility import PlausibilityWarning, scene_findings
-from .scene import Scene, field_names
+from .scene import Scene, field_names, typed_without_effect
 from .units import to_si
 
 __all__ = ["ConfigError", "check_tables", "parse_scene", "read_toml", "warn_scene_findings"]
@@ -49,14 +49,20 @@ def _plain_number(text: str) -> bool:
     return True
 
 
-def _same_kind(where: str, key: str, values: list) -> None:
-    """A list of values of a numeric field holds quantities with units or bare SI numbers, not
-    both: ``["20 degC", "80 degC", 5]`` reads as a range written as a list (5 would be 5 K)."""
+def _same_kind(where: str, key: str, values: list, *, in_range: bool = False) -> None:
+    """A list of values of a numeric field (or a range's start and stop) holds quantities with
+    units or bare SI numbers, not both: ``["20 degC", "80 degC", 5]`` reads as a range written
+    as a list (5 would be 5 K), ``{ start = "800 degC", stop = 1200 }`` as 800-1200 degC."""
     unit = FIELD_META[key][0]
     if unit in ("", "-", "1", "dimensionless"):
         return  # a number is a number: "2" and 4.0 mean what they say
     texts = [v for v in values if isinstance(v, str) and not _plain_number(v)]
     bare = [v for v in values if isinstance(v, int | float) and not isinstance(v, bool)]
+    if texts and bare and in_range:
+        raise ConfigError(
+            (f"{where}: start and stop mix quantities with units ({texts[0]!r}) and bare "
+             f"numbers ({bare[0]!r}, read as {bare[0]!r} {unit}); give both with their "
+             "unit").replace("'", '"'))
     if texts and bare:
         ranged = (f", or a range: {key} = {{ start = {texts[0]!r}, stop = {texts[-1]!r}, "
                   "num = ... }" if len(texts) > 1 else "")
@@ -88,6 +94,7 @@ def _axis(where: str, value, key: str = ""):
                 raise ConfigError(f"{where}: a range needs {k!r}")
         if not numeric:
             raise ConfigError(f"{where}: a range (start, stop, num) needs a numeric field")
+        _same_kind(where, key, [value["start"], value["stop"]], in_range=True)
         start = _number(f"{where}.start", key, value["start"])
         stop = _number(f"{where}.stop", key, value["stop"])
         num = value["num"]
@@ -122,13 +129,15 @@ def check_tables(data: dict, source: str, allowed: tuple[str, ...]) -> None:
                           f"{', '.join(allowed)}")
 
 
-def parse_scene(scene_data, source: str = "config") -> Scene:
+def parse_scene(scene_data, source: str = "config", grid: dict | None = None) -> Scene:
     """The :class:`~agglomtool.Scene` of a configuration's ``[scene]`` table.
 
     Every field must be a Scene field with one value (numbers SI, or quantities with units
     as strings); an error is a :class:`ConfigError` naming ``source`` and the key. Its
     plausibility findings are not said here: a field that a grid sweeps has no scene value
-    to judge (see :func:`warn_scene_findings`).
+    to judge (see :func:`warn_scene_findings`). The value that the speed law the table
+    names needs (``u0`` of ``speed = "fixed"``), where the ``grid`` (``{name: SI values}``)
+    sweeps it and the table does not give it, is the grid's first: the sweep replaces it.
     """
     fields = field_names()
     if not isinstance(scene_data, dict):
@@ -141,12 +150,19 @@ def parse_scene(scene_data, source: str = "config") -> Scene:
         if isinstance(value, list | dict):
             raise ConfigError(f"{source}: [scene] {key} = {value!r} must be a single value; "
                               "put ranges in [grid]")
+    needed = SPEED_LAW_NEEDS.get(str(scene_data.get("speed")))
+    if grid and needed in grid and needed not in scene_data:
+        scene_data = {**scene_data, needed: float(np.ravel(grid[needed])[0])}
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlausibilityWarning)
-            return Scene(**scene_data)
+            scene = Scene(**scene_data)
     except (ValueError, TypeError) as exc:
         raise ConfigError(f"{source}: [scene]: {exc}") from None
+    found = typed_without_effect(scene, scene_data)
+    if found:
+        raise ConfigError(f"{source}: [scene] {found[0]}: {found[1]}")
+    return scene
 
 
 def warn_scene_findings(scene: Scene, source: str, swept: list, stacklevel: int = 2) -> None:

@@ -11,7 +11,8 @@ from __future__ import annotations
 from typing import TypedDict
 
 __all__ = ["FIELD_META", "DEFAULTS", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CHOICES",
-           "U_CEILING", "DEFAULT_MODE", "FIELD_RANGES", "CORE_RANGES", "short_unit"]
+           "U_CEILING", "DEFAULT_MODE", "FIELD_RANGES", "CORE_RANGES", "SPEED_LAW_NEEDS",
+           "short_unit"]
 
 #: The model tier used unless one is asked for: the frame-consistent closed forms. Of the
 #: tiers that cost about as much as the paper's own ("paper", "relative"), it is the most
@@ -216,6 +217,9 @@ CHOICES = {
     "drag_slip": ("emulsion", "particle"),
     "umf_method": ("wen-yu", "richardson", "saxena-vogel", "babu", "grace", "chitester"),
 }
+
+#: The speed laws given by their own parameter, and the field each needs (no default).
+SPEED_LAW_NEEDS = {"fixed": "u0", "lognormal": "u0", "maxwellian": "granular_temperature"}
 
 #: What a ``None`` default means, for help texts.
 DERIVED = {

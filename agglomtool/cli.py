@@ -136,12 +136,15 @@ def _cmd_bed(args: argparse.Namespace) -> int:
     from .bed.config import load_bed_config
     from .bed.export import export_efficiency
     from .bed.propensity import bed_propensity, bed_sweep
-    from .maps.export import write_map
+    from .maps.export import check_output_dir, write_map
 
     cfg = load_bed_config(args.config)
     out = Path(args.output)
     if out.is_dir():
         raise CommandError(f"output {str(out)!r} is a directory; give a file name (.nc)")
+    for path in (out, args.efficiency):  # before the bed is computed
+        if path:
+            check_output_dir(path)
     opts = cfg.options
     if cfg.grid:
         if args.efficiency:
@@ -240,13 +243,17 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 
 def _scene_from_args(args: argparse.Namespace):
-    from .scene import Scene
+    from .scene import Scene, typed_without_effect
 
     given = {name: getattr(args, f"scene_{name}") for name in DEFAULTS
              if getattr(args, f"scene_{name}", None) is not None}
     if "body_forces" in given:
         given["body_forces"] = given["body_forces"] == "on"
-    return Scene(**given)
+    scene = Scene(**given)
+    found = typed_without_effect(scene, given)
+    if found:
+        raise CommandError(f"--{found[0].replace('_', '-')}: {found[1]}")
+    return scene
 
 
 def _cmd_collide(args: argparse.Namespace) -> int:

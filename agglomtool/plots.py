@@ -121,8 +121,17 @@ def _fmt_value(name: str, value, *, converted: bool = False) -> str:
     return f"{shown:.4g}" + ("" if unit == "-" else f" {unit}")
 
 
-def _sel(ds: xr.Dataset, var: str, sel: dict) -> xr.Dataset:
-    """Select fixed values; numbers match the nearest grid value within 1e-6 relative."""
+#: Relative distance within which a number selects a grid value: the values are shown
+#: (errors, hints, titles' footnotes) to 6 significant digits, which round by up to 5e-6.
+_SEL_RTOL = 1e-5
+
+
+def _resolve_sel(ds: xr.Dataset, var: str, sel: dict) -> dict:
+    """``sel`` as the grid values it selects: a number the nearest grid value within
+    :data:`_SEL_RTOL` (the only one there), a name the value it spells (materials in any
+    spelling the database accepts). A ``ValueError`` names a value that selects none."""
+    from ._validate import material_key
+
     out = {}
     for name, value in sel.items():
         if name not in ds[var].dims:
@@ -130,22 +139,38 @@ def _sel(ds: xr.Dataset, var: str, sel: dict) -> xr.Dataset:
                              f"{list(ds[var].dims)}")
         coord = ds[name].values
         if coord.dtype.kind in "US":
-            if str(value) not in coord.astype(str):
+            names = list(coord.astype(str))
+            keys = [material_key(c) for c in names]
+            if str(value) in names:
+                out[name] = str(value)
+            elif keys.count(material_key(value)) == 1:
+                out[name] = names[keys.index(material_key(value))]
+            else:
                 raise ValueError(f"sel: {name} = {value!r} is not in the map; values: "
-                                 f"{list(coord.astype(str))}")
-            out[name] = str(value)
+                                 f"{names}")
             continue
         try:
             v = float(value)
         except (TypeError, ValueError):
             raise ValueError(f"sel: {name} = {value!r} is not a number") from None
+        near = np.flatnonzero(np.isclose(coord, v, rtol=_SEL_RTOL, atol=0.0))
         k = int(np.argmin(np.abs(coord - v)))
-        if not np.isclose(coord[k], v, rtol=1e-6, atol=0.0):
+        if near.size > 1 and np.isclose(coord[k], v, rtol=1e-12, atol=0.0):
+            near = np.array([k])  # grid values closer than the digits shown: typed in full
+        if near.size != 1:
             shown = ", ".join(f"{c:g}" for c in coord[:12]) + (" ..." if coord.size > 12 else "")
-            raise ValueError(f"sel: {name} = {v:g} is not a grid value (in the map's units, "
+            full = ", ".join(repr(float(c)) for c in coord[near])
+            what = ("is not a grid value" if near.size == 0 else
+                    f"is near {near.size} grid values ({full}): type one in full")
+            raise ValueError(f"sel: {name} = {v:g} {what} (in the map's units, "
                              f"{ds[name].attrs.get('units', '')}); values: {shown}")
-        out[name] = coord[k]
-    return ds.sel(out)
+        out[name] = coord[near[0]]
+    return out
+
+
+def _sel(ds: xr.Dataset, var: str, sel: dict) -> xr.Dataset:
+    """Select fixed values (:func:`_resolve_sel`)."""
+    return ds.sel(_resolve_sel(ds, var, sel))
 
 
 def plan_layout(ds: xr.Dataset, var: str = "propensity", *, x=None, y=None, col=None,
@@ -163,8 +188,8 @@ def plan_layout(ds: xr.Dataset, var: str = "propensity", *, x=None, y=None, col=
                          f"{sorted(map(str, ds.data_vars))}")
     if sel is not None and not isinstance(sel, dict):
         raise ValueError(f"sel = {sel!r} is not allowed: a dict {{dimension: value}}")
-    sel = dict(sel or {})
-    _sel(ds, var, sel)  # every selection names a dimension and one of its values
+    # every selection names a dimension and one of its values, kept as that value
+    sel = _resolve_sel(ds, var, dict(sel or {}))
     for name, value in (("x", x), ("y", y), ("col", col), ("row", row)):
         if value is not None and value not in ds[var].dims:
             raise ValueError(f"{name} = {value!r} is not a dimension of {var}; dimensions: "
@@ -920,8 +945,11 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
         _labels_inside(fig, axs)
     _place_texts(fig, axs, title, legend, notes)
     fig.layout = layout  # type: ignore[attr-defined]  # read by the CLI and the tests
-    if path is not None:
-        fig.savefig(path, dpi=150, bbox_inches="tight")
+    if path is not None:  # a name without a suffix is a PNG there (not name.png beside it)
+        from pathlib import Path
+
+        fmt = None if Path(path).suffix else "png"
+        fig.savefig(path, dpi=150, bbox_inches="tight", format=fmt)
     return fig
 
 

@@ -32,6 +32,7 @@ from ._fields import (
     FIELD_META,
     FIELD_RANGES,
     NUMERIC_FIELDS,
+    SPEED_LAW_NEEDS,
     U_CEILING,
     short_unit,
 )
@@ -342,10 +343,10 @@ def validate(values: dict) -> None:
         check_range(name, v, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=short_unit(name))
     _check_geometry(values)
     speed = values["speed"]
-    if speed in ("fixed", "lognormal") and values.get("u0") is None:
-        raise ValueError(f"speed = {speed!r} needs u0 [m/s] (the value, or the median)")
-    if speed == "maxwellian" and values.get("granular_temperature") is None:
-        raise ValueError("speed = 'maxwellian' needs granular_temperature [m2/s2]")
+    needed = SPEED_LAW_NEEDS.get(speed)
+    if needed is not None and values.get(needed) is None:
+        what = " (the value, or the median)" if needed == "u0" else ""
+        raise ValueError(f"speed = {speed!r} needs {needed} [{short_unit(needed)}]{what}")
 
 
 def _check_geometry(values: dict) -> None:
@@ -378,6 +379,75 @@ def _check_geometry(values: dict) -> None:
     if D is not None and a0 is not None and a0 > 0.25 * math.pi * D * D:
         raise ValueError(f"orifice_area = {a0:g} m2 is larger than the column's cross-"
                          f"section (column_diameter = {D:g} m): fewer than one orifice")
+
+
+#: The Scene's fields that only an impact-speed law or model reads (nothing else of a map or
+#: a bed does). The laws' parameters are read by their laws; the others by the models whose
+#: registry entry needs them (``bed_height`` through its default height of interest).
+_SPEED_ONLY = ("fluctuation_ratio", "column_diameter", "orifice_area", "height",
+               "wake_fraction")
+
+
+def _speed_readers() -> dict[str, tuple[str, ...]]:
+    """Each field of :data:`_SPEED_ONLY` and the laws' parameters -> the speeds that read it."""
+    readers: dict[str, tuple[str, ...]] = {"sigma_ln": ("lognormal",)}
+    for law, name in SPEED_LAW_NEEDS.items():
+        readers[name] = readers.get(name, ()) + (law,)
+    for name in _SPEED_ONLY:
+        readers[name] = tuple(k for k, m in IMPACT_SPEED_MODELS.items() if name in m.needs)
+    readers["bed_height"] = readers["height"]
+    return readers
+
+
+def swept_without_effect(values: dict, swept, speeds=None, *,
+                         what: str = "grid ") -> tuple[str, str] | None:
+    """The first field of ``swept`` (``{name: values}`` a map or bed sweeps) that no speed
+    of ``speeds`` reads at the scene ``values``, and why, as ``(field, message)``; ``None``
+    if each is read. ``speeds``: the speed laws or models that compute at some point (default the
+    scene's ``speed``; a swept ``speed`` and the models a robust map may draw add theirs).
+    A field only a speed law or model reads is refused where none of them does, and
+    ``U_Umf`` where ``U`` is given or swept: a map axis along which nothing changes is no
+    answer to what it asks. ``what`` begins the message
+    (``"grid "``: a map's or a bed's axis)."""
+    speeds = (values["speed"],) if speeds is None else tuple(dict.fromkeys(speeds))
+    shown = speeds[0] if len(speeds) == 1 else list(speeds)
+    if "U_Umf" in swept and ("U" in swept or values.get("U") is not None):
+        by = ("the grid sweeps U" if "U" in swept
+              else f"the scene gives U = {float(values['U']):g} m/s")
+        return "U_Umf", (f"{what}U_Umf has no effect: {by}, and U_Umf sets U (U_Umf x U_mf) "
+                         "only where U is not given; leave U unset to sweep U_Umf")
+    readers = _speed_readers()
+    for name in swept:
+        read_by = readers.get(name)
+        if read_by is None:
+            continue
+        if not set(read_by) & set(speeds):
+            first = np.ravel(swept[name])[0]
+            one = f"{name}={first:g}" if isinstance(first, float | np.floating) else (
+                f"{name}={first!r}")
+            fix = (f"set the scene's speed to one of {list(read_by)}"
+                   + (f" and give {name} one value there, which the sweep replaces (e.g. "
+                      f"at.Scene(..., speed={read_by[0]!r}, {one})"
+                      if name in SPEED_LAW_NEEDS.values() else ""))
+            return name, f"{what}{name} has no effect with speed = {shown!r}: {fix}"
+        if (name == "bed_height" and values.get("height") is not None
+                and "height" not in swept):
+            return name, (f"{what}bed_height has no effect: the height of interest is given "
+                          f"(height = {values['height']:g} m) and bed_height only sets its "
+                          "default (half of it); sweep height, or leave height unset")
+    return None
+
+
+def typed_without_effect(scene: Scene, typed) -> tuple[str, str] | None:
+    """``(field, message)`` for a field typed (``typed``: the names a configuration's table
+    or a command line gave) that another typed field overrides in ``scene``: ``U_Umf``
+    beside ``U``. ``None`` if none is. A Scene built in Python cannot tell a value typed
+    from its default, so this is for those that can."""
+    if "U" in typed and "U_Umf" in typed and scene.U is not None:
+        return "U_Umf", (f"U_Umf = {scene.U_Umf:g} has no effect where U is given (U = "
+                         f"{scene.U:g} m/s): U_Umf sets U (U_Umf x U_mf) only where U is "
+                         "not given; give one of them")
+    return None
 
 
 def impact_speed_methods(scene: Scene, *, calibrated: bool = True) -> list[str]:

@@ -337,3 +337,40 @@ def test_what_a_person_types_means_the_same_whatever_pint_registry_is_active():
     assert at.Scene(T="50 degC").T == pytest.approx(323.15)
     q = pint.get_application_registry().Quantity(500, "um")  # a user's own Quantity
     assert at.Scene(d_i=q).d_i == pytest.approx(500e-6)
+
+
+def test_a_pressure_axis_that_boils_the_water_is_the_key_named():
+    # the swept P = 1 bar boils water at 110 degC: the grid's key, not the [scene], is named
+    text = """
+[scene]
+liquid = "water"
+T = "110 degC"
+[grid]
+P = ["1 bar", "2 bar"]
+"""
+    with _quiet(), pytest.raises(ConfigError, match=r"\[grid\] P: .*water at T = 383.15 K, "
+                                                    r"P = 100000 Pa is not a liquid"):
+        parse_config(tomllib.loads(text))
+
+
+@pytest.mark.parametrize("axis", ['T = { start = "800 degC", stop = 1200, num = 5 }',
+                                  'h0 = { start = 1e-6, stop = "20 um", num = 3 }'])
+def test_a_range_mixing_a_unit_and_a_bare_number_is_refused(axis):
+    # { start = "800 degC", stop = 1200 } had swept 1073.15-1200 K: 800-927 degC, exit 0
+    text = f'[scene]\nliquid = "k-silicate-ash-melt"\n[grid]\n{axis}\n'
+    key = axis.split()[0]
+    with pytest.raises(ConfigError, match=rf"\[grid\] {key}: start and stop mix quantities "
+                                          r"with units .* and bare numbers .*give both"):
+        parse_config(tomllib.loads(text))
+
+
+def test_a_scene_typed_with_both_U_and_U_Umf_is_refused(tmp_path, capsys):
+    # U_Umf sets U only where U is not given: typed beside U, it was dropped without a word
+    text = ('[scene]\nliquid = "water"\nT = "25 degC"\nU = 0.5\nU_Umf = 2\n'
+            '[grid]\nh0 = [1e-6, 5e-6]\n')
+    with pytest.raises(ConfigError, match=r"\[scene\] U_Umf: U_Umf = 2 has no effect where U "
+                                          r"is given \(U = 0.5 m/s\)"):
+        parse_config(tomllib.loads(text))
+    argv = ["collide", "--liquid", "water", "--T", "298.15", "--U", "0.5", "--U-Umf", "2"]
+    assert main(argv) == 2
+    assert "U_Umf = 2 has no effect where U is given" in capsys.readouterr().err

@@ -98,10 +98,10 @@ def _component(where, table) -> Component:
 
 def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
     """Build a :class:`BedConfig` from a parsed TOML mapping."""
+    from ..scene import swept_without_effect
     from .propensity import BED_GRID_FIELDS, _check_components, _grid_arrays, _mix_index
 
     check_tables(data, source, ("[scene]", "[[component]]", "[grid]", "[options]"))
-    scene = parse_scene(data.get("scene", {}), source)
     tables = data.get("component")
     if not isinstance(tables, list) or not tables:
         raise ConfigError(f"{source}: the bed needs at least one [[component]] table")
@@ -124,6 +124,10 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
             grid.update(_grid_arrays({key: axis}))
         except ValueError as exc:
             raise ConfigError(f"{where}: {exc}") from None
+    scene = parse_scene(data.get("scene", {}), source, grid)
+    found = swept_without_effect(scene.values(), grid)
+    if found:
+        raise ConfigError(f"{source}: [grid] {found[0]}: {found[1]}")
     # The scene's findings that still hold at the values the grid sweeps (the bed's own
     # findings, its coating on each component, are bed_propensity's and bed_sweep's).
     base = {k: v for k, v in scene.values().items() if k not in BED_OWN}

@@ -77,6 +77,7 @@ from ..scene import (
     assumed_inputs,
     critical_outputs,
     provenance,
+    swept_without_effect,
 )
 from ..units import to_si_array
 from .mixture import Component
@@ -706,6 +707,9 @@ def bed_sweep(scene: Scene, components, *, mix=None, nodes: int = 16,
     direction_nodes(directions)
     comps = _check_components(components)
     axes = _grid_arrays(grid)
+    found = swept_without_effect(scene.values(), axes)
+    if found:
+        raise ValueError(found[1])
     warn_findings(bed_findings(scene.values(), comps, axes), stacklevel=3)
     if "fraction" in axes and mix is None:
         raise ValueError("grid fraction needs mix = the component (index or solid name) whose "

@@ -42,7 +42,6 @@ class MapConfig:
 def parse_config(data: dict, source: str = "config") -> MapConfig:
     """Build a :class:`MapConfig` from a parsed TOML mapping."""
     check_tables(data, source, ("[scene]", "[grid]", "[uncertain]", "[options]"))
-    scene = parse_scene(data.get("scene", {}), source)
     fields = field_names()
     grid_data = data.get("grid", {})
     if not isinstance(grid_data, dict) or not grid_data:
@@ -60,6 +59,7 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
         if key not in CATEGORICAL_FIELDS and isinstance(axis, list):
             raise ConfigError(f"{where}: {key} takes numbers")
         grid[key] = axis
+    scene = parse_scene(data.get("scene", {}), source, grid)
     opts = dict(data.get("options", {}))
     robust = ("samples", "threshold", "seed")
     allowed = {"nodes", "chunks", *(robust if "uncertain" in data else ())}
@@ -81,18 +81,22 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
     # of the fields it sweeps), so that an error names the key.
     from .layout import GridError, _grid_values, grid_findings
 
-    try:
-        axes = _grid_values(scene, grid, plausibility=False)  # the sweep says those, once
-    except GridError as exc:
-        where = f"[grid] {exc.field}" if exc.field else "[scene]"
-        raise ConfigError(f"{source}: {where}: {exc}") from None
-    warn_scene_findings(scene, source, grid_findings(scene.values(), axes))
-    options = {"nodes": nodes, "chunks": chunks}
     uncertain = None
     if "uncertain" in data:
         from ..uncertainty.config import parse_uncertain
 
         uncertain = parse_uncertain(data["uncertain"], source)
+    from ..uncertainty.scene_mc import drawn_speeds
+
+    try:
+        axes = _grid_values(scene, grid, plausibility=False,  # the sweep says those, once
+                            drawn=drawn_speeds(scene, uncertain))
+    except GridError as exc:
+        where = f"[grid] {exc.field}" if exc.field else "[scene]"
+        raise ConfigError(f"{source}: {where}: {exc}") from None
+    warn_scene_findings(scene, source, grid_findings(scene.values(), axes))
+    options = {"nodes": nodes, "chunks": chunks}
+    if uncertain is not None:
         swept = sorted(set(uncertain if isinstance(uncertain, dict) else ()) & set(grid))
         if swept:
             raise ConfigError(f"{source}: [uncertain] {swept[0]}: it is swept in [grid]; "

@@ -56,7 +56,7 @@ def write_map(ds: xr.Dataset, path, *, complevel: int = COMPLEVEL,
         raise ValueError(f"ds = {reprlib.repr(ds)} is not allowed: an xarray.Dataset (a map)")
     if not isinstance(path, str | os.PathLike):
         raise ValueError(f"path = {path!r} is not allowed: a file path (str or pathlib.Path)")
-    path = Path(path)
+    path = check_output_dir(path)
     out, encoding = cf_ready(ds, history if history is not None
                              else f"agglomtool.write_map(ds, {path.name!r})")
     if complevel:
@@ -71,6 +71,19 @@ def write_map(ds: xr.Dataset, path, *, complevel: int = COMPLEVEL,
     finally:
         if tmp.exists():
             tmp.unlink()
+    return path
+
+
+def check_output_dir(path) -> Path:
+    """``path`` as a Path, if its directory exists; a ``ValueError`` naming the directory
+    if it does not or is a file (netCDF's own error calls both 'Permission denied')."""
+    path = Path(path)
+    parent = path.parent
+    if not parent.exists():
+        raise ValueError(f"cannot write {str(path)!r}: its directory {str(parent)!r} does not "
+                         "exist; create it first or give another path")
+    if not parent.is_dir():
+        raise ValueError(f"cannot write {str(path)!r}: {str(parent)!r} is not a directory")
     return path
 
 

@@ -193,8 +193,9 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
 
 
 def _sweep(scene: Scene, *, chunks, nodes, store, progress, compute, overwrite, client,
-           uncertain, samples, threshold, seed, **grid) -> xr.Dataset:
-    """:func:`sweep` inside its materials snapshot."""
+           uncertain, samples, threshold, seed, _drawn=(), **grid) -> xr.Dataset:
+    """:func:`sweep` inside its materials snapshot (``_drawn``: the speed models that the
+    robust map whose nominal map this is may draw)."""
     from . import estimate as _est
     from .progress import compile_notice, say_on_stderr
 
@@ -202,12 +203,14 @@ def _sweep(scene: Scene, *, chunks, nodes, store, progress, compute, overwrite, 
         if store is not None or not compute or client not in (None, False):
             raise ValueError("a robust map (uncertain=...) is computed in memory, here: "
                              "store=, compute=False and client= are not for it")
-        from ..uncertainty.scene_mc import split_uncertain
+        from ..uncertainty.scene_mc import drawn_speeds, split_uncertain
         from .robust import robust_sweep
 
         split_uncertain(uncertain)  # a bad request fails before the nominal map is made
-        nominal = sweep(scene, chunks=chunks, nodes=nodes, progress=progress, client=False,
-                        **grid)
+        nominal = _sweep(scene, chunks=chunks, nodes=nodes, store=None, progress=progress,
+                         compute=True, overwrite=False, client=False, uncertain=None,
+                         samples=samples, threshold=threshold, seed=seed,
+                         _drawn=drawn_speeds(scene, uncertain), **grid)
         return robust_sweep(scene, nominal, tuple(grid), uncertain=uncertain,
                             samples=samples, seed=seed, threshold=threshold, nodes=nodes)
     if store is not None:
@@ -221,7 +224,7 @@ def _sweep(scene: Scene, *, chunks, nodes, store, progress, compute, overwrite, 
     on_cluster = client is not None and client is not False
     # in memory, here: larger blocks on many threads (auto_block says why)
     chunks = sweep_chunks(chunks, store is None and compute and not on_cluster)
-    plan = _plan(scene, chunks, nodes, grid)
+    plan = _plan(scene, chunks, nodes, grid, _drawn)
     if store is None and not compute:
         return _dataset(plan, _lazy_arrays(plan))
     if store is None:  # before any work: nothing is computed, nothing grows

@@ -15,7 +15,8 @@ import re
 
 import numpy as np
 
-from .._validate import check_typed
+from .._fields import CHOICES
+from .._validate import check_typed, material_key
 from .._version import __version__
 from ..plausibility import scene_findings, warn_findings
 from ..scene import (
@@ -26,6 +27,7 @@ from ..scene import (
     assumed_inputs,
     critical_outputs,
     provenance,
+    swept_without_effect,
     validate,
 )
 from ..units import to_si_array
@@ -140,6 +142,10 @@ def _blamed(message: str, names) -> str | None:
     return min(found)[1] if found else None
 
 
+#: The fields that name a materials database entry (any spelling that normalises to it).
+_MATERIAL_FIELDS = tuple(f for f in CATEGORICAL_FIELDS if f not in CHOICES)
+
+
 def _axes(base: dict, grid: dict) -> dict:
     """Each axis alone: a known field, 1-D, non-empty, unique, in SI; names as strings."""
     out = {}
@@ -153,6 +159,8 @@ def _axes(base: dict, grid: dict) -> dict:
             if not vals or not all(isinstance(v, str) for v in vals):
                 raise GridError(f"grid {name} must be a non-empty list of names, got "
                                 f"{values!r}", name)
+            if name in _MATERIAL_FIELDS:  # as the database spells them: one name, one value
+                vals = [material_key(v) for v in vals]
             arr = np.array(vals)
         else:
             unit, long_name = FIELD_META[name]
@@ -202,12 +210,16 @@ def grid_findings(base: dict, axes: dict) -> list:
     return list(dict.fromkeys(found))
 
 
-def _grid_values(scene: Scene, grid: dict, *, plausibility: bool = True) -> dict:
+def _grid_values(scene: Scene, grid: dict, *, plausibility: bool = True,
+                 drawn: tuple = ()) -> dict:
     """Validate the grid, once, at the values swept: each axis alone (1-D, known field,
     units, unique), then every field the model reads together, with each swept field at its
     swept values and never at the scene's value for it (numbers as whole axes, names in
     every combination), properties included. Raises :class:`GridError` naming the swept
-    field it blames; warns the plausibility findings the scene has not said already."""
+    field it blames, also a field that no speed law or model computing on the map reads
+    (``drawn``: the models a robust map may draw; see
+    :func:`agglomtool.uncertainty.scene_mc.drawn_speeds`); warns the
+    plausibility findings the scene has not said already."""
     base = scene.values()
     if not grid:
         raise GridError("grid: none given; a sweep needs at least one field with its values, "
@@ -225,14 +237,10 @@ def _grid_values(scene: Scene, grid: dict, *, plausibility: bool = True) -> dict
         # leaves to where they are used: said here where the map uses them
         before = set(scene_findings(base)) - set(getattr(scene, "_deferred_findings", ()))
         warn_findings([f for f in grid_findings(base, out) if f not in before], stacklevel=4)
-    speed = base["speed"]
-    needs = {"u0": ("fixed", "lognormal"), "sigma_ln": ("lognormal",),
-             "granular_temperature": ("maxwellian",), "fluctuation_ratio": ("excess-gas",)}
-    if "speed" not in grid:
-        for name, families in needs.items():
-            if name in grid and speed not in families:
-                raise GridError(f"grid {name} has no effect with speed = {speed!r}; set the "
-                                f"scene's speed to one of {list(families)}", name)
+    speeds = [str(v) for v in out["speed"]] if "speed" in out else [base["speed"]]
+    found = swept_without_effect(base, out, speeds + list(drawn))
+    if found:
+        raise GridError(found[1], found[0])
     return out
 
 

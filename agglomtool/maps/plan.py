@@ -377,13 +377,14 @@ def _snapshot():
     return materials.current() or materials.snapshot()
 
 
-def _plan(scene: Scene, chunks, nodes, grid: dict):
-    """The validated :class:`~agglomtool.maps.plan.SweepPlan` of a sweep's arguments."""
+def _plan(scene: Scene, chunks, nodes, grid: dict, drawn: tuple = ()):
+    """The validated :class:`~agglomtool.maps.plan.SweepPlan` of a sweep's arguments
+    (``drawn``: the speed models a robust map may draw, which read fields too)."""
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be an agglomtool Scene, got {type(scene).__name__}")
     if not isinstance(nodes, int | np.integer) or nodes < 1:
         raise ValueError(f"nodes = {nodes!r} must be an integer >= 1")
-    values = _grid_values(scene, grid)
+    values = _grid_values(scene, grid, drawn=drawn)
     sizes = _chunks(values, chunks)
     return SweepPlan(scene.values(), values,
                      {k: _split(len(v), sizes[k]) for k, v in values.items()}, int(nodes),

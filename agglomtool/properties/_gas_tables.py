@@ -67,7 +67,7 @@ class CondensedPhaseError(ValueError):
     def __init__(self, species: str, T: float, P: float, phase: str):
         self.species, self.T, self.P, self.phase = species, T, P, phase
         super().__init__(
-            f"{species} at T = {T:g} K, p = {P:g} Pa is {phase}, not a gas "
+            f"{species} at T = {T:g} K, P = {P:g} Pa is {phase}, not a gas "
             "(below its dew point or saturation line)"
         )
 
@@ -254,7 +254,7 @@ def heos_point(sp: Species, T: float, P: float) -> tuple[float, float]:
         st.update(_cp().PT_INPUTS, float(P), float(T))
     except ValueError as exc:
         raise OutOfRangeError(
-            f"CoolProp HEOS cannot evaluate {sp.formula} at T = {T:g} K, p = {P:g} Pa: {exc}"
+            f"CoolProp HEOS cannot evaluate {sp.formula} at T = {T:g} K, P = {P:g} Pa: {exc}"
         ) from exc
     phase = st.phase()
     if phase not in _gas_phases():
@@ -333,7 +333,7 @@ def _check_range(sp: Species, T: np.ndarray, P: np.ndarray, beyond_range: str) -
         )
     if (P > sp.p_max).any():
         raise OutOfRangeError(
-            f"p = {P[P > sp.p_max].flat[0]:g} Pa is above the upper limit {sp.p_max:g} Pa "
+            f"P = {P[P > sp.p_max].flat[0]:g} Pa is above the upper limit {sp.p_max:g} Pa "
             f"of the CoolProp equation of state for {sp.formula}"
         )
     high = T > sp.t_max

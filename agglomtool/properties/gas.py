@@ -123,7 +123,7 @@ def _dew_point_message(exc: CondensedPhaseError, x: float, P: float) -> str:
     except ValueError:
         dew = ""
     return (
-        f"gas at T = {exc.T:g} K, p = {P:g} Pa is below the {exc.species} dew point: "
+        f"gas at T = {exc.T:g} K, P = {P:g} Pa is below the {exc.species} dew point: "
         f"{exc.species} (mole fraction {x:g}, partial pressure {exc.P:g} Pa) would be "
         f"{exc.phase}{dew}. No property is returned for a condensing gas."
     )

@@ -138,7 +138,7 @@ def _liquid_states(T, P):
             st.update(CP.PT_INPUTS, key[0], key[1])
             if st.phase() not in _LIQUID:
                 raise ValueError(
-                    f"water at T = {T[k]:g} K, p = {P[k]:g} Pa is not a liquid (it boils at "
+                    f"water at T = {T[k]:g} K, P = {P[k]:g} Pa is not a liquid (it boils at "
                     f"{CP.PropsSI('T', 'P', key[0], 'Q', 0, 'Water'):.2f} K at that "
                     "pressure)"
                 )

@@ -104,10 +104,11 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         first-order index of the difference, and that index. ``attrs["verdicts"]``: one
         sentence per pair (``agglomtool.uncertainty.compare.verdicts``).
     """
-    from ..scene import Scene
+    from .._validate import material_key
+    from ..scene import Scene, swept_without_effect
     from ._sampling import resolve_seed
     from .monte_carlo import monte_carlo
-    from .scene_mc import split_uncertain
+    from .scene_mc import drawn_speeds, split_uncertain
 
     if not isinstance(scene, Scene):
         raise ValueError(f"scene = {scene!r} is not allowed: an agglomtool.Scene is required")
@@ -118,12 +119,24 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         raise ValueError(f"bins = {bins!r} must be an integer in [2, n = {n}]")
     resolve_seed(seed)  # every request checked before the first draw
     split_uncertain(uncertain)
+    speeds = [str(v) for v in opts] if field == "speed" else [scene.speed]
+    found = swept_without_effect(scene.values(), {field: opts},
+                                 speeds + list(drawn_speeds(scene, uncertain)), what="")
+    if found:
+        raise ValueError(f"compare {field}: {found[1]}")
     scenes = []
     for v in opts:
         try:
             scenes.append(scene.replace(**{field: v}))
         except ValueError as exc:
             raise ValueError(f"compare {field}: option {v!r}: {exc}") from None
+    # the same option in two spellings ("1 um" and 1e-6, silica_sand): compared as the
+    # scene holds it, SI numbers and names as the database spells them
+    held = [getattr(s, field) for s in scenes]
+    held = [material_key(h) if isinstance(h, str) else float(h) for h in held]
+    if len(set(held)) != len(held):
+        raise ValueError(f"compare {field}: options repeat: {opts!r} are "
+                         f"{len(set(held))} distinct options; allowed: distinct options")
     q = (0.05, 0.5, 0.95)
     runs = [monte_carlo(s, uncertain=uncertain, n=int(n), seed=seed, quantiles=q, bins=8)
             for s in scenes]

@@ -47,6 +47,18 @@ SCENE_TO_CORE = {"h0": "h0_i"}
 UNCERTAIN_FIELDS = tuple(f for f in NUMERIC_FIELDS if f != "u_ceiling")
 
 
+def drawn_speeds(scene, uncertain) -> tuple[str, ...]:
+    """The impact-speed models that draws of ``scene`` under ``uncertain`` may take in place
+    of the scene's speed: those valid at the scene (:func:`.assumed.speed_model_weights`)
+    where the database's assumed values are drawn and the scene does not name its speed
+    (it derives it: an assumption), else none. ``uncertain=None``: none."""
+    if uncertain is None or chosen_fields(scene) or not split_uncertain(uncertain)[1]:
+        return ()
+    from .assumed import speed_model_weights
+
+    return tuple(speed_model_weights(scene.values()))
+
+
 def split_uncertain(uncertain) -> tuple[dict, bool]:
     """``(fields, with_assumed)``: the caller's laws by Scene field, and whether the
     database's assumed values are drawn too.

@@ -1,0 +1,42 @@
+"""An output file whose directory is missing or is a file is refused before any work, with
+a message that names the directory (netCDF's own error said 'Permission denied' for both,
+and the bed command said it after computing the bed)."""
+
+from pathlib import Path
+
+import pytest
+import xarray as xr
+
+import agglomtool as at
+from agglomtool.cli import main
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "configs" / "bed_sand_ilmenite.toml"
+
+
+@pytest.fixture
+def not_a_dir(tmp_path):
+    f = tmp_path / "afile"
+    f.write_text("")
+    return f
+
+
+def test_write_map_names_a_missing_directory(tmp_path):
+    ds = xr.Dataset({"x": ("a", [1.0, 2.0])})
+    with pytest.raises(ValueError, match=r"directory '.*missing' does not exist"):
+        at.write_map(ds, tmp_path / "missing" / "m.nc")
+    assert not (tmp_path / "missing").exists()
+
+
+def test_write_map_names_a_file_in_place_of_the_directory(not_a_dir):
+    ds = xr.Dataset({"x": ("a", [1.0, 2.0])})
+    with pytest.raises(ValueError, match=r"'.*afile' is not a directory"):
+        at.write_map(ds, not_a_dir / "m.nc")
+
+
+@pytest.mark.parametrize("where", ["missing", "afile"])
+def test_bed_command_refuses_the_output_before_computing(where, tmp_path, not_a_dir, capsys):
+    out = tmp_path / where / "bed.nc"
+    assert main(["bed", str(EXAMPLE), "-o", str(out), "-q"]) == 2
+    captured = capsys.readouterr()
+    assert "bed propensity" not in captured.out  # refused before the bed was computed
+    assert f"{tmp_path / where}" in captured.err and "Permission denied" not in captured.err
