@@ -226,9 +226,11 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     if ds.attrs.get("assumed_not_drawn"):
         print(f"assumed but not drawn: {ds.attrs['assumed_not_drawn']}")
     if args.output:
-        ds.attrs["history"] = _command(args)
-        ds.to_netcdf(args.output)
-        print(f"wrote {args.output}")
+        from .maps.export import write_map
+
+        # through write_map, as maps: names as character arrays (a netCDF library's crash
+        # on variable-length strings), compressed, CF-ready
+        print(f"wrote {write_map(ds, args.output, history=_command(args))}")
     return 0
 
 

@@ -101,8 +101,10 @@ def open_map(ds) -> xr.Dataset:
     path = Path(ds)
     if not path.is_file():
         raise ValueError(f"map file {str(path)!r} does not exist")
+    from .maps.export import read_names
+
     try:
-        return xr.open_dataset(path)
+        return read_names(xr.open_dataset(path))
     except (OSError, ValueError) as exc:
         raise ValueError(f"map file {str(path)!r} is not a readable netCDF map: {exc}") from None
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..maps.export import write_map
+from ..maps.export import read_names, write_map
 
 __all__ = ["export_efficiency", "read_efficiency", "EXPORTED"]
 
@@ -112,7 +112,7 @@ def read_efficiency(path) -> xr.Dataset:
     path = Path(path)
     if path.suffix.lower() == ".nc":
         with xr.open_dataset(path) as f:
-            return f.load()
+            return read_names(f.load())
     with open(path, newline="") as fh:
         lines = [ln for ln in fh if not ln.startswith("#")]
     rows = list(csv.reader(lines))

@@ -14,7 +14,7 @@ import xarray as xr
 
 from .meta import CONVENTIONS, history_line
 
-__all__ = ["write_map", "COMPLEVEL", "cf_ready"]
+__all__ = ["write_map", "COMPLEVEL", "cf_ready", "read_names"]
 
 #: zlib level of the written variables: 4 is most of level 9's gain at a fraction of its time.
 COMPLEVEL = 4
@@ -156,6 +156,14 @@ def cf_ready(ds: xr.Dataset, command: str) -> tuple[xr.Dataset, dict]:
                 attrs[key] = cast
         if name in out.coords:
             enc["_FillValue"] = None
+        if _holds_text(var):
+            # names as CF character arrays, not netCDF-4 strings: the netCDF library of
+            # netCDF4 1.7.3 and later crashes the process (a segmentation fault) when a file
+            # holding variable-length strings is opened again after another of its handles
+            # was closed (a map open in a session while a picture of it is drawn).
+            # read_names turns them back into str.
+            enc["dtype"] = "S1"
+            enc["_Encoding"] = "utf-8"
         var.attrs = attrs
         encoding[name] = enc
     attrs = dict(out.attrs)
@@ -164,6 +172,25 @@ def cf_ready(ds: xr.Dataset, command: str) -> tuple[xr.Dataset, dict]:
     attrs["history"] = history_line(command) + ("\n" + earlier if earlier else "")
     out.attrs = attrs
     return out, encoding
+
+
+def _holds_text(var) -> bool:
+    """Whether ``var`` holds names (numpy str, or objects that are all str)."""
+    if var.dtype.kind == "U":
+        return True
+    return var.dtype.kind == "O" and all(isinstance(x, str) for x in np.ravel(var.values))
+
+
+def read_names(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` with the names a file holds as character arrays (read back by xarray as
+    objects) as numpy str again, the form a map has in memory."""
+    text = [name for name, var in ds.variables.items()
+            if var.dtype.kind == "O" and _holds_text(var)]
+    if not text:
+        return ds
+    coords = {n: ds[n].astype(str) for n in text if n in ds.coords}
+    data = {n: ds[n].astype(str) for n in text if n not in ds.coords}
+    return ds.assign_coords(coords).assign(data)
 
 
 def _chunk_shape(shape: tuple, target: int = 2**20) -> tuple:
