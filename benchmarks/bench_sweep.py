@@ -9,6 +9,9 @@
                                                  # again over the finished store
     python benchmarks/bench_sweep.py --speed-models  # the 1e6-point map under each
                                                  # impact-speed model, interleaved (A/B)
+    python benchmarks/bench_sweep.py --busy      # the water map on all threads and on
+                                                 # one, with and without a core held
+                                                 # by another process
 
 The map is T (100) x h0 (100) x U_Umf (100) of silica sand with the paper's slag: gas and
 liquid properties, U_mf, 1e4 u0* solves (u0* does not depend on U/U_mf), 1e6 collisions
@@ -211,6 +214,44 @@ def bench_big(store: str) -> None:
           f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0:.0f} MB")
 
 
+def bench_busy(repeats: int = 7) -> None:
+    """The 1e6-point water map of ``--speeds`` (excess-gas speeds) on every thread and on
+    one, with nothing else running, then with one core held by another process (a busy
+    loop in a child process): what a map costs where other jobs hold cores."""
+    import warnings
+
+    import numba
+
+    scene, base = MATERIALS["water"]
+    fields, axis = LAWS["excess-gas"]
+    grid_ = {**base, **axis}
+    most = numba.get_num_threads()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sweep(scene.replace(**fields), **{k: v[::10] for k, v in grid_.items()})  # compile
+        for busy in (False, True):
+            child = (subprocess.Popen([sys.executable, "-c", "while True: pass"])
+                     if busy else None)
+            try:
+                time.sleep(0.5 if busy else 0.0)
+                for threads in dict.fromkeys((most, 1)):
+                    numba.set_num_threads(threads)
+                    times = []
+                    for _ in range(repeats):
+                        t = time.perf_counter()
+                        sweep(scene.replace(**fields), **grid_)
+                        times.append(time.perf_counter() - t)
+                    print(f"{'one core held' if busy else 'nothing else'}: {threads} "
+                          f"thread(s) best {min(times):.3f} s, median "
+                          f"{np.median(times):.3f} s of {repeats}; load "
+                          f"{os.getloadavg()[0]:.2f}", flush=True)
+            finally:
+                numba.set_num_threads(most)
+                if child is not None:
+                    child.kill()
+                    child.wait()
+
+
 if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("--map", action="store_true")
@@ -218,9 +259,12 @@ if __name__ == "__main__":
     ap.add_argument("--speed-models", action="store_true")
     ap.add_argument("--speeds", nargs="*", metavar="MATERIAL/LAW",
                     help="the maps of each speed law (all, or those named: water/fixed ...)")
+    ap.add_argument("--busy", action="store_true")
     ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args()
-    if a.speeds is not None:
+    if a.busy:
+        bench_busy(max(a.repeats, 7))
+    elif a.speeds is not None:
         bench_speeds(a.repeats, a.speeds)
     elif a.speed_models:
         bench_speed_models(a.repeats)
