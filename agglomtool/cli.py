@@ -69,7 +69,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
 
     from .maps.cluster import NoWorkersError
     from .maps.config import load_config
-    from .maps.export import write_map
+    from .maps.export import check_output_dir, write_map
     from .maps.grid import sweep
     from .maps.store import hold_store, remove_store
 
@@ -77,6 +77,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     out = Path(args.output)
     if out.is_dir():
         raise CommandError(f"output {str(out)!r} is a directory; give a file name (.nc)")
+    check_output_dir(out)  # before any work
     store = Path(args.store) if args.store else out.with_name(out.name + ".parts")
     args._store = store  # for the message if interrupted
     client = None

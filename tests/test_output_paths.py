@@ -40,3 +40,40 @@ def test_bed_command_refuses_the_output_before_computing(where, tmp_path, not_a_
     captured = capsys.readouterr()
     assert "bed propensity" not in captured.out  # refused before the bed was computed
     assert f"{tmp_path / where}" in captured.err and "Permission denied" not in captured.err
+
+
+MAP_EXAMPLE = EXAMPLE.with_name("granulator_window.toml")
+
+
+@pytest.mark.parametrize("name", ["w.png", "w.PDF", "w.csv"])
+def test_a_picture_or_text_name_is_refused_for_a_netcdf_file(tmp_path, name, capsys,
+                                                             monkeypatch):
+    """``map -o x.png`` wrote a netCDF file named x.png (exit 0); now refused before the
+    sweep, with the command that draws a picture."""
+    import agglomtool.maps.grid as grid
+
+    def no_sweep(*a, **k):
+        raise AssertionError("the map was computed")
+
+    monkeypatch.setattr(grid, "sweep", no_sweep)
+    out = tmp_path / name
+    assert main(["map", str(MAP_EXAMPLE), "-o", str(out), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert name in err and ".nc" in err and "agglomtool plot" in err
+    assert not out.exists()
+    with pytest.raises(ValueError, match=r"ending of a picture or a text file"):
+        at.write_map(xr.Dataset({"x": ("a", [1.0, 2.0])}), out)
+    assert not out.exists()
+
+
+def test_the_map_command_refuses_a_missing_directory_before_computing(tmp_path, capsys,
+                                                                     monkeypatch):
+    import agglomtool.maps.grid as grid
+
+    def no_sweep(*a, **k):
+        raise AssertionError("the map was computed")
+
+    monkeypatch.setattr(grid, "sweep", no_sweep)
+    assert main(["map", str(MAP_EXAMPLE), "-o", str(tmp_path / "missing" / "m.nc"),
+                 "-q"]) == 2
+    assert "does not exist" in capsys.readouterr().err

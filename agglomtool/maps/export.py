@@ -74,10 +74,21 @@ def write_map(ds: xr.Dataset, path, *, complevel: int = COMPLEVEL,
     return path
 
 
+#: File name endings of pictures and documents: a netCDF map written there is a mistake.
+_NOT_NETCDF = (".png", ".jpg", ".jpeg", ".svg", ".pdf", ".eps", ".tif", ".tiff", ".csv",
+               ".txt", ".toml")
+
+
 def check_output_dir(path) -> Path:
     """``path`` as a Path, if its directory exists; a ``ValueError`` naming the directory
-    if it does not or is a file (netCDF's own error calls both 'Permission denied')."""
+    if it does not or is a file (netCDF's own error calls both 'Permission denied'), or
+    naming the ending where the name is a picture's or a text file's (a netCDF file
+    there would be read as neither)."""
     path = Path(path)
+    if path.suffix.lower() in _NOT_NETCDF:
+        raise ValueError(f"cannot write a netCDF file as {str(path)!r}: {path.suffix!r} is "
+                         "the ending of a picture or a text file; give a name ending in .nc "
+                         "(a picture of a map: agglomtool plot MAP.nc -o PICTURE.png)")
     parent = path.parent
     if not parent.exists():
         raise ValueError(f"cannot write {str(path)!r}: its directory {str(parent)!r} does not "
