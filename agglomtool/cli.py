@@ -69,7 +69,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
 
     from .maps.cluster import NoWorkersError
     from .maps.config import load_config
-    from .maps.export import check_output_dir, write_map
+    from .maps.export import check_netcdf_name, write_map
     from .maps.grid import sweep
     from .maps.store import hold_store, remove_store
 
@@ -77,7 +77,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     out = Path(args.output)
     if out.is_dir():
         raise CommandError(f"output {str(out)!r} is a directory; give a file name (.nc)")
-    check_output_dir(out)  # before any work
+    check_netcdf_name(out)  # before any work
     store = Path(args.store) if args.store else out.with_name(out.name + ".parts")
     args._store = store  # for the message if interrupted
     client = None
@@ -137,15 +137,15 @@ def _cmd_bed(args: argparse.Namespace) -> int:
     from .bed.config import load_bed_config
     from .bed.export import export_efficiency
     from .bed.propensity import bed_propensity, bed_sweep
-    from .maps.export import check_output_dir, write_map
+    from .maps.export import check_netcdf_name, check_output_dir, write_map
 
     cfg = load_bed_config(args.config)
     out = Path(args.output)
     if out.is_dir():
         raise CommandError(f"output {str(out)!r} is a directory; give a file name (.nc)")
-    for path in (out, args.efficiency):  # before the bed is computed
-        if path:
-            check_output_dir(path)
+    check_netcdf_name(out)  # before the bed is computed
+    if args.efficiency:  # .csv or .nc
+        check_output_dir(args.efficiency)
     opts = cfg.options
     if cfg.grid:
         if args.efficiency:

@@ -64,6 +64,9 @@ def test_a_picture_or_text_name_is_refused_for_a_netcdf_file(tmp_path, name, cap
     with pytest.raises(ValueError, match=r"ending of a picture or a text file"):
         at.write_map(xr.Dataset({"x": ("a", [1.0, 2.0])}), out)
     assert not out.exists()
+    bed = EXAMPLE.with_name("bed_sand_ilmenite.toml")
+    assert main(["bed", str(bed), "-o", str(out), "-q"]) == 2
+    assert not out.exists()
 
 
 def test_the_map_command_refuses_a_missing_directory_before_computing(tmp_path, capsys,

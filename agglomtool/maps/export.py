@@ -56,7 +56,7 @@ def write_map(ds: xr.Dataset, path, *, complevel: int = COMPLEVEL,
         raise ValueError(f"ds = {reprlib.repr(ds)} is not allowed: an xarray.Dataset (a map)")
     if not isinstance(path, str | os.PathLike):
         raise ValueError(f"path = {path!r} is not allowed: a file path (str or pathlib.Path)")
-    path = check_output_dir(path)
+    path = check_netcdf_name(path)
     out, encoding = cf_ready(ds, history if history is not None
                              else f"agglomtool.write_map(ds, {path.name!r})")
     if complevel:
@@ -79,16 +79,21 @@ _NOT_NETCDF = (".png", ".jpg", ".jpeg", ".svg", ".pdf", ".eps", ".tif", ".tiff",
                ".txt", ".toml")
 
 
-def check_output_dir(path) -> Path:
-    """``path`` as a Path, if its directory exists; a ``ValueError`` naming the directory
-    if it does not or is a file (netCDF's own error calls both 'Permission denied'), or
-    naming the ending where the name is a picture's or a text file's (a netCDF file
-    there would be read as neither)."""
+def check_netcdf_name(path) -> Path:
+    """:func:`check_output_dir`, and a ``ValueError`` naming the ending where the name is
+    a picture's or a text file's (a netCDF file there would be read as neither)."""
     path = Path(path)
     if path.suffix.lower() in _NOT_NETCDF:
         raise ValueError(f"cannot write a netCDF file as {str(path)!r}: {path.suffix!r} is "
                          "the ending of a picture or a text file; give a name ending in .nc "
                          "(a picture of a map: agglomtool plot MAP.nc -o PICTURE.png)")
+    return check_output_dir(path)
+
+
+def check_output_dir(path) -> Path:
+    """``path`` as a Path, if its directory exists; a ``ValueError`` naming the directory
+    if it does not or is a file (netCDF's own error calls both 'Permission denied')."""
+    path = Path(path)
     parent = path.parent
     if not parent.exists():
         raise ValueError(f"cannot write {str(path)!r}: its directory {str(parent)!r} does not "
