@@ -545,8 +545,17 @@ def _threads(n: int | None):
         numba.set_num_threads(before)
 
 
+def _dashes(arg: str) -> str:
+    """An option typed with the field's own name (``--d_i``, ``--U_Umf=2``) as the command
+    line spells it (``--d-i``); values are left as they are."""
+    if not arg.startswith("--"):
+        return arg
+    name, eq, value = arg.partition("=")
+    return name.replace("_", "-") + eq + value
+
+
 def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else list(argv)
+    argv = [_dashes(a) for a in (sys.argv[1:] if argv is None else argv)]
     command = next((a for a in argv if not a.startswith("-")), None)
     try:
         args = build_parser(command).parse_args(argv)
@@ -557,8 +566,12 @@ def main(argv: list[str] | None = None) -> int:
 
     from .plausibility import PlausibilityWarning
 
+    said: set[str] = set()
+
     def show(message, category, *rest, **kw):  # one readable line, not file:line: source
-        print(f"agglomtool: warning: {message}", file=sys.stderr)
+        if str(message) not in said:  # once, though several steps may find it
+            said.add(str(message))
+            print(f"agglomtool: warning: {message}", file=sys.stderr)
 
     try:
         with warnings.catch_warnings(), _threads(args.threads):
