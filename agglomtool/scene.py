@@ -399,17 +399,19 @@ def _speed_readers() -> dict[str, tuple[str, ...]]:
     return readers
 
 
-def swept_without_effect(values: dict, swept, speeds=None, *,
+def swept_without_effect(values: dict, swept, drawn=(), *,
                          what: str = "grid ") -> tuple[str, str] | None:
-    """The first field of ``swept`` (``{name: values}`` a map or bed sweeps) that no speed
-    of ``speeds`` reads at the scene ``values``, and why, as ``(field, message)``; ``None``
-    if each is read. ``speeds``: the speed laws or models that compute at some point (default the
-    scene's ``speed``; a swept ``speed`` and the models a robust map may draw add theirs).
-    A field only a speed law or model reads is refused where none of them does, and
-    ``U_Umf`` where ``U`` is given or swept: a map axis along which nothing changes is no
-    answer to what it asks. ``what`` begins the message
-    (``"grid "``: a map's or a bed's axis)."""
-    speeds = (values["speed"],) if speeds is None else tuple(dict.fromkeys(speeds))
+    """The first field of ``swept`` (``{name: values}`` a map, a bed or a comparison
+    sweeps) that no speed computing on it reads at the scene ``values``, and why, as
+    ``(field, message)``; ``None`` if each is read. The speeds that compute: the swept
+    ``speed`` values, else the scene's ``speed``, and ``drawn`` (the models that draws of a
+    robust map or a comparison may take). A field only a speed law or model reads is
+    refused where none of them does, and ``U_Umf`` where ``U`` is given or swept: a map
+    axis along which nothing changes is no answer to what it asks. ``what`` begins the
+    message (``"grid "``: a map's or a bed's axis)."""
+    own = ([str(v) for v in np.ravel(swept["speed"])] if "speed" in swept
+           else [values["speed"]])
+    speeds = tuple(dict.fromkeys([*own, *drawn]))
     shown = speeds[0] if len(speeds) == 1 else list(speeds)
     if "U_Umf" in swept and ("U" in swept or values.get("U") is not None):
         by = ("the grid sweeps U" if "U" in swept

@@ -237,8 +237,7 @@ def _grid_values(scene: Scene, grid: dict, *, plausibility: bool = True,
         # leaves to where they are used: said here where the map uses them
         before = set(scene_findings(base)) - set(getattr(scene, "_deferred_findings", ()))
         warn_findings([f for f in grid_findings(base, out) if f not in before], stacklevel=4)
-    speeds = [str(v) for v in out["speed"]] if "speed" in out else [base["speed"]]
-    found = swept_without_effect(base, out, speeds + list(drawn))
+    found = swept_without_effect(base, out, drawn)
     if found:
         raise GridError(found[1], found[0])
     return out

@@ -119,9 +119,8 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         raise ValueError(f"bins = {bins!r} must be an integer in [2, n = {n}]")
     resolve_seed(seed)  # every request checked before the first draw
     split_uncertain(uncertain)
-    speeds = [str(v) for v in opts] if field == "speed" else [scene.speed]
     found = swept_without_effect(scene.values(), {field: opts},
-                                 speeds + list(drawn_speeds(scene, uncertain)), what="")
+                                 drawn_speeds(scene, uncertain), what="")
     if found:
         raise ValueError(f"compare {field}: {found[1]}")
     scenes = []
