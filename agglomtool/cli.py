@@ -74,10 +74,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     from .maps.store import hold_store, remove_store
 
     cfg = load_config(args.config)
-    out = Path(args.output)
-    if out.is_dir():
-        raise CommandError(f"output {str(out)!r} is a directory; give a file name (.nc)")
-    check_netcdf_name(out)  # before any work
+    out = check_netcdf_name(args.output)  # before any work
     store = Path(args.store) if args.store else out.with_name(out.name + ".parts")
     args._store = store  # for the message if interrupted
     client = None
@@ -132,7 +129,6 @@ def _cmd_map(args: argparse.Namespace) -> int:
 
 def _cmd_bed(args: argparse.Namespace) -> int:
     """Propensity of a bed of mixed solids and sizes (TOML); write it as netCDF."""
-    from pathlib import Path
 
     from .bed.config import load_bed_config
     from .bed.export import export_efficiency
@@ -140,10 +136,7 @@ def _cmd_bed(args: argparse.Namespace) -> int:
     from .maps.export import check_netcdf_name, check_output_dir, write_map
 
     cfg = load_bed_config(args.config)
-    out = Path(args.output)
-    if out.is_dir():
-        raise CommandError(f"output {str(out)!r} is a directory; give a file name (.nc)")
-    check_netcdf_name(out)  # before the bed is computed
+    out = check_netcdf_name(args.output)  # before the bed is computed
     if args.efficiency:  # .csv or .nc
         check_output_dir(args.efficiency)
     opts = cfg.options

@@ -80,3 +80,10 @@ def test_the_map_command_refuses_a_missing_directory_before_computing(tmp_path, 
     assert main(["map", str(MAP_EXAMPLE), "-o", str(tmp_path / "missing" / "m.nc"),
                  "-q"]) == 2
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_a_directory_is_refused_as_an_output_file(tmp_path, capsys):
+    with pytest.raises(ValueError, match=r"is a directory; give a file name \(\.nc\)"):
+        at.write_map(xr.Dataset({"x": ("a", [1.0, 2.0])}), tmp_path)
+    assert main(["map", str(MAP_EXAMPLE), "-o", str(tmp_path), "-q"]) == 2
+    assert "is a directory; give a file name (.nc)" in capsys.readouterr().err

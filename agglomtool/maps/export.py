@@ -80,9 +80,11 @@ _NOT_NETCDF = (".png", ".jpg", ".jpeg", ".svg", ".pdf", ".eps", ".tif", ".tiff",
 
 
 def check_netcdf_name(path) -> Path:
-    """:func:`check_output_dir`, and a ``ValueError`` naming the ending where the name is
-    a picture's or a text file's (a netCDF file there would be read as neither)."""
+    """:func:`check_output_dir`, and a ``ValueError`` where the name is a directory's, or
+    ends as a picture's or a text file's (a netCDF file there would be read as neither)."""
     path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"output {str(path)!r} is a directory; give a file name (.nc)")
     if path.suffix.lower() in _NOT_NETCDF:
         raise ValueError(f"cannot write a netCDF file as {str(path)!r}: {path.suffix!r} is "
                          "the ending of a picture or a text file; give a name ending in .nc "
