@@ -22,6 +22,7 @@ from ``thermo`` (DIPPR correlation, Perry's 8th ed.), pressure independent.
 
 from __future__ import annotations
 
+import atexit
 import hashlib
 import math
 import os
@@ -233,6 +234,11 @@ def _thermo_viscosity(cas: str, method: str):
 @cache
 def _state(coolprop: str):
     return _cp().AbstractState("HEOS", coolprop)
+
+
+# CoolProp's states are released before the interpreter tears its modules down: a state
+# still held then makes CoolProp's binding layer print a "leaked instances" report on exit
+atexit.register(_state.cache_clear)
 
 
 def _phase_name(index: int) -> str:

@@ -7,6 +7,7 @@ surface tension is Mulero et al.'s 2012 fit, 0.1 % higher at 25 C).
 
 from __future__ import annotations
 
+import atexit
 from functools import cache, lru_cache
 
 import CoolProp
@@ -31,6 +32,9 @@ _P_TRIPLE = 611.655  # Pa, IAPWS (CoolProp's ptriple for Water: 611.6548 Pa)
 @cache
 def _state():
     return CP.AbstractState("HEOS", "Water")
+
+
+atexit.register(_state.cache_clear)  # released before exit (as the gas tables' states)
 
 
 #: ``(P, T) -> (mu, rho)`` of the liquid states evaluated so far. A state depends on its
