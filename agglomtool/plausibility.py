@@ -122,11 +122,13 @@ def scene_findings(values: dict) -> list[tuple[str, str]]:
                                    "evaporate (the properties are those of superheated "
                                    "liquid)"))
     if entry is not None and entry.model == "melt" and tmin is not None and tmin < MELT_T_MIN:
-        found.append(("T", f"T = {tmin:g} K is below {MELT_T_MIN:g} K "
-                           f"({MELT_T_MIN - 273.15:g} degC): no oxide melt such as "
-                           f"{entry.name} is liquid there (the lowest alkali-silicate "
-                           "eutectics are near 700 degC); a temperature in degC typed as K? "
-                           f"Temperatures are in K: write {tmin + 273.15:g} or "
+        # (the value as read, in K and in degC: whoever typed "500 degC" sees it was read
+        # so, and the slip's remedy is said as a condition, not as a guess)
+        found.append(("T", f"T = {tmin:g} K ({tmin - 273.15:g} degC) is below "
+                           f"{MELT_T_MIN:g} K ({MELT_T_MIN - 273.15:g} degC): no oxide melt "
+                           f"such as {entry.name} is liquid there (the lowest alkali-silicate "
+                           "eutectics are near 700 degC). Temperatures without a unit are in "
+                           f"K: if {tmin:g} was meant in degC, write {tmin + 273.15:g} or "
                            f"\"{tmin:g} degC\""))
     umax, ceiling = _extreme(values, "u0", hi), _extreme(values, "u_ceiling", lo)
     if (isinstance(values.get("speed"), str) and values["speed"] in ("fixed", "lognormal")

@@ -149,3 +149,13 @@ def test_water_above_its_boiling_point_and_melts_outside_calibration_warn():
         at.Scene(liquid="water", T=383.15, P=3e5, h0=5e-6, d_i=300e-6)  # 3 bar: still liquid
     with pytest.warns(PlausibilityWarning, match="calibration"):
         at.materials.liquid("blast-furnace-slag", T=1773.15, viscosity_model="grd")
+
+
+def test_a_cold_melt_is_said_in_k_and_degc_and_the_slip_as_a_condition():
+    # 500 degC typed with its unit: the warning shows it was read so (773.15 K = 500 degC)
+    # and offers the degC-as-K remedy only as a condition (it had asserted the slip)
+    with pytest.warns(PlausibilityWarning) as rec:
+        at.Scene(liquid="k-silicate-ash-melt", T="500 degC")
+    text = " ".join(str(w.message) for w in rec if "oxide melt" in str(w.message))
+    assert text.startswith("T = 773.15 K (500 degC) is below 873.15 K (600 degC)"), text
+    assert "if 773.15 was meant in degC" in text and "typed as K?" not in text
