@@ -52,6 +52,9 @@ h0 = "5 um"
      r"\[options\] n: must be an integer >= 1"),
     (SCENE + '[compare]\nsolid_j = ["ilmenite", "granite"]\n', "option 'granite'"),
     (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[extra]\n', "unknown table"),
+    # a misspelt field: the file and the table named, with the field it may have meant
+    (SCENE + '[compare]\nsolid_jj = ["ilmenite", "olivine"]\n',
+     r"c\.toml: \[compare\] solid_jj: not a Scene field \(did you mean 'solid_j'\?\)"),
 ])
 def test_bad_files_get_one_line_naming_the_key(tmp_path, capsys, body, match):
     path = tmp_path / "c.toml"

@@ -26,8 +26,9 @@ from typing import Any
 
 from .._config import ConfigError, check_tables, parse_scene, read_toml, warn_scene_findings
 from .._fields import FIELD_META
+from .._validate import suggestion
 from ..plausibility import scene_findings
-from ..scene import Scene
+from ..scene import Scene, field_names
 from .distributions import LogNormal, Normal, Uniform
 
 __all__ = ["CompareConfig", "load_compare_config", "parse_compare_config", "parse_uncertain"]
@@ -54,6 +55,11 @@ def parse_compare_config(data: dict, source: str = "config") -> CompareConfig:
         raise ConfigError(f"{source}: [compare] must hold exactly one field with its "
                           "options, e.g. solid_j = [\"silica-sand\", \"ilmenite\"]")
     (field, options), = comp.items()
+    fields = field_names()
+    if field not in fields:  # said here, with the file and the table, as [scene] says it
+        raise ConfigError(f"{source}: [compare] {field}: not a Scene field"
+                          f"{suggestion(field, fields, material=False)}; fields: "
+                          f"{', '.join(fields)}")
     base = {k: v for k, v in scene.values().items() if k != field}  # the options replace it
     warn_scene_findings(scene, source, scene_findings(base))
     if not isinstance(options, list) or len(options) < 2:
