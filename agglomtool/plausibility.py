@@ -77,6 +77,26 @@ def _asperity(field: str, smallest, largest):
     return None
 
 
+def _emulsion(values: dict):
+    """The emulsion's gas velocity ``U_e = U_e_Umf U_mf`` (the drag of the body forces)
+    above the gas fed, ``U = U_Umf U_mf``: where a fluidized bed (``U_Umf > 1``) has
+    ``U_Umf < U_e_Umf``. (A ``U`` given in m/s is not judged here: its ``U_mf`` is not
+    known yet; ``U_Umf <= 1`` is not a fluidized bed, said where a speed needs one.)"""
+    if not values.get("body_forces", True):
+        return None
+    u, ue = values.get("U_Umf"), _extreme(values, "U_e_Umf", np.max)
+    if u is None or values.get("U") is not None or ue is None:
+        return None
+    u = np.asarray(u, dtype=float)
+    inside = u[(u > 1.0) & (u < ue)]
+    if not inside.size:
+        return None
+    return ("U_Umf", f"U_Umf = {float(inside.min()):g} is below U_e_Umf = {ue:g}: the "
+                       "emulsion's gas velocity (the drag on the particles) would exceed U, "
+                       "more gas than the bed is fed; near minimum fluidization set U_e_Umf "
+                       "to at most U_Umf")
+
+
 def scene_findings(values: dict) -> list[tuple[str, str]]:
     """``[(field, message), ...]`` for the plausibility checks of a scene's values.
 
@@ -103,6 +123,7 @@ def scene_findings(values: dict) -> list[tuple[str, str]]:
                            _extreme(values, size, hi)))
     for ha in ("ha_i", "ha_j"):
         found.append(_asperity(ha, _extreme(values, ha, lo), _extreme(values, ha, hi)))
+    found.append(_emulsion(values))
     pmin, pmax = _extreme(values, "P", lo), _extreme(values, "P", hi)
     if pmin is not None and pmin < PRESSURE_RANGE[0]:
         found.append(("P", f"P = {pmin:g} Pa is below {PRESSURE_RANGE[0]:g} Pa: pressures are "

@@ -159,3 +159,15 @@ def test_a_cold_melt_is_said_in_k_and_degc_and_the_slip_as_a_condition():
     text = " ".join(str(w.message) for w in rec if "oxide melt" in str(w.message))
     assert text.startswith("T = 773.15 K (500 degC) is below 873.15 K (600 degC)"), text
     assert "if 773.15 was meant in degC" in text and "typed as K?" not in text
+
+
+def test_an_emulsion_faster_than_the_gas_fed_is_said():
+    # U_Umf = 1.05 with the default U_e_Umf = 1.1: U_e > U, more gas in the emulsion than
+    # the bed is fed (the drag of the body forces would use it silently)
+    with pytest.warns(PlausibilityWarning, match=r"^U_Umf = 1.05 is below U_e_Umf = 1.1"):
+        at.Scene(U_Umf=1.05)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        at.Scene(U_Umf=1.05, U_e_Umf=1.0)  # the emulsion at U_mf: consistent
+        at.Scene(U_Umf=1.05, body_forces=False)  # no drag: U_e is not used
+        at.Scene(U_Umf=1.5)
