@@ -2,6 +2,7 @@
 
     python benchmarks/bench_scaling.py [--threads 1 2 4 8 16] [--repeats 3] [--bed]
                                        [--profile DIR] [--cluster N] [--chunks N]
+                                       [--per-kernel] [--ceiling]
 
 For each thread count (``numba.set_num_threads``; the process must start with at least as
 many, ``NUMBA_NUM_THREADS``), best and median of ``--repeats`` of:
@@ -19,7 +20,9 @@ to n threads is ``t(2) / (t(n) n / 2)`` on the medians. ``--bed``
 adds the 30 x 30 ``bed_sweep`` of the 3-component x 20-class water bed of
 ``bench_bed.py`` at 2 threads and at the most; ``--profile DIR`` writes a cProfile of one
 water map at the most threads (the serial remainder: time spent outside the compiled
-kernels); ``--ceiling`` first times a synthetic compute-bound kernel over the same thread
+kernels); ``--per-kernel`` times the water map
+by kernel at each thread count (and the rest, outside the kernels); ``--ceiling`` first
+times a synthetic compute-bound kernel over the same thread
 counts (what the machine gives a perfectly parallel loop); ``--chunks N`` gives the in-process maps
 blocks of N points instead of the sweep's ``"auto"`` (which grows with the threads: the
 earlier fixed 262144 points is ``--chunks 262144``); ``--cluster N`` times the water
@@ -62,8 +65,10 @@ def small(axes):
     return {k: v[::40] for k, v in axes.items()}
 
 
-#: Seconds spent inside the parallel kernels since the last reset (``_instrument``).
+#: Seconds spent inside the parallel kernels since the last reset (``_instrument``), in
+#: all and by kernel (``--per-kernel``).
 IN_KERNELS = [0.0]
+PER_KERNEL: dict[str, float] = {}
 
 
 def _instrument() -> None:
@@ -82,7 +87,10 @@ def _instrument() -> None:
         try:
             return real(kernel, *args)
         finally:
-            IN_KERNELS[0] += time.perf_counter() - t
+            dt = time.perf_counter() - t
+            IN_KERNELS[0] += dt
+            name = getattr(kernel, "__name__", str(kernel))
+            PER_KERNEL[name] = PER_KERNEL.get(name, 0.0) + dt
 
     for info in pkgutil.walk_packages(agglomtool.__path__, "agglomtool."):
         if info.name.endswith("__main__"):
@@ -140,6 +148,35 @@ def ceiling(threads, repeats) -> None:
             f"{n}: {med[2] / (med[n] * n / 2):.0%}" for n in threads if n > 2), flush=True)
 
 
+def per_kernel(threads, repeats, chunks) -> None:
+    """The water map's time by kernel at each thread count (medians over ``repeats``
+    maps), the rest outside the kernels, and each part's efficiency from 2 threads."""
+    scene, axes = AXES["water"]
+    med = {}
+    for n in threads:
+        numba.set_num_threads(n)
+        runs, walls = [], []
+        for _ in range(repeats):
+            PER_KERNEL.clear()
+            IN_KERNELS[0] = 0.0
+            t = time.perf_counter()
+            sweep(scene, chunks=chunks, **axes)
+            walls.append(time.perf_counter() - t)
+            runs.append({**PER_KERNEL, "(outside the kernels)": walls[-1] - IN_KERNELS[0]})
+        names = sorted({k for r in runs for k in r}, key=lambda k: -runs[0].get(k, 0.0))
+        med[n] = {k: statistics.median(r.get(k, 0.0) for r in runs) for k in names}
+        print(f"water map by kernel, {n:2d} threads (median of {repeats}, whole map "
+              f"{statistics.median(walls):.3f} s): "
+              + ", ".join(f"{k} {1e3 * v:.1f} ms" for k, v in med[n].items() if v >= 5e-4),
+              flush=True)
+    if 2 in med:
+        for n in (n for n in threads if n > 2):
+            eff = {k: med[2][k] / (v * n / 2) for k, v in med[n].items()
+                   if v > 0 and med[2].get(k, 0.0) >= 5e-3}
+            print(f"by kernel, efficiency from 2 to {n} threads: "
+                  + ", ".join(f"{k} {e:.0%}" for k, e in eff.items()), flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--threads", type=int, nargs="*", default=[1, 2, 4, 8, 16])
@@ -150,6 +187,8 @@ def main() -> None:
     ap.add_argument("--chunks", type=int, default=None,
                     help="the in-process maps' block size in points (default: the sweep's "
                          "'auto', which grows with the threads)")
+    ap.add_argument("--per-kernel", action="store_true",
+                    help="the water map's time by kernel at each thread count")
     ap.add_argument("--ceiling", action="store_true",
                     help="first, a synthetic compute-bound kernel: the machine's own scaling")
     a = ap.parse_args()
@@ -199,6 +238,8 @@ def main() -> None:
             print(f"{name}: efficiency from 2 threads {eff}"
                   + (f"; map / collide {ratio}" if ratio else ""), flush=True)
     top = max(threads)
+    if a.per_kernel:
+        per_kernel(threads, a.repeats, chunks)
     numba.set_num_threads(top)
     if a.profile:
         os.makedirs(a.profile, exist_ok=True)
