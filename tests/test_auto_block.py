@@ -10,7 +10,7 @@ import xarray as xr
 
 from agglomtool.maps import build, layout, sweep
 from agglomtool.maps.estimate import estimate_sweep
-from agglomtool.maps.layout import DEFAULT_BLOCK, MAX_BLOCK_FACTOR, auto_block
+from agglomtool.maps.layout import DEFAULT_BLOCK, IN_MEMORY_BLOCK, MAX_BLOCK_FACTOR, auto_block
 from agglomtool.scene import Scene
 
 WATER = Scene(liquid="water", T=298.15, d_i=300e-6)
@@ -21,7 +21,7 @@ AXES = dict(T=np.linspace(283.15, 363.15, 6), h0=np.geomspace(1e-6, 30e-6, 5),
 @pytest.mark.parametrize("threads, factor", [(1, 1), (2, 1), (7, 1), (8, 2), (16, 4),
                                              (31, 7), (32, 8), (256, MAX_BLOCK_FACTOR)])
 def test_auto_block_grows_with_threads_and_is_capped(threads, factor):
-    assert auto_block(threads) == factor * DEFAULT_BLOCK
+    assert auto_block(threads) == factor * IN_MEMORY_BLOCK
 
 
 def _spy(monkeypatch, points):

@@ -54,9 +54,10 @@ def sweep(scene: Scene, *, chunks="auto", nodes: int = 16, store=None, progress=
     scene : Scene
         The operating point; fields not in ``grid`` keep its values.
     chunks : "auto", int, dict or None
-        Block size: ``"auto"`` (about 2.6e5 points per block; a map computed in memory
-        here takes larger blocks on 8 or more threads, ``auto_block`` of
-        ``agglomtool.maps.layout``), a number of points per block, a ``{dim: size}`` dict,
+        Block size: ``"auto"`` (about 2.6e5 points per block of a store, a cluster or a
+        lazy map; a map computed in memory here takes blocks of about 1e6 points, larger
+        on 8 or more threads: ``auto_block`` of ``agglomtool.maps.layout``), a number of
+        points per block, a ``{dim: size}`` dict,
         or ``None`` (one block per category combination).
         Dimensions holding names (solids, liquid, gas, mode, ...) are always chunked by 1.
     nodes : int

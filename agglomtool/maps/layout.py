@@ -39,35 +39,43 @@ from .meta import (
 )
 from .speed_flag import flagged_collision_outputs
 
-__all__ = ["GROUPS", "DEFAULT_BLOCK", "auto_block", "sweep_chunks", "SPEED_FIELDS", "GridError",
+__all__ = ["GROUPS", "DEFAULT_BLOCK", "IN_MEMORY_BLOCK", "auto_block", "sweep_chunks", "SPEED_FIELDS", "GridError",
            "grid_findings"]
 
 logger = logging.getLogger("agglomtool.maps")
 
-#: Default number of grid points per dask block (bounded memory: about 30 MB of
-#: temporaries per collision batch).
+#: Default number of grid points per block of a map that is not computed in memory here
+#: (a store's chunks, a cluster's tasks, a lazy map's dask blocks).
 DEFAULT_BLOCK = 2**18
 
-#: The most times :data:`DEFAULT_BLOCK` that :func:`auto_block` gives (memory: about
-#: 240 MB of temporaries per collision batch).
+#: Points per block of a map computed in memory in this process with ``chunks="auto"``
+#: on up to 7 threads (:func:`auto_block`). A block's temporaries beside the result it
+#: writes into are about 16 bytes per point (the 4e6-point maps of
+#: ``benchmarks/bench_scaling.py``, peak memory over the result's: 3-4 MB with blocks of
+#: 2**18 points, 16 MB with 2**20, 65 MB with 2**22).
+IN_MEMORY_BLOCK = 2**20
+
+#: The most times :data:`IN_MEMORY_BLOCK` that :func:`auto_block` gives (about 130 MB of
+#: temporaries).
 MAX_BLOCK_FACTOR = 8
 
 
 def auto_block(threads: int) -> int:
     """Points per block of a map computed in memory in this process with ``chunks="auto"``
-    on ``threads`` threads: :data:`DEFAULT_BLOCK` up to 7 threads, ``threads // 4`` times
-    it above (at most :data:`MAX_BLOCK_FACTOR` times).
+    on ``threads`` threads: :data:`IN_MEMORY_BLOCK` up to 7 threads, ``threads // 4``
+    times it above (at most :data:`MAX_BLOCK_FACTOR` times).
 
     Each block is a few compiled parallel launches, and between them the calling thread
-    works alone (Python, the block's numpy steps, a launch's start and end). A block of
-    2**18 points leaves each of 16 threads 16,384 collisions per launch (the fused loop
-    then cuts its pieces below 4096 to keep 8 per thread), and a 4e6-point map pays the
-    block's fixed serial costs 17 times. ``threads // 4`` times the block keeps about
-    65,000 points per thread and pays them 4 or 5 times. Only the in-memory path: a
-    store's or a cluster's blocks are its chunks and tasks, whose size must not depend on
-    the machine that starts the sweep. The values do not depend on the block (each point
-    is computed alone)."""
-    return DEFAULT_BLOCK * min(MAX_BLOCK_FACTOR, max(1, int(threads) // 4))
+    works alone (Python, the block's numpy steps, a launch's start and end): about 1.7 ms
+    per block on the 2-core development machine, whatever its size. A 1e6-point map in
+    one block instead of four took 4 % less time there (water, excess-gas speeds; 3 %
+    slag), and a 4e6-point map on 16 threads in one block instead of four 6 % less
+    (water; 4 % slag); the block size within a launch (the fused loop's pieces) made no
+    difference. Only the in-memory path: a store's or a cluster's blocks are its chunks
+    and tasks (:data:`DEFAULT_BLOCK`), whose size must not depend on the machine that
+    starts the sweep. The values do not depend on the block (each point is computed
+    alone)."""
+    return IN_MEMORY_BLOCK * min(MAX_BLOCK_FACTOR, max(1, int(threads) // 4))
 
 
 def sweep_chunks(chunks, in_memory: bool):
