@@ -39,8 +39,8 @@ from .meta import (
 )
 from .speed_flag import flagged_collision_outputs
 
-__all__ = ["GROUPS", "DEFAULT_BLOCK", "IN_MEMORY_BLOCK", "auto_block", "sweep_chunks", "SPEED_FIELDS", "GridError",
-           "grid_findings"]
+__all__ = ["GROUPS", "DEFAULT_BLOCK", "IN_MEMORY_BLOCK", "auto_block", "sweep_chunks",
+           "SPEED_FIELDS", "GridError", "grid_findings"]
 
 logger = logging.getLogger("agglomtool.maps")
 
