@@ -399,6 +399,10 @@ def _speed_readers() -> dict[str, tuple[str, ...]]:
     return readers
 
 
+#: Why ``U_Umf`` beside a given ``U`` does nothing (said for a typed and a swept ``U_Umf``).
+_U_UMF_RULE = "U_Umf sets U (U_Umf x U_mf) only where U is not given"
+
+
 def swept_without_effect(values: dict, swept, drawn=(), *,
                          what: str = "grid ") -> tuple[str, str] | None:
     """The first field of ``swept`` (``{name: values}`` a map, a bed or a comparison
@@ -416,8 +420,8 @@ def swept_without_effect(values: dict, swept, drawn=(), *,
     if "U_Umf" in swept and ("U" in swept or values.get("U") is not None):
         by = ("the grid sweeps U" if "U" in swept
               else f"the scene gives U = {float(values['U']):g} m/s")
-        return "U_Umf", (f"{what}U_Umf has no effect: {by}, and U_Umf sets U (U_Umf x U_mf) "
-                         "only where U is not given; leave U unset to sweep U_Umf")
+        return "U_Umf", (f"{what}U_Umf has no effect: {by}, and {_U_UMF_RULE}; leave U "
+                         "unset to sweep U_Umf")
     readers = _speed_readers()
     for name in swept:
         read_by = readers.get(name)
@@ -447,8 +451,7 @@ def typed_without_effect(scene: Scene, typed) -> tuple[str, str] | None:
     from its default, so this is for those that can."""
     if "U" in typed and "U_Umf" in typed and scene.U is not None:
         return "U_Umf", (f"U_Umf = {scene.U_Umf:g} has no effect where U is given (U = "
-                         f"{scene.U:g} m/s): U_Umf sets U (U_Umf x U_mf) only where U is "
-                         "not given; give one of them")
+                         f"{scene.U:g} m/s): {_U_UMF_RULE}; give one of them")
     return None
 
 
