@@ -9,6 +9,8 @@
                                                  # again over the finished store
     python benchmarks/bench_sweep.py --speed-models  # the 1e6-point map under each
                                                  # impact-speed model, interleaved (A/B)
+    python benchmarks/bench_sweep.py --tiers     # the maps under each model tier and
+                                                 # drag slip against a plain collide
     python benchmarks/bench_sweep.py --busy      # the water map on all threads and on
                                                  # one, with and without a core held
                                                  # by another process
@@ -198,6 +200,47 @@ def bench_speeds(repeats: int = 5, which=None) -> None:
                   f"{load[0]:.2f} -> {os.getloadavg()[0]:.2f}", flush=True)
 
 
+#: The settings whose propensity is bracketed with the tier's own kernel (no closed form
+#: of the sticking set), beside the default's, for ``--tiers``.
+TIERS = {
+    "relative": {},
+    "paper": {"mode": "paper"},
+    "auto": {"mode": "auto"},
+    "paper, beta 90": {"mode": "paper", "beta_deg": 90.0},
+    "drag_slip particle": {"drag_slip": "particle"},
+}
+
+
+def bench_tiers(repeats: int = 3, which=None) -> None:
+    """The 1e6-point maps of ``--speeds`` (excess-gas speeds) under each of :data:`TIERS`,
+    against one plain ``collide`` of the same pairs in the same settings, timed in the
+    same run: where the propensity is bracketed with the tier's kernel instead of found
+    in closed form."""
+    fields, axis = LAWS["excess-gas"]
+    for mat, (scene, base) in MATERIALS.items():
+        for name, extra in TIERS.items():
+            if which and name not in which:
+                continue
+            sc = Scene(**{**scene.values(), **fields, **extra})
+            axes = {**base, **axis}
+            sweep(sc, **{k: v[::10] for k, v in axes.items()})  # compile, warm
+            plain = _plain_collide(sc, axes)
+            plain()
+            load = os.getloadavg()
+            t_map, t_col = [], []
+            for _ in range(repeats):
+                t = time.perf_counter()
+                sweep(sc, **axes)
+                t_map.append(time.perf_counter() - t)
+                t = time.perf_counter()
+                plain()
+                t_col.append(time.perf_counter() - t)
+            print(f"{mat:5s} {name:18s}: map best {min(t_map):.3f} s, median "
+                  f"{np.median(t_map):.3f} s; plain collide median {np.median(t_col):.3f} s; "
+                  f"map / collide {np.median(t_map) / np.median(t_col):.1f}x; load "
+                  f"{load[0]:.2f} -> {os.getloadavg()[0]:.2f}", flush=True)
+
+
 def bench_big(store: str) -> None:
     t = time.perf_counter()
     ds = sweep(SCENE, store=store, progress=True, **grid(100, 1000, 100))
@@ -260,9 +303,14 @@ if __name__ == "__main__":
     ap.add_argument("--speeds", nargs="*", metavar="MATERIAL/LAW",
                     help="the maps of each speed law (all, or those named: water/fixed ...)")
     ap.add_argument("--busy", action="store_true")
+    ap.add_argument("--tiers", nargs="*", metavar="SETTING",
+                    help="the water and slag maps under each model tier and drag slip "
+                         "(all, or those named: auto, 'paper, beta 90', ...)")
     ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args()
-    if a.busy:
+    if a.tiers is not None:
+        bench_tiers(min(a.repeats, 3), a.tiers)
+    elif a.busy:
         bench_busy(max(a.repeats, 7))
     elif a.speeds is not None:
         bench_speeds(a.repeats, a.speeds)
