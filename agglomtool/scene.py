@@ -399,8 +399,8 @@ def _speed_readers() -> dict[str, tuple[str, ...]]:
     return readers
 
 
-def swept_without_effect(values: dict, swept, drawn=(), *,
-                         what: str = "grid ") -> tuple[str, str] | None:
+def swept_without_effect(values: dict, swept, drawn=(), *, what: str = "grid ",
+                         act: str = "sweep") -> tuple[str, str] | None:
     """The first field of ``swept`` (``{name: values}`` a map, a bed or a comparison
     sweeps) that no speed computing on it reads at the scene ``values``, and why, as
     ``(field, message)``; ``None`` if each is read. The speeds that compute: the swept
@@ -408,7 +408,9 @@ def swept_without_effect(values: dict, swept, drawn=(), *,
     robust map or a comparison may take). A field only a speed law or model reads is
     refused where none of them does, and ``U_Umf`` where ``U`` is given or swept: a map
     axis along which nothing changes is no answer to what it asks. ``what`` begins the
-    message (``"grid "``: a map's or a bed's axis)."""
+    message (``"grid "``: a map's or a bed's axis; ``"uncertain "``: a law of a Monte Carlo,
+    a robust map or a comparison, with ``act="draw"``)."""
+    done = "the sweep replaces" if act == "sweep" else "the draws replace"
     own = ([str(v) for v in np.ravel(swept["speed"])] if "speed" in swept
            else [values["speed"]])
     speeds = tuple(dict.fromkeys([*own, *drawn]))
@@ -417,7 +419,7 @@ def swept_without_effect(values: dict, swept, drawn=(), *,
         by = ("the grid sweeps U" if "U" in swept
               else f"the scene gives U = {float(values['U']):g} m/s")
         return "U_Umf", (f"{what}U_Umf has no effect: {by}, and U_Umf sets U (U_Umf x U_mf) "
-                         "only where U is not given; leave U unset to sweep U_Umf")
+                         f"only where U is not given; leave U unset to {act} U_Umf")
     readers = _speed_readers()
     for name in swept:
         read_by = readers.get(name)
@@ -428,7 +430,7 @@ def swept_without_effect(values: dict, swept, drawn=(), *,
             one = f"{name}={first:g}" if isinstance(first, float | np.floating) else (
                 f"{name}={first!r}")
             fix = (f"set the scene's speed to one of {list(read_by)}"
-                   + (f" and give {name} one value there, which the sweep replaces (e.g. "
+                   + (f" and give {name} one value there, which {done} (e.g. "
                       f"at.Scene(..., speed={read_by[0]!r}, {one})"
                       if name in SPEED_LAW_NEEDS.values() else ""))
             return name, f"{what}{name} has no effect with speed = {shown!r}: {fix}"

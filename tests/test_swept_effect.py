@@ -222,3 +222,46 @@ def test_a_material_axis_holds_the_names_the_database_spells():
     assert list(ds.solid_j.values) == ["silica-sand", "ilmenite"]
     assert float(ds.propensity.sel(solid_j="ilmenite")) == float(
         plain.propensity.sel(solid_j="ilmenite"))
+
+
+#: Laws of fields that only some impact-speed models read.
+UNREAD_LAWS = {"wake_fraction": at.Uniform(0.15, 0.4),
+               "granular_temperature": at.Uniform(1e-3, 1e-2),
+               "bed_height": at.Uniform(0.2, 1.0)}
+
+
+@pytest.mark.parametrize("field", sorted(UNREAD_LAWS))
+def test_an_uncertain_field_its_speed_ignores_is_refused(field):
+    # every draw would be alike: 'spread 0', 'decided in 100 %', for an input never read
+    scene = at.Scene(**WATER, speed="excess-gas")
+    law = {field: UNREAD_LAWS[field]}
+    match = rf"uncertain {field} has no effect with speed = 'excess-gas'"
+    with pytest.raises(ValueError, match=match):
+        at.monte_carlo(scene, uncertain=law, n=16, seed=0)
+    with pytest.raises(ValueError, match=match):
+        at.compare(scene.replace(solid_i="silica-sand"), uncertain=law, n=16,
+                   solid_j=["silica-sand", "ilmenite"])
+    with pytest.raises(ValueError, match=match):
+        at.sweep(scene, uncertain=law, samples=4, h0=[2e-6, 8e-6])
+    # with the database's assumptions drawn too, a speed the scene names is not drawn
+    with pytest.raises(ValueError, match=match):
+        at.monte_carlo(scene, uncertain={**law, "assumed": True}, n=16, seed=0)
+
+
+def test_an_uncertain_field_a_speed_reads_is_drawn_and_spreads():
+    law = {"wake_fraction": UNREAD_LAWS["wake_fraction"]}
+    with _quiet():
+        mc = at.monte_carlo(at.Scene(**WATER, speed="bubble-darton"), uncertain=law, n=64,
+                            seed=0)
+        # compared over speeds, the law counts where one option reads it
+        ds = at.compare(at.Scene(**WATER), uncertain=law, n=16,
+                        speed=["excess-gas", "bubble-darton"])
+        robust = at.sweep(at.Scene(**WATER), uncertain=law, samples=8,
+                          speed=["excess-gas", "bubble-darton"], h0=[2e-6, 8e-6])
+    assert float(mc.propensity_quantile[0]) < float(mc.propensity_quantile[-1])
+    assert np.ptp(ds.propensity_quantile.sel(option="bubble-darton").values) > 0
+    assert robust.propensity_mean.shape == (2, 2)
+    # the scene's U leaves U_Umf unread
+    with pytest.raises(ValueError, match="uncertain U_Umf has no effect: the scene gives U"):
+        at.monte_carlo(at.Scene(**WATER, U=0.5), uncertain={"U_Umf": at.Uniform(1.5, 3.0)},
+                       n=16, seed=0)

@@ -58,7 +58,7 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     :func:`agglomtool.sweep`, which calls this, for the parameters)."""
     from ..uncertainty._sampling import resolve_seed
     from ..uncertainty.assumed import chosen_fields
-    from ..uncertainty.scene_mc import SceneDraws, split_uncertain
+    from ..uncertainty.scene_mc import SceneDraws, split_uncertain, uncertain_without_effect
 
     check_robust_options(samples, threshold)
     q = np.asarray(quantiles, dtype=float)
@@ -70,6 +70,12 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
         raise ValueError(f"{both[0]} is both swept and uncertain: sweep it, or make it "
                          "uncertain, not both")
     gv = {k: nominal[k].values for k in grid}
+    # a law that no speed of the map reads (its swept speeds, else the scene's and those
+    # the draws may take) would be reported as no spread
+    found = (uncertain_without_effect(scene, uncertain, gv["speed"], drawn=())
+             if "speed" in gv else uncertain_without_effect(scene, uncertain))
+    if found:
+        raise ValueError(found[1])
     entropy, chosen = resolve_seed(seed)
     base = scene.values()
     # a speed model named by the scene or swept by the map is given, not drawn

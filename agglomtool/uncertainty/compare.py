@@ -107,8 +107,12 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
     from .._validate import material_key
     from ..scene import Scene, swept_without_effect
     from ._sampling import resolve_seed
-    from .monte_carlo import monte_carlo
-    from .scene_mc import drawn_speeds, split_uncertain
+    from .scene_mc import (
+        drawn_speeds,
+        scene_monte_carlo,
+        split_uncertain,
+        uncertain_without_effect,
+    )
 
     if not isinstance(scene, Scene):
         raise ValueError(f"scene = {scene!r} is not allowed: an agglomtool.Scene is required")
@@ -123,6 +127,9 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
                                  drawn_speeds(scene, uncertain), what="")
     if found:
         raise ValueError(f"compare {field}: {found[1]}")
+    found = uncertain_without_effect(scene, uncertain, opts if field == "speed" else ())
+    if found:
+        raise ValueError(found[1])
     scenes = []
     for v in opts:
         try:
@@ -137,7 +144,10 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         raise ValueError(f"compare {field}: options repeat: {opts!r} are "
                          f"{len(set(held))} distinct options; allowed: distinct options")
     q = (0.05, 0.5, 0.95)
-    runs = [monte_carlo(s, uncertain=uncertain, n=int(n), seed=seed, quantiles=q, bins=8)
+    # each option's draws as monte_carlo(s, ...) makes them; an uncertain field was checked
+    # above against the speeds of every option, not of one
+    runs = [scene_monte_carlo(s, uncertain=uncertain, n=int(n), seed=seed,
+                              chunk_size=1_000_000, quantiles=q, bins=8, keep_samples=True)
             for s in scenes]
     prop = np.stack([r.propensity.values for r in runs])  # (option, sample)
     # the inputs each option drew (its sample variables that carry a distribution)

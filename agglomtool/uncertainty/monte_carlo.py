@@ -200,8 +200,11 @@ def monte_carlo(
         if given:
             raise ValueError(f"{given[0]} is given with a Scene: the Scene holds it (use "
                              "scene.replace(...))")
-        from .scene_mc import scene_monte_carlo
+        from .scene_mc import scene_monte_carlo, uncertain_without_effect
 
+        found = uncertain_without_effect(p_i, uncertain)
+        if found:
+            raise ValueError(found[1])
         return scene_monte_carlo(p_i, uncertain=uncertain, n=int(n), seed=seed,
                                  chunk_size=int(chunk_size), quantiles=quantiles, bins=bins,
                                  keep_samples=keep_samples)

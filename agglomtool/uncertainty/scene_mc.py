@@ -38,7 +38,7 @@ from .assumed import ASSUMED, assumed_draws, chosen_fields, scene_fields
 from .distributions import Distribution, to_si
 
 __all__ = ["scene_monte_carlo", "scene_e_w", "field_law", "check_fields", "SCENE_TO_CORE",
-           "SceneDraws"]
+           "SceneDraws", "uncertain_without_effect"]
 
 #: Scene name -> the core input name whose random stream it shares (where they differ).
 SCENE_TO_CORE = {"h0": "h0_i"}
@@ -57,6 +57,25 @@ def drawn_speeds(scene, uncertain) -> tuple[str, ...]:
     from .assumed import speed_model_weights
 
     return tuple(speed_model_weights(scene.values()))
+
+
+def uncertain_without_effect(scene, uncertain, speeds=(), drawn=None) -> tuple[str, str] | None:
+    """The first field of the caller's laws in ``uncertain`` that no speed computing on
+    the draws of ``scene`` reads, and why, as ``(field, message)``; ``None`` if each is read
+    (:func:`agglomtool.scene.swept_without_effect`, for draws). The speeds: ``speeds`` where
+    a comparison or a map sets them (its options or its axis), else the scene's, and
+    ``drawn`` (default: :func:`drawn_speeds`). A law that nothing reads leaves every draw
+    alike: its spread would be reported as none."""
+    from ..scene import swept_without_effect
+
+    fields, _ = split_uncertain(uncertain)
+    if not fields:
+        return None
+    swept: dict[str, Any] = {"speed": [str(v) for v in speeds]} if len(speeds) else {}
+    swept.update({k: [float(field_law(k, d)[0].nominal)] for k, d in fields.items()})
+    if drawn is None:
+        drawn = drawn_speeds(scene, uncertain)
+    return swept_without_effect(scene.values(), swept, drawn, what="uncertain ", act="draw")
 
 
 def split_uncertain(uncertain) -> tuple[dict, bool]:
