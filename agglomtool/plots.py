@@ -43,6 +43,11 @@ _DISPLAY = {
 _BOOLEAN_LABELS = {"agglomerated": {0: "rebounds", 1: "sticks"}}
 #: Hatch of the cells where the impact-speed model has no answer (``speed_flag`` != 0).
 _NO_SPEED_HATCH = "\\\\"
+#: Hatch of a robust map's cells whose nominal point has an impact speed but some of its
+#: draws have none (``undecided`` = 2 there): no robust answer.
+_NO_ROBUST_HATCH = "++"
+_NO_ROBUST_LABEL = ("no robust answer (the impact-speed model has no answer at some "
+                    "draws)")
 
 
 def _speed_flag_of(ds, var: str) -> bool:
@@ -778,6 +783,24 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                 pu = pu.isel({d: 0})
         pu_all = np.asarray(pu.transpose(*order).values, dtype=float)
     robust_drawn = set()
+    # a robust map's points whose draws have no impact speed at some draws (undecided = 2):
+    # their summaries are NaN, marked as such (those with no nominal speed are below)
+    nr_all = None
+    if ("undecided" in sub and cats is None
+            and (var.startswith("propensity") or var == "p_unsafe")):
+        nr = sub["undecided"].broadcast_like(sub[var])
+        for d in nr.dims:
+            if d not in placed:
+                nr = nr.isel({d: 0})
+        nr_all = np.asarray(nr.transpose(*order).values) == 2
+        if "speed_flag" in sub:
+            sf_nr = sub["speed_flag"].broadcast_like(sub[var])
+            for d in sf_nr.dims:
+                if d not in placed:
+                    sf_nr = sf_nr.isel({d: 0})
+            nr_all &= np.asarray(sf_nr.transpose(*order).values) == 0
+        if not nr_all.any():
+            nr_all = None
     # where the impact-speed model has no answer (speed_flag): marked, with the reason
     sf_all = None
     if _speed_flag_of(sub, var):
@@ -846,6 +869,13 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                                 transform=ax.get_xaxis_transform())
                         edge_marks["x"] = _no_speed_label(
                             sub, np.unique(sf_all[sf_all != 0]))
+                if nr_all is not None:  # no robust answer: marked at the panel's bottom
+                    lost = nr_all[idx][xa.order]
+                    if lost.any():
+                        ax.plot(xa.pos[lost], np.zeros(lost.sum()), ls="none", marker="+",
+                                ms=7, color="0.35", clip_on=False,
+                                transform=ax.get_xaxis_transform())
+                        edge_marks["+"] = _NO_ROBUST_LABEL
                 if note is None:
                     ax.margins(y=0.06)
                 if cats is not None:
@@ -886,6 +916,11 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                         _hatch_cells(ax, xa, ya, flagged, _NO_SPEED_HATCH)
                         hatches[_NO_SPEED_HATCH] = _no_speed_label(
                             sub, np.unique(sf_all[sf_all != 0]))
+                if nr_all is not None:
+                    lost = nr_all[idx][np.ix_(ya.order, xa.order)]
+                    if lost.any():
+                        _hatch_cells(ax, xa, ya, lost, _NO_ROBUST_HATCH)
+                        hatches[_NO_ROBUST_HATCH] = _NO_ROBUST_LABEL
                 if pu_all is not None:
                     robust_drawn |= _robust_band(ax, xa, ya,
                                                  pu_all[idx][np.ix_(ya.order, xa.order)])

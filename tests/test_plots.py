@@ -376,6 +376,32 @@ def test_a_robust_map_draws_its_boundary_band_and_undecided_cells():
     assert not any("window boundary" in t or "not decided" in t for t in labels)
 
 
+def test_a_robust_map_marks_the_points_whose_draws_have_no_impact_speed():
+    """Where the nominal point has an impact speed but some draws (a bubble model drawn
+    beyond a bubbling bed) have none, the robust answer is NaN (undecided = 2): the
+    picture marks those cells with a legend, and never shows them as decided."""
+    import warnings
+
+    from matplotlib.collections import PolyCollection
+
+    warnings.simplefilter("ignore", at.PlausibilityWarning)
+    scene = at.Scene(liquid="water", T=298.15, solid_i="silica-sand", d_i=300e-6,
+                     solid_j="ilmenite")
+    robust = at.sweep(scene, uncertain="assumed", samples=32, seed=0, U_Umf=[3.0, 20.0],
+                      h0=[5e-6, 20e-6])
+    no_answer = (robust.undecided == 2) & (robust.speed_flag == 0)
+    assert no_answer.any() and not no_answer.all()  # the test needs both kinds
+    for var in ("propensity", "propensity_mean", "p_unsafe"):
+        fig = operating_window(robust, var=var, x="h0", y="U_Umf")
+        labels = _legend_labels(fig)
+        assert any(t.startswith("no robust answer") for t in labels), (var, labels)
+        (ax,) = _panels(fig)
+        hatched = [c for c in ax.collections if isinstance(c, PolyCollection)
+                   and c.get_hatch() == "++"]
+        assert sum(len(c.get_paths()) for c in hatched) == int(no_answer.sum())
+        plt.close(fig)
+
+
 def test_a_map_without_finite_u_star_says_what_decides_it():
     import agglomtool as at
     from agglomtool.plots import operating_window
