@@ -24,6 +24,7 @@ import numpy as np
 import xarray as xr
 
 from .._fields import CATEGORICAL_FIELDS, FIELD_META
+from .._validate import check_memory_for
 from ..plausibility import scene_findings, warn_findings
 from ..scene import Resolved, Scene, critical_outputs
 from .speed_flag import flagged_collision_outputs
@@ -103,6 +104,8 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
         assumed = sd.assumed
         not_drawn_all += [t for t in sd.not_drawn if t not in not_drawn_all]
         draws, laws = sd.draws, sd.draws.dists
+        # the draws of every law, and a point's propensity, u0* and e_w at every draw
+        check_memory_for("samples", int(samples), 8 * (len(laws) + 3), item="sample")
         drawn = {k: np.empty(int(samples)) for k in laws}
         for _ in draws.chunks(out=drawn):
             pass

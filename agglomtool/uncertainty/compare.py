@@ -22,6 +22,7 @@ import numpy as np
 import xarray as xr
 
 from .._fields import CATEGORICAL_FIELDS, FIELD_META, NUMERIC_FIELDS
+from .._validate import check_memory_for
 from .._version import __version__
 from ..scene import Scene
 
@@ -144,6 +145,8 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         raise ValueError(f"compare {field}: options repeat: {opts!r} are "
                          f"{len(set(held))} distinct options; allowed: distinct options")
     q = (0.05, 0.5, 0.95)
+    # every option's propensity, u0* and e_w of every draw, kept side by side
+    check_memory_for("n", n, len(scenes) * 32)
     # each option's draws as monte_carlo(s, ...) makes them; an uncertain field was checked
     # above against the speeds of every option, not of one
     runs = [scene_monte_carlo(s, uncertain=uncertain, n=int(n), seed=seed,

@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from .._fields import DEFAULT_MODE
-from .._validate import check_int, check_range
+from .._validate import check_int, check_memory_for, check_range
 from .._version import __version__
 from ..collision.outcome import Stage
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, evaluate_e_w
@@ -234,6 +234,7 @@ def monte_carlo(
 
     # Memory: e_w of every sample (8 bytes each, for exact quantiles) and, only when they
     # are kept, the samples; everything else is one chunk at a time.
+    check_memory_for("n", n, 8 + (1 + 8 * len(dists) if keep_samples else 0))
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8) if keep_samples else None
     values = {k: np.empty(n) for k in dists} if keep_samples else {}

@@ -20,6 +20,7 @@ import numpy as np
 import xarray as xr
 
 from .._fields import FIELD_META, NUMERIC_FIELDS
+from .._validate import check_memory_for
 from .._version import __version__
 from ..collision.outcome import Stage
 from ..plausibility import scene_findings, warn_findings
@@ -205,6 +206,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
     before = set(scene_findings(base)) - set(getattr(scene, "_deferred_findings", ()))
 
     # Memory as on the core path: the outputs of every sample, the samples only when kept.
+    check_memory_for("n", n, 24 + (1 + 8 * len(dists) if keep_samples else 0))
     e_w, propensity, u_star = np.empty(n), np.empty(n), np.empty(n)
     stage = np.empty(n, dtype=np.int8) if keep_samples else None
     values = {k: np.empty(n) for k in dists} if keep_samples else {}
