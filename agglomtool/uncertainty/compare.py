@@ -72,8 +72,13 @@ def _first_order(x: np.ndarray, d: np.ndarray, bins: int) -> float:
     return between / var
 
 
+#: Equal-count bins of the first-order index that finds the deciding input (the default of
+#: :func:`compare`; a comparison needs at least as many draws).
+BINS = 16
+
+
 def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | None = 0,
-            bins: int = 16, **option) -> xr.Dataset:
+            bins: int = BINS, **option) -> xr.Dataset:
     """Compare the options of one Scene field under paired uncertain inputs.
 
     Parameters
@@ -120,8 +125,11 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
     field, opts = _options(option)
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ValueError(f"n = {n!r} must be a positive integer")
-    if isinstance(bins, bool) or not isinstance(bins, int | np.integer) or not 2 <= bins <= n:
+    if isinstance(bins, bool) or not isinstance(bins, int | np.integer) or bins < 2:
         raise ValueError(f"bins = {bins!r} must be an integer in [2, n = {n}]")
+    if n < bins:
+        raise ValueError(f"n = {n} is fewer draws than the {bins} equal-count bins that find "
+                         f"the deciding input; allowed: n >= {bins} (or bins <= n)")
     resolve_seed(seed)  # every request checked before the first draw
     split_uncertain(uncertain)
     found = swept_without_effect(scene.values(), {field: opts},

@@ -29,6 +29,7 @@ from .._fields import FIELD_META
 from .._validate import suggestion
 from ..plausibility import scene_findings
 from ..scene import Scene, field_names
+from .compare import BINS
 from .distributions import LogNormal, Normal, Uniform
 
 __all__ = ["CompareConfig", "load_compare_config", "parse_compare_config", "parse_uncertain"]
@@ -72,8 +73,10 @@ def parse_compare_config(data: dict, source: str = "config") -> CompareConfig:
     if bad:
         raise ConfigError(f"{source}: [options] {bad[0]}: unknown; allowed: n, seed")
     n = opts.get("n", 4096)
-    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
-        raise ConfigError(f"{source}: [options] n: must be an integer >= 1, got {n!r}")
+    least = BINS
+    if isinstance(n, bool) or not isinstance(n, int) or n < least:
+        raise ConfigError(f"{source}: [options] n: must be an integer >= {least} (the "
+                          f"equal-count bins that find the deciding input), got {n!r}")
     seed = opts.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ConfigError(f"{source}: [options] seed: must be an integer >= 0, got {seed!r}")

@@ -189,8 +189,9 @@ def monte_carlo(
     agglomeration probability are those of numpy (``numpy.quantile``, linear), computed
     without sorting the samples.
     """
-    if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
-        raise ValueError(f"n = {n!r} must be a positive integer")
+    if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 2:
+        raise ValueError(f"n = {n!r} is not allowed: the number of draws, an integer; "
+                         "allowed: n >= 2 (one draw has no spread, no standard error)")
     check_summary_options(quantiles, bins)
     from ..scene import Scene
 
