@@ -181,6 +181,11 @@ def _parse_sel(items) -> dict:
         if not sep or not name or not value:
             raise CommandError(f"--sel {item!r}: write NAME=VALUE, e.g. --sel d_i=500e-6 or "
                                "--sel \"d_i=500 um\"")
+        if name in sel:  # one picture shows one value of a fixed dimension
+            raise CommandError(f"--sel {name} is given twice ({item!r} after {name} = "
+                               f"{sel[name]!r}); a picture fixes a dimension at one value: "
+                               f"give one --sel {name}, or place {name} on an axis or facet "
+                               "(--x, --y, --col, --row) to see several")
         if name in FIELD_META:
             from .units import to_si
 
