@@ -552,6 +552,40 @@ def _dashes(arg: str) -> str:
     return name.replace("_", "-") + eq + value
 
 
+@contextlib.contextmanager
+def _interrupts():
+    """The interrupts (SIGINT, Ctrl-C) received while a command runs, as a list that is
+    empty until one comes. Numba's compiler, for one, catches the KeyboardInterrupt raised
+    inside it and fails with an error of its own ('no compiled object yet'): the command
+    then knows it was interrupted. The KeyboardInterrupt that such a library reports as
+    ignored is not printed; other such reports are, as before."""
+    import signal
+    import threading
+
+    received: list[int] = []
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield received  # a caller's own handler, or not the main thread: left alone
+        return
+
+    def on_interrupt(signum, frame):
+        received.append(signum)
+        raise KeyboardInterrupt
+
+    def unraisable(report, before=sys.unraisablehook):
+        if not (received and isinstance(report.exc_value, KeyboardInterrupt)):
+            before(report)
+
+    hook = sys.unraisablehook
+    signal.signal(signal.SIGINT, on_interrupt)
+    sys.unraisablehook = unraisable
+    try:
+        yield received
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        sys.unraisablehook = hook
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = [_dashes(a) for a in (sys.argv[1:] if argv is None else argv)]
     command = next((a for a in argv if not a.startswith("-")), None)
@@ -572,10 +606,15 @@ def main(argv: list[str] | None = None) -> int:
             print(f"agglomtool: warning: {message}", file=sys.stderr)
 
     try:
-        with warnings.catch_warnings(), _threads(args.threads):
+        with warnings.catch_warnings(), _threads(args.threads), _interrupts() as interrupted:
             warnings.showwarning = show
             warnings.simplefilter("error" if args.strict else "default", PlausibilityWarning)
-            return args.func(args)
+            try:
+                return args.func(args)
+            except Exception:
+                if interrupted:  # an interrupt a library turned into an error of its own
+                    raise KeyboardInterrupt from None
+                raise
     except PlausibilityWarning as exc:
         print(f"agglomtool: error (--strict): {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
