@@ -174,7 +174,7 @@ def _command(args: argparse.Namespace) -> str:
 def _parse_sel(items) -> dict:
     """``--sel NAME=VALUE`` items: a Scene field's number in SI or with a unit ("400 um",
     through :func:`agglomtool.units.to_si`), another dimension's number, or a name."""
-    sel = {}
+    sel: dict[str, Any] = {}
     for item in items or []:
         name, sep, value = item.partition("=")
         name, value = name.strip(), value.strip()
