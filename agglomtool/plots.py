@@ -185,10 +185,11 @@ def plan_layout(ds: xr.Dataset, var: str = "propensity", *, x=None, y=None, col=
     """Place every dimension of ``var`` (of more than one value) in a picture.
 
     Dimensions named by the caller go where asked. The rest, in order: ``y`` and ``x`` from
-    the numeric dimensions (temperature against coating thickness first), then columns and
-    rows for dimensions of at most :data:`MAX_FACET` values. A dimension that cannot be placed
-    raises ``ValueError`` naming it and its size (choose it with ``sel``): a picture never
-    shows one slice of a dimension without saying so.
+    the numeric dimensions (temperature against coating thickness first; a dimension of
+    more than :data:`MAX_FACET` values, which no facet takes, before one that a facet
+    takes), then columns and rows for dimensions of at most :data:`MAX_FACET` values. A
+    dimension that cannot be placed raises ``ValueError`` naming it and its size (choose it
+    with ``sel``): a picture never shows one slice of a dimension without saying so.
     """
     if not isinstance(var, str) or var not in ds:
         raise ValueError(f"var = {var!r} is not a variable of the map; variables: "
@@ -213,13 +214,20 @@ def plan_layout(ds: xr.Dataset, var: str = "propensity", *, x=None, y=None, col=
     if x is None and y is None and not numeric and free:
         x = free.pop(0)  # names only: a categorical x axis (a line or bar per panel)
         chosen.append(f"x = {x}")
+    # a numeric dimension too long for a facet can only be an axis: such dimensions take
+    # the axes left open before the preferred ones do (two of them: both axes)
+    long = [d for d in numeric if ds.sizes[d] > MAX_FACET]
+    open_axes = (x is None) + (y is None)
     if y is None and x is None and numeric:
-        y = next((d for d in _Y_PREF if d in numeric), numeric[0])
+        y_from = long if len(long) >= 2 else numeric
+        y = next((d for d in _Y_PREF if d in y_from), y_from[0])
         numeric.remove(y)
         free.remove(y)
         chosen.append(f"y = {y}")
     if x is None:
-        pick = next((d for d in _X_PREF if d in numeric), numeric[0] if numeric else None)
+        x_from = [d for d in long if d != y] if 0 < len(long) <= open_axes else numeric
+        x_from = [d for d in x_from if d in numeric] or numeric
+        pick = next((d for d in _X_PREF if d in x_from), x_from[0] if x_from else None)
         if pick is None and y is not None:
             chosen = [f"x = {y}" if c == f"y = {y}" else c for c in chosen]
             x, y = y, None  # one numeric dim: a line plot over it
