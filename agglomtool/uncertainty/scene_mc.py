@@ -220,7 +220,18 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
         # its standard deviation, ...) are said, as for a Scene.
         findings += [f for f in scene_findings({**base, **drawn})
                      if f not in before and f not in findings]
-        out = _map_outputs(base, drawn, nodes)
+        try:
+            out = _map_outputs(base, drawn, nodes)
+        except ValueError as exc:  # a draw outside what a property model takes: whose
+            if not fields:
+                raise
+            laws = "; ".join(f"{k} = {dists[k]!r} [{FIELD_META[k][0]}]" for k in fields)
+            bare = [k for k, d in fields.items() if not d._with_units()]
+            hint = (f"; {', '.join(bare)} given without a unit, so in SI "
+                    f"({', '.join(FIELD_META[k][0] for k in bare)}): if another unit was "
+                    "meant, write it (\"25 degC\", \"5 um\")" if bare else "")
+            raise ValueError(f"uncertain {', '.join(fields)}: a draw is refused: {exc} (the "
+                             f"law in SI: {laws}{hint})") from None
         e_w[sl], propensity[sl], u_star[sl] = out["e_w"], out["propensity"], out["u_star"]
         if stage is not None:  # keep_samples
             stage[sl] = out["stage"]
