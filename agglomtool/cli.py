@@ -148,7 +148,16 @@ def _cmd_bed(args: argparse.Namespace) -> int:
                        **cfg.grid)
         p = ds["propensity"]
         sizes = " x ".join(f"{k} {v}" for k, v in p.sizes.items())
-        print(f"bed propensity {float(p.min()):.4g}-{float(p.max()):.4g} over {sizes}")
+        lost, total = int(p.isnull().sum()), int(p.size)
+        if lost == total:  # the warning says why (speed_flag)
+            print(f"bed propensity: no answer at any of the {total} points ({sizes}; "
+                  "speed_flag says why)")
+        else:
+            lo, hi = float(p.min()), float(p.max())
+            span = f"{lo:.4g}" if f"{lo:.4g}" == f"{hi:.4g}" else f"{lo:.4g}-{hi:.4g}"
+            print(f"bed propensity {span} over {sizes}"
+                  + (f"; no answer at {lost} of {total} points (speed_flag says why)"
+                     if lost else ""))
     else:
         ds = bed_propensity(cfg.scene, cfg.components, nodes=opts["nodes"],
                             directions=opts["directions"])
