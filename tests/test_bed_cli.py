@@ -92,9 +92,20 @@ def test_bed_config_scene_is_read_at_its_own_temperature(gas):
     (("directions = 4", "directions = 0"), "[options] directions"),
     (("[options]", "[grid]\nd_i = [1e-3]\n[options]"), "[grid] d_i: cannot be swept"),
     (("[options]", "[grid]\nfraction = [0.1]\n[options]"), "needs [options] mix"),
+    # the same solid in two components: which one the fraction sets is not said by its name
+    (('solid = "ilmenite"', 'solid = "silica-sand"', "[options]",
+      '[grid]\nfraction = [0.1]\n[options]\nmix = "silica-sand"'),
+     "[options] mix: mix = 'silica-sand' names 2 components (0, 1)"),
+    # one component: its fraction is 1 whatever the axis says
+    (('[[component]]\nsolid = "ilmenite"\nfraction = 0.4\nd = ["300 um", 400e-6]\n'
+      'd_fractions = [0.5, 0.5]\nh0 = 0.0\n', "", "fraction = 0.6", "fraction = 1.0",
+      "[options]", '[grid]\nfraction = [0.1]\n[options]\nmix = "silica-sand"'),
+     "[grid] fraction: the bed has one component"),
 ])
 def test_bed_config_errors_name_the_key(edit, message, capsys, tmp_path):
-    text = ONE.replace(*edit)
+    text = ONE
+    for old, new in zip(edit[::2], edit[1::2], strict=True):
+        text = text.replace(old, new)
     assert text != ONE
     import tomllib
 

@@ -99,7 +99,13 @@ def _component(where, table) -> Component:
 def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
     """Build a :class:`BedConfig` from a parsed TOML mapping."""
     from ..scene import swept_without_effect
-    from .propensity import BED_GRID_FIELDS, _check_components, _grid_arrays, _mix_index
+    from .propensity import (
+        BED_GRID_FIELDS,
+        _check_components,
+        _grid_arrays,
+        _mix_index,
+        check_fraction_axis,
+    )
 
     check_tables(data, source, ("[scene]", "[[component]]", "[grid]", "[options]"))
     tables = data.get("component")
@@ -152,6 +158,11 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
             _mix_index(comps, mix)
         except ValueError as exc:
             raise ConfigError(f"{source}: [options] mix: {exc}") from None
+    if "fraction" in grid:
+        try:
+            check_fraction_axis(comps)
+        except ValueError as exc:
+            raise ConfigError(f"{source}: [grid] {exc}") from None
     opts.setdefault("mix", None)
     return BedConfig(scene, comps, grid, opts)
 
