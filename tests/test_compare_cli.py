@@ -46,6 +46,14 @@ h0 = "5 um"
      'h0 = { law = "gamma", mean = 1e-6, sd = 1e-7 }\n', "law = 'gamma' is not one of"),
     (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\n'
      'h0 = { law = "normal", mean = "5 um" }\n', "missing: sd"),
+    # a law with a unit on one number and none on another: 1e-6 would be read in m
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\n'
+     'h0 = { law = "normal", mean = "5 um", sd = 1e-6 }\n',
+     r"\[uncertain\] h0: mean = \"5 um\" has a unit and sd = 1e-06 has none \(read as "
+     r"1e-06 m\)"),
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\n'
+     'T = { law = "uniform", low = 290, high = "40 degC" }\n',
+     r"\[uncertain\] T: high = \"40 degC\" has a unit and low = 290 has none"),
     (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\nha = 1\n',
      r"\[uncertain\] ha: not a numeric Scene field"),
     (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[options]\nn = 0\n',

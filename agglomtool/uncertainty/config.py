@@ -24,7 +24,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from .._config import ConfigError, check_tables, parse_scene, read_toml, warn_scene_findings
+from .._config import (
+    ConfigError,
+    _plain_number,
+    check_tables,
+    parse_scene,
+    read_toml,
+    warn_scene_findings,
+)
 from .._fields import FIELD_META
 from .._validate import suggestion
 from ..plausibility import scene_findings
@@ -96,6 +103,26 @@ UNCERTAIN_LAWS = {
 }
 
 
+def _one_kind(where: str, key: str, params: dict) -> None:
+    """The numbers of a law hold quantities with units or bare SI numbers, not both (as a
+    grid's lists and ranges do, :func:`agglomtool._config._same_kind`), unless ``units``
+    says what the bare ones are in: ``{ mean = "5 um", sd = 1e-6 }`` would be read as a
+    spread of 1 um only by chance, ``sd = 1`` as 1 m."""
+    unit = FIELD_META[key][0]
+    if "units" in params or unit in ("", "-", "1", "dimensionless"):
+        return
+    numbers = [k for k in params if k != "units"]
+    texts = [k for k in numbers if isinstance(params[k], str) and not _plain_number(params[k])]
+    bare = [k for k in numbers if isinstance(params[k], int | float)
+            and not isinstance(params[k], bool)]
+    if texts and bare:
+        t, b = texts[0], bare[0]
+        raise ConfigError(
+            f"{where}: {t} = \"{params[t]}\" has a unit and {b} = {params[b]!r} has none "
+            f"(read as {params[b]!r} {unit}); give each number of the law with its unit, or "
+            f"units = \"...\" for the bare ones")
+
+
 def parse_uncertain(table, source: str = "config"):
     """The ``[uncertain]`` table of a configuration, as ``uncertain=`` takes it.
 
@@ -137,6 +164,7 @@ def parse_uncertain(table, source: str = "config"):
                               f"optionally {', '.join(optional)}); "
                               + (f"unknown: {unknown[0]}" if unknown else
                                  f"missing: {missing[0]}"))
+        _one_kind(where, key, params)
         try:
             out[key] = laws[law](**params)
         except (ValueError, TypeError) as exc:
