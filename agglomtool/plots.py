@@ -146,7 +146,7 @@ def _resolve_sel(ds: xr.Dataset, var: str, sel: dict) -> dict:
                              f"{list(ds[var].dims)}")
         coord = ds[name].values
         if coord.dtype.kind in "US":
-            names = list(coord.astype(str))
+            names = [str(c) for c in coord]
             keys = [material_key(c) for c in names]
             if str(value) in names:
                 out[name] = str(value)
@@ -154,7 +154,7 @@ def _resolve_sel(ds: xr.Dataset, var: str, sel: dict) -> dict:
                 out[name] = names[keys.index(material_key(value))]
             else:
                 raise ValueError(f"sel: {name} = {value!r} is not in the map; values: "
-                                 f"{names}")
+                                 f"{', '.join(names)}")
             continue
         try:
             v = float(value)

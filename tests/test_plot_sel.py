@@ -89,3 +89,10 @@ def test_a_dimension_selected_twice_is_refused(path, tmp_path, capsys, second):
                  "--sel", second]) == 2
     err = capsys.readouterr().err
     assert err.startswith("agglomtool: error: --sel h0 is given twice") and not out.exists()
+
+
+def test_a_name_not_in_the_map_lists_the_names_as_typed(ds):
+    # it listed them as numpy reprs: [np.str_('silica-sand'), np.str_('ilmenite')]
+    with pytest.raises(ValueError, match=r"solid_j = 'granite' is not in the map; values: "
+                                         r"silica-sand, ilmenite$"):
+        plan_layout(ds, sel={"solid_j": "granite", "U_Umf": U_UMF[0]})
