@@ -90,7 +90,7 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         ``"assumed"`` (every value the materials database assumes, from the laws it
         states), or a mapping holding ``"assumed": True`` as well. Default ``"assumed"``.
     n : int
-        Draws per option (>= 1; thousands for a ranking to be read).
+        Draws per option (>= ``bins``; thousands for a ranking to be read).
     seed : int or None
         Seed of the draws (the same for every option: paired draws).
     bins : int

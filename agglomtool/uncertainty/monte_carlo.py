@@ -140,7 +140,8 @@ def monte_carlo(
         ``e`` [-]. Draws outside an input's physical range (a diameter > 0, a coating
         >= 0, ...) are resampled from the truncated law; how many is reported.
     n : int
-        Number of samples (> 0).
+        Number of samples (>= 2: one has no spread; at most what the memory available
+        holds, refused before any draw otherwise).
     seed : int, optional
         Seed of the draws (>= 0). Each input has its own streams derived from ``seed`` and
         its name (one for its draws, one for the replacements of draws outside its range),
