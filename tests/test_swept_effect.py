@@ -265,3 +265,50 @@ def test_an_uncertain_field_a_speed_reads_is_drawn_and_spreads():
     with pytest.raises(ValueError, match="uncertain U_Umf has no effect: the scene gives U"):
         at.monte_carlo(at.Scene(**WATER, U=0.5), uncertain={"U_Umf": at.Uniform(1.5, 3.0)},
                        n=16, seed=0)
+
+
+_SCENE_TOML = """
+[scene]
+liquid = "water"
+T = "25 degC"
+d_i = "500 um"
+h0 = "5 um"
+{extra}
+"""
+
+
+def _map_file(extra, tail='[grid]\nU_Umf = [1.5, 3.0]\n'):
+    return tomllib.loads(_SCENE_TOML.format(extra=extra) + tail)
+
+
+@pytest.mark.parametrize("extra", ['wake_fraction = 0.3', 'bed_height = 1.0',
+                                   'speed = "excess-gas"\ngranular_temperature = 0.01',
+                                   'speed = "collisional-balance"\nwake_fraction = 0.3'])
+def test_a_scene_field_its_speed_ignores_is_refused_in_a_file(extra):
+    """[scene] bed_height = 1.0 beside the default excess-gas speed changed nothing, unsaid
+    (exit 0): refused in map, bed and compare files, naming the speeds that read it."""
+    field = extra.splitlines()[-1].split(" =")[0]
+    match = rf"\[scene\] {field}: {field} has no effect with speed = '[a-z-]+': set"
+    with pytest.raises(ConfigError, match=match):
+        parse_config(_map_file(extra), "m.toml")
+    bed = ('[[component]]\nsolid = "silica-sand"\nfraction = 1.0\nd50 = "500 um"\n')
+    with pytest.raises(ConfigError, match=match):
+        parse_bed_config(tomllib.loads(_SCENE_TOML.format(extra=extra + "\nU_Umf = 3.0")
+                                       + bed), "b.toml")
+    from agglomtool.uncertainty.config import parse_compare_config
+
+    cmp = '[compare]\nsolid_j = ["silica-sand", "ilmenite"]\n[uncertain]\nh0 = ' \
+          '{ law = "normal", mean = "5 um", sd = "1 um" }\n'
+    with pytest.raises(ConfigError, match=match):
+        parse_compare_config(tomllib.loads(_SCENE_TOML.format(extra=extra + "\nU_Umf = 3.0")
+                                           .replace('h0 = "5 um"\n', "") + cmp), "c.toml")
+
+
+def test_a_scene_field_a_computing_speed_reads_is_taken():
+    with _quiet():
+        parse_config(_map_file('speed = "bubble-darton"\nwake_fraction = 0.3'), "m.toml")
+        # a speed axis with a bubble model, the models drawn with the assumed values
+        parse_config(_map_file('wake_fraction = 0.3', '[grid]\nspeed = ["excess-gas", '
+                               '"bubble-darton"]\n'), "m.toml")
+        parse_config(_map_file('bed_height = 1.0', '[grid]\nU_Umf = [1.5, 3.0]\n'
+                               '[uncertain]\nassumed = true\n'), "m.toml")

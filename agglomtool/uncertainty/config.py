@@ -75,6 +75,13 @@ def parse_compare_config(data: dict, source: str = "config") -> CompareConfig:
                           f"options, got {options!r}")
     uncertain = (parse_uncertain(data["uncertain"], source) if "uncertain" in data
                  else "assumed")
+    from ..scene import typed_unread
+    from .scene_mc import drawn_speeds
+
+    found = typed_unread(scene, [k for k in data.get("scene", {}) if k != field],
+                         options if field == "speed" else (), drawn_speeds(scene, uncertain))
+    if found:
+        raise ConfigError(f"{source}: [scene] {found[0]}: {found[1]}")
     opts = dict(data.get("options", {}))
     bad = sorted(set(opts) - {"n", "seed"})
     if bad:
