@@ -12,6 +12,8 @@ from __future__ import annotations
 import difflib
 import functools
 import math
+import os
+from pathlib import Path
 
 import numpy as np
 
@@ -303,3 +305,72 @@ def check_typed(name: str, typed, value, *, key: str | None = None, scalar: bool
         if _typed(typed):
             raise ValueError(f"{exc} (given as {typed!r})") from None
         raise
+
+
+# ---------------------------------------------------------------------------------------
+# Memory: what a request would hold, against what this process may take
+
+
+def _bytes(n: float) -> str:
+    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n >= size:
+            return f"{n / size:.3g} {unit}"
+    return f"{int(n)} B"
+
+
+def _cgroup_room() -> int | None:
+    """Bytes this process's cgroup (v2) may still take, where a limit is set."""
+    base = Path("/sys/fs/cgroup")
+    try:
+        limit = (base / "memory.max").read_text().strip()
+        if limit == "max":
+            return None
+        return max(0, int(limit) - int((base / "memory.current").read_text().strip()))
+    except (OSError, ValueError):
+        return None
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to this process now (``None`` if it cannot be told):
+    ``psutil``'s available memory where psutil is installed, else the kernel's
+    ``MemAvailable``, else the free pages; never more than a cgroup limit leaves."""
+    found = None
+    try:
+        import psutil
+
+        found = int(psutil.virtual_memory().available)
+    except Exception:  # noqa: BLE001 - not installed or not supported here
+        try:
+            with open("/proc/meminfo") as f:
+                for line in f:
+                    if line.startswith("MemAvailable:"):
+                        found = int(line.split()[1]) * 1024
+                        break
+        except (OSError, ValueError, IndexError):
+            pass
+        if found is None:
+            try:
+                found = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+            except (ValueError, OSError, AttributeError):
+                found = None
+    room = _cgroup_room()
+    if room is not None:
+        found = room if found is None else min(found, room)
+    return found
+
+
+def check_memory_for(name: str, n: int, per_item: float, item: str = "draw") -> None:
+    """Refuse ``n`` items of ``per_item`` bytes each (``name = n``: the draws of a Monte
+    Carlo, a robust map's samples) where they exceed the memory available now
+    (:func:`available_memory`; nothing is refused where that cannot be told): a
+    ``ValueError`` naming the field, the value, the memory it needs and the largest value
+    that fits, before any work. ``per_item`` is what the request holds for certain, a
+    lower bound: a request it lets through may still run short."""
+    need = float(n) * float(per_item)
+    avail = available_memory()
+    if avail is None or need <= avail:
+        return
+    most = int(avail // per_item)
+    raise ValueError(f"{name} = {n} would hold {_bytes(need)} in memory (at least "
+                     f"{per_item:g} bytes per {item}) and {_bytes(avail)} is available; "
+                     f"allowed: {name} <= {most}")

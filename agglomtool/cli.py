@@ -148,7 +148,16 @@ def _cmd_bed(args: argparse.Namespace) -> int:
                        **cfg.grid)
         p = ds["propensity"]
         sizes = " x ".join(f"{k} {v}" for k, v in p.sizes.items())
-        print(f"bed propensity {float(p.min()):.4g}-{float(p.max()):.4g} over {sizes}")
+        lost, total = int(p.isnull().sum()), int(p.size)
+        if lost == total:  # the warning says why (speed_flag)
+            print(f"bed propensity: no answer at any of the {total} points ({sizes}; "
+                  "speed_flag says why)")
+        else:
+            lo, hi = float(p.min()), float(p.max())
+            span = f"{lo:.4g}" if f"{lo:.4g}" == f"{hi:.4g}" else f"{lo:.4g}-{hi:.4g}"
+            print(f"bed propensity {span} over {sizes}"
+                  + (f"; no answer at {lost} of {total} points (speed_flag says why)"
+                     if lost else ""))
     else:
         ds = bed_propensity(cfg.scene, cfg.components, nodes=opts["nodes"],
                             directions=opts["directions"])
@@ -174,13 +183,18 @@ def _command(args: argparse.Namespace) -> str:
 def _parse_sel(items) -> dict:
     """``--sel NAME=VALUE`` items: a Scene field's number in SI or with a unit ("400 um",
     through :func:`agglomtool.units.to_si`), another dimension's number, or a name."""
-    sel = {}
+    sel: dict[str, Any] = {}
     for item in items or []:
         name, sep, value = item.partition("=")
         name, value = name.strip(), value.strip()
         if not sep or not name or not value:
             raise CommandError(f"--sel {item!r}: write NAME=VALUE, e.g. --sel d_i=500e-6 or "
                                "--sel \"d_i=500 um\"")
+        if name in sel:  # one picture shows one value of a fixed dimension
+            raise CommandError(f"--sel {name} is given twice ({item!r} after {name} = "
+                               f"{sel[name]!r}); a picture fixes a dimension at one value: "
+                               f"give one --sel {name}, or place {name} on an axis or facet "
+                               "(--x, --y, --col, --row) to see several")
         if name in FIELD_META:
             from .units import to_si
 
@@ -547,6 +561,40 @@ def _dashes(arg: str) -> str:
     return name.replace("_", "-") + eq + value
 
 
+@contextlib.contextmanager
+def _interrupts():
+    """The interrupts (SIGINT, Ctrl-C) received while a command runs, as a list that is
+    empty until one comes. Numba's compiler, for one, catches the KeyboardInterrupt raised
+    inside it and fails with an error of its own ('no compiled object yet'): the command
+    then knows it was interrupted. The KeyboardInterrupt that such a library reports as
+    ignored is not printed; other such reports are, as before."""
+    import signal
+    import threading
+
+    received: list[int] = []
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield received  # a caller's own handler, or not the main thread: left alone
+        return
+
+    def on_interrupt(signum, frame):
+        received.append(signum)
+        raise KeyboardInterrupt
+
+    def unraisable(report, before=sys.unraisablehook):
+        if not (received and isinstance(report.exc_value, KeyboardInterrupt)):
+            before(report)
+
+    hook = sys.unraisablehook
+    signal.signal(signal.SIGINT, on_interrupt)
+    sys.unraisablehook = unraisable
+    try:
+        yield received
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        sys.unraisablehook = hook
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = [_dashes(a) for a in (sys.argv[1:] if argv is None else argv)]
     command = next((a for a in argv if not a.startswith("-")), None)
@@ -567,10 +615,15 @@ def main(argv: list[str] | None = None) -> int:
             print(f"agglomtool: warning: {message}", file=sys.stderr)
 
     try:
-        with warnings.catch_warnings(), _threads(args.threads):
+        with warnings.catch_warnings(), _threads(args.threads), _interrupts() as interrupted:
             warnings.showwarning = show
             warnings.simplefilter("error" if args.strict else "default", PlausibilityWarning)
-            return args.func(args)
+            try:
+                return args.func(args)
+            except Exception:
+                if interrupted:  # an interrupt a library turned into an error of its own
+                    raise KeyboardInterrupt from None
+                raise
     except PlausibilityWarning as exc:
         print(f"agglomtool: error (--strict): {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -43,6 +43,11 @@ _DISPLAY = {
 _BOOLEAN_LABELS = {"agglomerated": {0: "rebounds", 1: "sticks"}}
 #: Hatch of the cells where the impact-speed model has no answer (``speed_flag`` != 0).
 _NO_SPEED_HATCH = "\\\\"
+#: Hatch of a robust map's cells whose nominal point has an impact speed but some of its
+#: draws have none (``undecided`` = 2 there): no robust answer.
+_NO_ROBUST_HATCH = "++"
+_NO_ROBUST_LABEL = ("no robust answer (the impact-speed model has no answer at some "
+                    "draws)")
 
 
 def _speed_flag_of(ds, var: str) -> bool:
@@ -141,7 +146,7 @@ def _resolve_sel(ds: xr.Dataset, var: str, sel: dict) -> dict:
                              f"{list(ds[var].dims)}")
         coord = ds[name].values
         if coord.dtype.kind in "US":
-            names = list(coord.astype(str))
+            names = [str(c) for c in coord]
             keys = [material_key(c) for c in names]
             if str(value) in names:
                 out[name] = str(value)
@@ -149,7 +154,7 @@ def _resolve_sel(ds: xr.Dataset, var: str, sel: dict) -> dict:
                 out[name] = names[keys.index(material_key(value))]
             else:
                 raise ValueError(f"sel: {name} = {value!r} is not in the map; values: "
-                                 f"{names}")
+                                 f"{', '.join(names)}")
             continue
         try:
             v = float(value)
@@ -180,10 +185,11 @@ def plan_layout(ds: xr.Dataset, var: str = "propensity", *, x=None, y=None, col=
     """Place every dimension of ``var`` (of more than one value) in a picture.
 
     Dimensions named by the caller go where asked. The rest, in order: ``y`` and ``x`` from
-    the numeric dimensions (temperature against coating thickness first), then columns and
-    rows for dimensions of at most :data:`MAX_FACET` values. A dimension that cannot be placed
-    raises ``ValueError`` naming it and its size (choose it with ``sel``): a picture never
-    shows one slice of a dimension without saying so.
+    the numeric dimensions (temperature against coating thickness first; a dimension of
+    more than :data:`MAX_FACET` values, which no facet takes, before one that a facet
+    takes), then columns and rows for dimensions of at most :data:`MAX_FACET` values. A
+    dimension that cannot be placed raises ``ValueError`` naming it and its size (choose it
+    with ``sel``): a picture never shows one slice of a dimension without saying so.
     """
     if not isinstance(var, str) or var not in ds:
         raise ValueError(f"var = {var!r} is not a variable of the map; variables: "
@@ -208,13 +214,20 @@ def plan_layout(ds: xr.Dataset, var: str = "propensity", *, x=None, y=None, col=
     if x is None and y is None and not numeric and free:
         x = free.pop(0)  # names only: a categorical x axis (a line or bar per panel)
         chosen.append(f"x = {x}")
+    # a numeric dimension too long for a facet can only be an axis: such dimensions take
+    # the axes left open before the preferred ones do (two of them: both axes)
+    long = [d for d in numeric if ds.sizes[d] > MAX_FACET]
+    open_axes = (x is None) + (y is None)
     if y is None and x is None and numeric:
-        y = next((d for d in _Y_PREF if d in numeric), numeric[0])
+        y_from = long if len(long) >= 2 else numeric
+        y = next((d for d in _Y_PREF if d in y_from), y_from[0])
         numeric.remove(y)
         free.remove(y)
         chosen.append(f"y = {y}")
     if x is None:
-        pick = next((d for d in _X_PREF if d in numeric), numeric[0] if numeric else None)
+        x_from = [d for d in long if d != y] if 0 < len(long) <= open_axes else numeric
+        x_from = [d for d in x_from if d in numeric] or numeric
+        pick = next((d for d in _X_PREF if d in x_from), x_from[0] if x_from else None)
         if pick is None and y is not None:
             chosen = [f"x = {y}" if c == f"y = {y}" else c for c in chosen]
             x, y = y, None  # one numeric dim: a line plot over it
@@ -778,6 +791,24 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                 pu = pu.isel({d: 0})
         pu_all = np.asarray(pu.transpose(*order).values, dtype=float)
     robust_drawn = set()
+    # a robust map's points whose draws have no impact speed at some draws (undecided = 2):
+    # their summaries are NaN, marked as such (those with no nominal speed are below)
+    nr_all = None
+    if ("undecided" in sub and cats is None
+            and (var.startswith("propensity") or var == "p_unsafe")):
+        nr = sub["undecided"].broadcast_like(sub[var])
+        for d in nr.dims:
+            if d not in placed:
+                nr = nr.isel({d: 0})
+        nr_all = np.asarray(nr.transpose(*order).values) == 2
+        if "speed_flag" in sub:
+            sf_nr = sub["speed_flag"].broadcast_like(sub[var])
+            for d in sf_nr.dims:
+                if d not in placed:
+                    sf_nr = sf_nr.isel({d: 0})
+            nr_all &= np.asarray(sf_nr.transpose(*order).values) == 0
+        if not nr_all.any():
+            nr_all = None
     # where the impact-speed model has no answer (speed_flag): marked, with the reason
     sf_all = None
     if _speed_flag_of(sub, var):
@@ -846,6 +877,13 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                                 transform=ax.get_xaxis_transform())
                         edge_marks["x"] = _no_speed_label(
                             sub, np.unique(sf_all[sf_all != 0]))
+                if nr_all is not None:  # no robust answer: marked at the panel's bottom
+                    lost = nr_all[idx][xa.order]
+                    if lost.any():
+                        ax.plot(xa.pos[lost], np.zeros(lost.sum()), ls="none", marker="+",
+                                ms=7, color="0.35", clip_on=False,
+                                transform=ax.get_xaxis_transform())
+                        edge_marks["+"] = _NO_ROBUST_LABEL
                 if note is None:
                     ax.margins(y=0.06)
                 if cats is not None:
@@ -886,6 +924,11 @@ def operating_window(ds, var: str = "propensity", *, x=None, y=None, col=None, r
                         _hatch_cells(ax, xa, ya, flagged, _NO_SPEED_HATCH)
                         hatches[_NO_SPEED_HATCH] = _no_speed_label(
                             sub, np.unique(sf_all[sf_all != 0]))
+                if nr_all is not None:
+                    lost = nr_all[idx][np.ix_(ya.order, xa.order)]
+                    if lost.any():
+                        _hatch_cells(ax, xa, ya, lost, _NO_ROBUST_HATCH)
+                        hatches[_NO_ROBUST_HATCH] = _NO_ROBUST_LABEL
                 if pu_all is not None:
                     robust_drawn |= _robust_band(ax, xa, ya,
                                                  pu_all[idx][np.ix_(ya.order, xa.order)])

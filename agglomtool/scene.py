@@ -403,8 +403,8 @@ def _speed_readers() -> dict[str, tuple[str, ...]]:
 _U_UMF_RULE = "U_Umf sets U (U_Umf x U_mf) only where U is not given"
 
 
-def swept_without_effect(values: dict, swept, drawn=(), *,
-                         what: str = "grid ") -> tuple[str, str] | None:
+def swept_without_effect(values: dict, swept, drawn=(), *, what: str = "grid ",
+                         act: str = "sweep") -> tuple[str, str] | None:
     """The first field of ``swept`` (``{name: values}`` a map, a bed or a comparison
     sweeps) that no speed computing on it reads at the scene ``values``, and why, as
     ``(field, message)``; ``None`` if each is read. The speeds that compute: the swept
@@ -412,7 +412,9 @@ def swept_without_effect(values: dict, swept, drawn=(), *,
     robust map or a comparison may take). A field only a speed law or model reads is
     refused where none of them does, and ``U_Umf`` where ``U`` is given or swept: a map
     axis along which nothing changes is no answer to what it asks. ``what`` begins the
-    message (``"grid "``: a map's or a bed's axis)."""
+    message (``"grid "``: a map's or a bed's axis; ``"uncertain "``: a law of a Monte Carlo,
+    a robust map or a comparison, with ``act="draw"``)."""
+    done = {"sweep": "the sweep replaces", "draw": "the draws replace"}.get(act)
     own = ([str(v) for v in np.ravel(swept["speed"])] if "speed" in swept
            else [values["speed"]])
     speeds = tuple(dict.fromkeys([*own, *drawn]))
@@ -421,7 +423,7 @@ def swept_without_effect(values: dict, swept, drawn=(), *,
         by = ("the grid sweeps U" if "U" in swept
               else f"the scene gives U = {float(values['U']):g} m/s")
         return "U_Umf", (f"{what}U_Umf has no effect: {by}, and {_U_UMF_RULE}; leave U "
-                         "unset to sweep U_Umf")
+                         f"unset to {act} U_Umf")
     readers = _speed_readers()
     for name in swept:
         read_by = readers.get(name)
@@ -432,9 +434,10 @@ def swept_without_effect(values: dict, swept, drawn=(), *,
             one = f"{name}={first:g}" if isinstance(first, float | np.floating) else (
                 f"{name}={first!r}")
             fix = (f"set the scene's speed to one of {list(read_by)}"
-                   + (f" and give {name} one value there, which the sweep replaces (e.g. "
+                   + (f" and give {name} one value there, which {done} (e.g. "
                       f"at.Scene(..., speed={read_by[0]!r}, {one})"
-                      if name in SPEED_LAW_NEEDS.values() else ""))
+                      if done and name in SPEED_LAW_NEEDS.values() else "")
+                   + ("" if done else f", or leave {name} out"))
             return name, f"{what}{name} has no effect with speed = {shown!r}: {fix}"
         if (name == "bed_height" and values.get("height") is not None
                 and "height" not in swept):
@@ -442,6 +445,23 @@ def swept_without_effect(values: dict, swept, drawn=(), *,
                           f"(height = {values['height']:g} m) and bed_height only sets its "
                           "default (half of it); sweep height, or leave height unset")
     return None
+
+
+def typed_unread(scene: Scene, typed, speeds=(), drawn=()) -> tuple[str, str] | None:
+    """``(field, message)`` for a field typed in a configuration's ``[scene]`` (``typed``:
+    the names it gave) that only impact-speed laws or models read and none of those that
+    compute reads: ``speeds`` where the file sets them (a ``[grid]`` or ``[compare]`` of
+    speeds), else the scene's, and ``drawn`` (the models the draws may take). A bed's
+    ``bed_height`` beside ``speed = "excess-gas"`` changed nothing, unsaid. ``None`` if
+    each is read; as :func:`swept_without_effect` for an axis."""
+    values = scene.values()
+    readers = _speed_readers()
+    fields = {k: [values[k]] for k in typed if k in readers and values.get(k) is not None}
+    if not fields:
+        return None
+    swept: dict = {"speed": [str(v) for v in speeds]} if len(speeds) else {}
+    swept.update(fields)
+    return swept_without_effect(values, swept, drawn, what="", act="type")
 
 
 def typed_without_effect(scene: Scene, typed) -> tuple[str, str] | None:

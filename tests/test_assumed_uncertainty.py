@@ -313,3 +313,13 @@ def test_a_field_left_at_its_default_and_drawn_takes_its_laws_nominal():
                            n=400, seed=3)
     m330 = at.sweep(scene.replace(T=330.0), h0=[5e-6])
     assert float(set_t.u_star_nominal) == float(m330.u_star.values.ravel()[0])
+
+
+def test_no_valid_speed_model_to_draw_says_why():
+    """U below U_mf with the model choice drawn: 'no impact-speed model of the registry is
+    valid at this scene' said nothing of the bed not being fluidized."""
+    scene = at.Scene(liquid="water", T=298.15, h0=5e-6, U_Umf=0.8, solid_i="silica-sand",
+                     d_i=300e-6)
+    with pytest.raises(ValueError, match=r"no impact-speed model .* valid.*the scene's own "
+                                         r"\(excess-gas\): U = .* does not exceed U_mf"):
+        at.monte_carlo(scene, uncertain="assumed", n=16, seed=0)

@@ -206,3 +206,24 @@ def test_sweep_over_temperature_and_coating():
             assert float(one.h0_component.sel(component="olivine")) == 0.0
             values.add(round(got, 12))
     assert len(values) == 4  # every axis matters
+
+
+def test_a_fraction_axis_of_a_bed_of_one_component_is_refused():
+    """One component's fraction is 1 whatever the axis says: fraction = [0.2] gave the
+    propensity of the whole bed labelled 0.2 (exit 0), and 0 a 'd = nan' error."""
+    scene = at.Scene(**WATER)
+    sand = [Component("silica-sand", 1.0, d50=300e-6)]
+    for fraction in ([0.2], [0.0, 0.5]):
+        with pytest.raises(ValueError, match=r"fraction: the bed has one component.*two or more"):
+            bed_sweep(scene, sand, mix="silica-sand", fraction=fraction)
+
+
+def test_mix_naming_a_solid_two_components_share_is_refused():
+    """A bimodal sand as two components: mix = 'silica-sand' set the first, unsaid."""
+    scene = at.Scene(**WATER)
+    comps = [Component("silica-sand", 0.5, d50=300e-6), Component("silica-sand", 0.5,
+                                                                  d50=600e-6)]
+    with pytest.raises(ValueError, match=r"mix = 'silica-sand' names 2 components \(0, 1\)"):
+        bed_sweep(scene, comps, mix="silica-sand", fraction=[0.2])
+    ds = bed_sweep(scene, comps, mix=1, directions=2, fraction=[0.2])  # by index: taken
+    assert ds.propensity.shape == (1,)

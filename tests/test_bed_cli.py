@@ -92,9 +92,20 @@ def test_bed_config_scene_is_read_at_its_own_temperature(gas):
     (("directions = 4", "directions = 0"), "[options] directions"),
     (("[options]", "[grid]\nd_i = [1e-3]\n[options]"), "[grid] d_i: cannot be swept"),
     (("[options]", "[grid]\nfraction = [0.1]\n[options]"), "needs [options] mix"),
+    # the same solid in two components: which one the fraction sets is not said by its name
+    (('solid = "ilmenite"', 'solid = "silica-sand"', "[options]",
+      '[grid]\nfraction = [0.1]\n[options]\nmix = "silica-sand"'),
+     "[options] mix: mix = 'silica-sand' names 2 components (0, 1)"),
+    # one component: its fraction is 1 whatever the axis says
+    (('[[component]]\nsolid = "ilmenite"\nfraction = 0.4\nd = ["300 um", 400e-6]\n'
+      'd_fractions = [0.5, 0.5]\nh0 = 0.0\n', "", "fraction = 0.6", "fraction = 1.0",
+      "[options]", '[grid]\nfraction = [0.1]\n[options]\nmix = "silica-sand"'),
+     "[grid] fraction: the bed has one component"),
 ])
 def test_bed_config_errors_name_the_key(edit, message, capsys, tmp_path):
-    text = ONE.replace(*edit)
+    text = ONE
+    for old, new in zip(edit[::2], edit[1::2], strict=True):
+        text = text.replace(old, new)
     assert text != ONE
     import tomllib
 
@@ -106,3 +117,42 @@ def test_bed_config_errors_name_the_key(edit, message, capsys, tmp_path):
     assert main(["bed", str(cfg), "-o", str(tmp_path / "x.nc")]) == 2
     err = capsys.readouterr().err
     assert err.startswith("agglomtool: error:") and err.count("\n") == 1
+
+
+BED_U = """
+[scene]
+liquid = "water"
+T = "25 degC"
+h0 = "5 um"
+
+[[component]]
+solid = "silica-sand"
+fraction = 1.0
+d50 = "300 um"
+
+[grid]
+U_Umf = {}
+"""
+
+
+@pytest.mark.parametrize("axis, said", [
+    ("[0.5, 3.0]", r"bed propensity (\S+) over U_Umf 2; no answer at 1 of 2 points"),
+    ("[0.5, 0.8]", r"bed propensity: no answer at any of the 2 points"),
+])
+def test_the_bed_summary_counts_the_points_without_an_answer(tmp_path, capsys, axis, said):
+    """'bed propensity 0.64-0.64 over U_Umf 2' hid that one of two points had no answer, and
+    a bed with none printed 'nan-nan'."""
+    import re
+
+    cfg = tmp_path / "b.toml"
+    cfg.write_text(BED_U.format(axis))
+    out = tmp_path / "b.nc"
+    assert main(["bed", str(cfg), "-o", str(out), "-q"]) == 0
+    text = capsys.readouterr().out
+    found = re.search(said, text)
+    assert found and "nan" not in text, text
+    with xr.open_dataset(out) as ds:
+        p = ds.propensity.values
+        assert int((ds.speed_flag != 0).sum()) == int(np.isnan(p).sum()) >= 1
+        if found.groups():
+            assert float(found.group(1)) == pytest.approx(float(np.nanmax(p)), rel=1e-3)

@@ -142,3 +142,33 @@ def test_collide_reports_the_ceiling_not_an_absurd_speed(capsys):
     out = capsys.readouterr().out
     assert "above the ceiling of 10 m/s" in out
     assert not any(f"u0* = {v}" in out for v in ("1e+04", "2.91e+05", "8.17e+06"))
+
+
+def test_an_interrupt_a_library_turns_into_its_own_error_is_an_interruption(
+        tmp_path, capsys, monkeypatch):
+    """Ctrl-C while Numba compiles a kernel (the first map of a session, ~10-20 s): Numba's
+    compiler catches the KeyboardInterrupt and raises 'RuntimeError: no compiled object
+    yet', and the command ended with that traceback. After an interrupt, the command says
+    it was interrupted and how to resume, whatever error follows."""
+    import signal
+
+    text = COMPARE + "[options]\nchunks = 1\n"
+    cfg, out = _write(tmp_path, text), tmp_path / "m.nc"
+
+    def compiling(*args, **kwargs):  # as numba's compiler meets the interrupt
+        try:
+            signal.raise_signal(signal.SIGINT)
+        except KeyboardInterrupt:
+            pass
+        raise RuntimeError("no compiled object yet for <Library '_excess_block'>")
+
+    monkeypatch.setattr(grid_module, "flagged_collision_outputs", compiling)
+    assert main(["map", str(cfg), "-o", str(out), "-q"]) == 130
+    err = capsys.readouterr().err
+    assert "interrupted" in err and "run the same command again" in err
+    assert "RuntimeError" not in err and not out.exists()
+    # an error with no interrupt before it is not one
+    monkeypatch.setattr(grid_module, "flagged_collision_outputs",
+                        lambda *a, **k: (_ for _ in ()).throw(RuntimeError("a bug")))
+    with pytest.raises(RuntimeError, match="a bug"):
+        main(["map", str(cfg), "-o", str(tmp_path / "n.nc"), "-q"])

@@ -46,10 +46,21 @@ h0 = "5 um"
      'h0 = { law = "gamma", mean = 1e-6, sd = 1e-7 }\n', "law = 'gamma' is not one of"),
     (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\n'
      'h0 = { law = "normal", mean = "5 um" }\n', "missing: sd"),
+    # a law with a unit on one number and none on another: 1e-6 would be read in m
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\n'
+     'h0 = { law = "normal", mean = "5 um", sd = 1e-6 }\n',
+     r"\[uncertain\] h0: mean = \"5 um\" has a unit and sd = 1e-06 has none \(read as "
+     r"1e-06 m\)"),
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\n'
+     'T = { law = "uniform", low = 290, high = "40 degC" }\n',
+     r"\[uncertain\] T: high = \"40 degC\" has a unit and low = 290 has none"),
     (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[uncertain]\nha = 1\n',
      r"\[uncertain\] ha: not a numeric Scene field"),
     (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[options]\nn = 0\n',
-     r"\[options\] n: must be an integer >= 1"),
+     r"\[options\] n: must be an integer >= 16 \(.*bins.*\), got 0"),
+    # fewer draws than the bins that find the deciding input: said in the file's terms
+    (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[options]\nn = 8\n',
+     r"\[options\] n: must be an integer >= 16 \(.*bins.*\), got 8"),
     (SCENE + '[compare]\nsolid_j = ["ilmenite", "granite"]\n', "option 'granite'"),
     (SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n[extra]\n', "unknown table"),
     # a misspelt field: the file and the table named, with the field it may have meant
@@ -74,3 +85,13 @@ def test_a_user_law_with_units_from_the_file(tmp_path, capsys):
                                     'h0 = { law = "normal", mean = "5 um", sd = "1 um" }\n'))
     assert main(["compare", str(path), "-n", "64"]) == 0
     assert "h0" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("n", ["1", "8"])
+def test_too_few_draws_on_the_command_line_name_n(tmp_path, capsys, n):
+    # it named 'bins = 16', an option the command does not have
+    path = tmp_path / "c.toml"
+    path.write_text(textwrap.dedent(SCENE + '[compare]\nsolid_j = ["ilmenite", "olivine"]\n'))
+    assert main(["compare", str(path), "-n", n]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"agglomtool: error: n = {n} ") and "allowed: n >= 16" in err, err

@@ -79,3 +79,20 @@ def test_a_picture_is_written_at_the_path_given(ds, tmp_path, capsys):
         at.plots.operating_window(sub, path=tmp_path / name)
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["pic", "pic.png"]
+
+
+@pytest.mark.parametrize("second", ["h0=2e-6", "h0 = 5 um", "h0=5e-6"])
+def test_a_dimension_selected_twice_is_refused(path, tmp_path, capsys, second):
+    """--sel h0=... twice: the last was drawn, the first dropped without a word (exit 0)."""
+    out = tmp_path / "p.png"
+    assert main(["plot", str(path), "-o", str(out), "--sel", f"h0={H0[0]}",
+                 "--sel", second]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("agglomtool: error: --sel h0 is given twice") and not out.exists()
+
+
+def test_a_name_not_in_the_map_lists_the_names_as_typed(ds):
+    # it listed them as numpy reprs: [np.str_('silica-sand'), np.str_('ilmenite')]
+    with pytest.raises(ValueError, match=r"solid_j = 'granite' is not in the map; values: "
+                                         r"silica-sand, ilmenite$"):
+        plan_layout(ds, sel={"solid_j": "granite", "U_Umf": U_UMF[0]})

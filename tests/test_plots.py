@@ -4,6 +4,7 @@ import matplotlib
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+import xarray as xr
 
 import agglomtool as at
 from agglomtool.plots import operating_window, plan_layout
@@ -42,8 +43,9 @@ def test_comparison_panels_are_titled_by_their_own_material(ds4):
 
 
 def test_a_dimension_that_cannot_be_shown_is_refused_not_hidden():
+    # three dimensions too long for a facet (more than 8 values) and two axes
     s = at.Scene(liquid="water", T=298.15, u0=0.1)
-    ds = at.sweep(s, h0=np.geomspace(1e-6, 50e-6, 4), U_Umf=[2.0, 3.0],
+    ds = at.sweep(s, h0=np.geomspace(1e-6, 50e-6, 9), U_Umf=[2.0, 3.0],
                   d_i=np.linspace(200e-6, 900e-6, 11), T=np.linspace(293.15, 353.15, 12))
     with pytest.raises(ValueError, match=r"would be hidden.*sel"):
         plan_layout(ds)
@@ -51,6 +53,31 @@ def test_a_dimension_that_cannot_be_shown_is_refused_not_hidden():
     assert lay.col == "d_i" and "T" in lay.sel
     with pytest.raises(ValueError, match="not a grid value"):
         operating_window(ds, sel={"T": 300.0}, col="d_i", x="h0", y="U_Umf")
+
+
+@pytest.mark.parametrize("sizes, axes", [
+    # a short numeric dimension (T, 2 values) took the y axis before a long one (U_Umf,
+    # 15), which then fitted nowhere: 'would be hidden' for a map every slot could show
+    ({"T": 2, "solid_j": 2, "U_Umf": 15, "h0": 15}, {"U_Umf", "h0"}),
+    ({"T": 3, "U_Umf": 12, "h0": 12}, {"U_Umf", "h0"}),
+    ({"T": 2, "d_i": 3, "U_Umf": 3, "h0": 12}, {"h0"}),
+    # where every numeric dimension fits an axis or a facet: as before, T against h0
+    ({"T": 5, "h0": 35}, {"T", "h0"}),
+    ({"T": 3, "U_Umf": 4, "h0": 5}, {"T", "h0"}),
+])
+def test_dimensions_too_long_for_a_facet_take_the_axes(sizes, axes):
+    values = {"T": np.linspace(293.15, 353.15, 12), "U_Umf": np.linspace(1.5, 8.0, 35),
+              "h0": np.geomspace(1e-6, 50e-6, 35), "d_i": np.linspace(2e-4, 9e-4, 12)}
+    coords = {k: (k, values[k][:n]) if k in values else (k, ["silica-sand", "ilmenite"][:n])
+              for k, n in sizes.items()}
+    ds = xr.Dataset({"propensity": (tuple(sizes), np.zeros(tuple(sizes.values())))},
+                    coords=coords)
+    lay = plan_layout(ds)
+    placed = [d for d in (lay.x, lay.y, lay.col, lay.row) if d is not None]
+    assert sorted(placed) == sorted(sizes)  # every dimension shown, none hidden
+    assert axes <= {lay.x, lay.y}
+    if axes == {"T", "h0"}:
+        assert (lay.y, lay.x) == ("T", "h0")
 
 
 def test_categorical_variable_gets_discrete_colours_and_a_legend(ds4):
@@ -374,6 +401,32 @@ def test_a_robust_map_draws_its_boundary_band_and_undecided_cells():
     plain = operating_window(at.sweep(scene, **grid))
     labels = [t.get_text() for leg in plain.legends for t in leg.get_texts()]
     assert not any("window boundary" in t or "not decided" in t for t in labels)
+
+
+def test_a_robust_map_marks_the_points_whose_draws_have_no_impact_speed():
+    """Where the nominal point has an impact speed but some draws (a bubble model drawn
+    beyond a bubbling bed) have none, the robust answer is NaN (undecided = 2): the
+    picture marks those cells with a legend, and never shows them as decided."""
+    import warnings
+
+    from matplotlib.collections import PolyCollection
+
+    warnings.simplefilter("ignore", at.PlausibilityWarning)
+    scene = at.Scene(liquid="water", T=298.15, solid_i="silica-sand", d_i=300e-6,
+                     solid_j="ilmenite")
+    robust = at.sweep(scene, uncertain="assumed", samples=32, seed=0, U_Umf=[3.0, 20.0],
+                      h0=[5e-6, 20e-6])
+    no_answer = (robust.undecided == 2) & (robust.speed_flag == 0)
+    assert no_answer.any() and not no_answer.all()  # the test needs both kinds
+    for var in ("propensity", "propensity_mean", "p_unsafe"):
+        fig = operating_window(robust, var=var, x="h0", y="U_Umf")
+        labels = _legend_labels(fig)
+        assert any(t.startswith("no robust answer") for t in labels), (var, labels)
+        (ax,) = _panels(fig)
+        hatched = [c for c in ax.collections if isinstance(c, PolyCollection)
+                   and c.get_hatch() == "++"]
+        assert sum(len(c.get_paths()) for c in hatched) == int(no_answer.sum())
+        plt.close(fig)
 
 
 def test_a_map_without_finite_u_star_says_what_decides_it():

@@ -64,3 +64,29 @@ def test_sobol_of_a_scene_in_its_own_names():
     with pytest.raises(ValueError, match="gas is given with a Scene"):
         at.sobol_indices(SCENE, gas=at.Gas(mu=1.8e-5, rho=1.2),
                          uncertain={"h0": at.Normal(5e-6, 1e-6)}, n_base=4)
+
+
+def test_one_draw_is_refused_it_has_no_spread():
+    """n = 1 gave propensity_se = 0: a standard error of none, read as certainty."""
+    from agglomtool.uncertainty import monte_carlo, table4_case
+
+    with pytest.raises(ValueError, match=r"n = 1 .*allowed: n >= 2"):
+        at.monte_carlo(SCENE, uncertain={"h0": at.Normal(5e-6, 1e-6)}, n=1, seed=0)
+    with pytest.raises(ValueError, match=r"n = 1 .*allowed: n >= 2"):
+        monte_carlo(**table4_case("water", 0.52), n=1, seed=0)
+    ds = at.monte_carlo(SCENE, uncertain={"h0": at.Normal(5e-6, 1e-6)}, n=2, seed=0)
+    p = ds.propensity.values
+    assert float(ds.propensity_se) == pytest.approx(abs(p[0] - p[1]) / 2, rel=1e-12)
+
+
+def test_a_draw_a_property_model_refuses_names_the_uncertain_field():
+    """T = Normal(25, 5) meant in degC: the water model refused a draw at 15 K with its own
+    message, which named neither the uncertain input nor the unit it was read in."""
+    with pytest.raises(ValueError, match=r"^uncertain T: a draw is refused: liquid 'water'.*"
+                                         r"T given without a unit, so in SI \(K\)"):
+        at.monte_carlo(SCENE, uncertain={"T": at.Normal(25, 5)}, n=16, seed=0)
+    # a law with its units: no unit hint, the law still named
+    with pytest.raises(ValueError, match=r"^uncertain T: a draw is refused") as info:
+        at.monte_carlo(SCENE, uncertain={"T": at.Normal("300 degC", "100 degC")}, n=64,
+                       seed=0)
+    assert "without a unit" not in str(info.value)

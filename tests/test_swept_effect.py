@@ -222,3 +222,93 @@ def test_a_material_axis_holds_the_names_the_database_spells():
     assert list(ds.solid_j.values) == ["silica-sand", "ilmenite"]
     assert float(ds.propensity.sel(solid_j="ilmenite")) == float(
         plain.propensity.sel(solid_j="ilmenite"))
+
+
+#: Laws of fields that only some impact-speed models read.
+UNREAD_LAWS = {"wake_fraction": at.Uniform(0.15, 0.4),
+               "granular_temperature": at.Uniform(1e-3, 1e-2),
+               "bed_height": at.Uniform(0.2, 1.0)}
+
+
+@pytest.mark.parametrize("field", sorted(UNREAD_LAWS))
+def test_an_uncertain_field_its_speed_ignores_is_refused(field):
+    # every draw would be alike: 'spread 0', 'decided in 100 %', for an input never read
+    scene = at.Scene(**WATER, speed="excess-gas")
+    law = {field: UNREAD_LAWS[field]}
+    match = rf"uncertain {field} has no effect with speed = 'excess-gas'"
+    with pytest.raises(ValueError, match=match):
+        at.monte_carlo(scene, uncertain=law, n=16, seed=0)
+    with pytest.raises(ValueError, match=match):
+        at.compare(scene.replace(solid_i="silica-sand"), uncertain=law, n=16,
+                   solid_j=["silica-sand", "ilmenite"])
+    with pytest.raises(ValueError, match=match):
+        at.sweep(scene, uncertain=law, samples=4, h0=[2e-6, 8e-6])
+    # with the database's assumptions drawn too, a speed the scene names is not drawn
+    with pytest.raises(ValueError, match=match):
+        at.monte_carlo(scene, uncertain={**law, "assumed": True}, n=16, seed=0)
+
+
+def test_an_uncertain_field_a_speed_reads_is_drawn_and_spreads():
+    law = {"wake_fraction": UNREAD_LAWS["wake_fraction"]}
+    with _quiet():
+        mc = at.monte_carlo(at.Scene(**WATER, speed="bubble-darton"), uncertain=law, n=64,
+                            seed=0)
+        # compared over speeds, the law counts where one option reads it
+        ds = at.compare(at.Scene(**WATER), uncertain=law, n=16,
+                        speed=["excess-gas", "bubble-darton"])
+        robust = at.sweep(at.Scene(**WATER), uncertain=law, samples=8,
+                          speed=["excess-gas", "bubble-darton"], h0=[2e-6, 8e-6])
+    assert float(mc.propensity_quantile[0]) < float(mc.propensity_quantile[-1])
+    assert np.ptp(ds.propensity_quantile.sel(option="bubble-darton").values) > 0
+    assert robust.propensity_mean.shape == (2, 2)
+    # the scene's U leaves U_Umf unread
+    with pytest.raises(ValueError, match="uncertain U_Umf has no effect: the scene gives U"):
+        at.monte_carlo(at.Scene(**WATER, U=0.5), uncertain={"U_Umf": at.Uniform(1.5, 3.0)},
+                       n=16, seed=0)
+
+
+_SCENE_TOML = """
+[scene]
+liquid = "water"
+T = "25 degC"
+d_i = "500 um"
+h0 = "5 um"
+{extra}
+"""
+
+
+def _map_file(extra, tail='[grid]\nU_Umf = [1.5, 3.0]\n'):
+    return tomllib.loads(_SCENE_TOML.format(extra=extra) + tail)
+
+
+@pytest.mark.parametrize("extra", ['wake_fraction = 0.3', 'bed_height = 1.0',
+                                   'speed = "excess-gas"\ngranular_temperature = 0.01',
+                                   'speed = "collisional-balance"\nwake_fraction = 0.3'])
+def test_a_scene_field_its_speed_ignores_is_refused_in_a_file(extra):
+    """[scene] bed_height = 1.0 beside the default excess-gas speed changed nothing, unsaid
+    (exit 0): refused in map, bed and compare files, naming the speeds that read it."""
+    field = extra.splitlines()[-1].split(" =")[0]
+    match = rf"\[scene\] {field}: {field} has no effect with speed = '[a-z-]+': set"
+    with pytest.raises(ConfigError, match=match):
+        parse_config(_map_file(extra), "m.toml")
+    bed = ('[[component]]\nsolid = "silica-sand"\nfraction = 1.0\nd50 = "500 um"\n')
+    with pytest.raises(ConfigError, match=match):
+        parse_bed_config(tomllib.loads(_SCENE_TOML.format(extra=extra + "\nU_Umf = 3.0")
+                                       + bed), "b.toml")
+    from agglomtool.uncertainty.config import parse_compare_config
+
+    cmp = '[compare]\nsolid_j = ["silica-sand", "ilmenite"]\n[uncertain]\nh0 = ' \
+          '{ law = "normal", mean = "5 um", sd = "1 um" }\n'
+    with pytest.raises(ConfigError, match=match):
+        parse_compare_config(tomllib.loads(_SCENE_TOML.format(extra=extra + "\nU_Umf = 3.0")
+                                           .replace('h0 = "5 um"\n', "") + cmp), "c.toml")
+
+
+def test_a_scene_field_a_computing_speed_reads_is_taken():
+    with _quiet():
+        parse_config(_map_file('speed = "bubble-darton"\nwake_fraction = 0.3'), "m.toml")
+        # a speed axis with a bubble model, the models drawn with the assumed values
+        parse_config(_map_file('wake_fraction = 0.3', '[grid]\nspeed = ["excess-gas", '
+                               '"bubble-darton"]\n'), "m.toml")
+        parse_config(_map_file('bed_height = 1.0', '[grid]\nU_Umf = [1.5, 3.0]\n'
+                               '[uncertain]\nassumed = true\n'), "m.toml")

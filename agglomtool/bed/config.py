@@ -98,8 +98,14 @@ def _component(where, table) -> Component:
 
 def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
     """Build a :class:`BedConfig` from a parsed TOML mapping."""
-    from ..scene import swept_without_effect
-    from .propensity import BED_GRID_FIELDS, _check_components, _grid_arrays, _mix_index
+    from ..scene import swept_without_effect, typed_unread
+    from .propensity import (
+        BED_GRID_FIELDS,
+        _check_components,
+        _grid_arrays,
+        _mix_index,
+        check_fraction_axis,
+    )
 
     check_tables(data, source, ("[scene]", "[[component]]", "[grid]", "[options]"))
     tables = data.get("component")
@@ -128,6 +134,9 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
     found = swept_without_effect(scene.values(), grid)
     if found:
         raise ConfigError(f"{source}: [grid] {found[0]}: {found[1]}")
+    found = typed_unread(scene, [k for k in data.get("scene", {}) if k not in grid])
+    if found:
+        raise ConfigError(f"{source}: [scene] {found[0]}: {found[1]}")
     # The scene's findings that still hold at the values the grid sweeps (the bed's own
     # findings, its coating on each component, are bed_propensity's and bed_sweep's).
     base = {k: v for k, v in scene.values().items() if k not in BED_OWN}
@@ -152,6 +161,11 @@ def parse_bed_config(data: dict, source: str = "config") -> BedConfig:
             _mix_index(comps, mix)
         except ValueError as exc:
             raise ConfigError(f"{source}: [options] mix: {exc}") from None
+    if "fraction" in grid:
+        try:
+            check_fraction_axis(comps)
+        except ValueError as exc:
+            raise ConfigError(f"{source}: [grid] {exc}") from None
     opts.setdefault("mix", None)
     return BedConfig(scene, comps, grid, opts)
 

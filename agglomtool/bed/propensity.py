@@ -186,10 +186,24 @@ def _mix_index(comps, mix) -> int:
             key = materials.solid(mix).name
         except ValueError:
             key = None
+        if names.count(key) > 1:  # one solid in several components (a bimodal sand)
+            which = [k for k, n in enumerate(names) if n == key]
+            raise ValueError(f"mix = {mix!r} names {len(which)} components "
+                             f"({', '.join(map(str, which))}) of the same solid; give the "
+                             f"index of the one the fraction sets, e.g. mix = {which[0]}")
         if key in names:
             return names.index(key)
     raise ValueError(f"mix = {mix!r} is not a component of the bed; allowed: an index "
                      f"0-{len(comps) - 1} or one of {names}")
+
+
+def check_fraction_axis(comps) -> None:
+    """A ``fraction`` axis sets one component's mass fraction against the others': a bed
+    of one component has none (its fraction is 1 whatever the axis says)."""
+    if len(comps) < 2:
+        raise ValueError(f"fraction: the bed has one component ({comps[0].name}), whose "
+                         "mass fraction is 1 whatever the axis says; a fraction axis needs "
+                         "two or more components")
 
 
 def _fractions(comps, frac, mix):
@@ -198,6 +212,7 @@ def _fractions(comps, frac, mix):
     base = np.array([c.fraction for c in comps], dtype=float)
     if frac is None:
         return base[None, :]
+    check_fraction_axis(comps)
     rest = 1.0 - base[mix]
     if rest <= 0.0 and len(comps) > 1:
         raise ValueError(f"mix = {mix!r} holds the whole bed (fraction 1): the other "

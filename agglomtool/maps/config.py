@@ -94,6 +94,12 @@ def parse_config(data: dict, source: str = "config") -> MapConfig:
     except GridError as exc:
         where = f"[grid] {exc.field}" if exc.field else "[scene]"
         raise ConfigError(f"{source}: {where}: {exc}") from None
+    from ..scene import typed_unread
+
+    typed = [k for k in data.get("scene", {}) if k not in grid]
+    found = typed_unread(scene, typed, grid.get("speed", ()), drawn_speeds(scene, uncertain))
+    if found:
+        raise ConfigError(f"{source}: [scene] {found[0]}: {found[1]}")
     warn_scene_findings(scene, source, grid_findings(scene.values(), axes))
     options = {"nodes": nodes, "chunks": chunks}
     if uncertain is not None:

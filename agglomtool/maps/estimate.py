@@ -20,7 +20,6 @@ from __future__ import annotations
 import itertools
 import logging
 import math
-import os
 import shutil
 import time
 from dataclasses import dataclass
@@ -30,6 +29,7 @@ from typing import cast
 import numpy as np
 
 from .._fields import CATEGORICAL_FIELDS
+from .._validate import _bytes, available_memory
 
 __all__ = ["SweepEstimate", "SweepTooLargeError", "estimate_sweep", "available_memory",
            "BIG_POINTS", "BIG_SECONDS", "CALIBRATE_ABOVE", "COMPILE_SECONDS",
@@ -132,13 +132,6 @@ def _count(n: int) -> str:
     return str(n) if n < 1_000_000 else f"{n:.3g}"
 
 
-def _bytes(n: float) -> str:
-    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
-        if n >= size:
-            return f"{n / size:.3g} {unit}"
-    return f"{int(n)} B"
-
-
 def _duration(s: float) -> str:
     if s < 60:
         return f"{s:.2g} s" if s < 10 else f"{s:.0f} s"
@@ -152,47 +145,6 @@ def _duration(s: float) -> str:
 
 # ---------------------------------------------------------------------------------------
 # Memory and disk
-
-
-def _cgroup_room() -> int | None:
-    """Bytes this process's cgroup (v2) may still take, where a limit is set."""
-    base = Path("/sys/fs/cgroup")
-    try:
-        limit = (base / "memory.max").read_text().strip()
-        if limit == "max":
-            return None
-        return max(0, int(limit) - int((base / "memory.current").read_text().strip()))
-    except (OSError, ValueError):
-        return None
-
-
-def available_memory() -> int | None:
-    """Bytes of memory available to this process now (``None`` if it cannot be told):
-    ``psutil``'s available memory where psutil is installed, else the kernel's
-    ``MemAvailable``, else the free pages; never more than a cgroup limit leaves."""
-    found = None
-    try:
-        import psutil
-
-        found = int(psutil.virtual_memory().available)
-    except Exception:  # noqa: BLE001 - not installed or not supported here
-        try:
-            with open("/proc/meminfo") as f:
-                for line in f:
-                    if line.startswith("MemAvailable:"):
-                        found = int(line.split()[1]) * 1024
-                        break
-        except (OSError, ValueError, IndexError):
-            pass
-        if found is None:
-            try:
-                found = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-            except (ValueError, OSError, AttributeError):
-                found = None
-    room = _cgroup_room()
-    if room is not None:
-        found = room if found is None else min(found, room)
-    return found
 
 
 def _disk_free(store) -> int | None:

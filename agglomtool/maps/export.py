@@ -93,8 +93,9 @@ def check_netcdf_name(path) -> Path:
 
 
 def check_output_dir(path) -> Path:
-    """``path`` as a Path, if its directory exists; a ``ValueError`` naming the directory
-    if it does not or is a file (netCDF's own error calls both 'Permission denied')."""
+    """``path`` as a Path, if its directory exists and this process may write there; a
+    ``ValueError`` naming the directory if it does not, is a file or is not writable
+    (netCDF's own error calls them all 'Permission denied', after the work)."""
     path = Path(path)
     parent = path.parent
     if not parent.exists():
@@ -102,6 +103,10 @@ def check_output_dir(path) -> Path:
                          "exist; create it first or give another path")
     if not parent.is_dir():
         raise ValueError(f"cannot write {str(path)!r}: {str(parent)!r} is not a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):  # before the work whose result it writes
+        raise ValueError(f"cannot write {str(path)!r}: its directory {str(parent)!r} is not "
+                         "writable (a read-only file system, or no permission); give another "
+                         "path")
     return path
 
 

@@ -24,6 +24,7 @@ import numpy as np
 import xarray as xr
 
 from .._fields import CATEGORICAL_FIELDS, FIELD_META
+from .._validate import check_memory_for
 from ..plausibility import scene_findings, warn_findings
 from ..scene import Resolved, Scene, critical_outputs
 from .speed_flag import flagged_collision_outputs
@@ -58,7 +59,7 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
     :func:`agglomtool.sweep`, which calls this, for the parameters)."""
     from ..uncertainty._sampling import resolve_seed
     from ..uncertainty.assumed import chosen_fields
-    from ..uncertainty.scene_mc import SceneDraws, split_uncertain
+    from ..uncertainty.scene_mc import SceneDraws, split_uncertain, uncertain_without_effect
 
     check_robust_options(samples, threshold)
     q = np.asarray(quantiles, dtype=float)
@@ -70,6 +71,12 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
         raise ValueError(f"{both[0]} is both swept and uncertain: sweep it, or make it "
                          "uncertain, not both")
     gv = {k: nominal[k].values for k in grid}
+    # a law that no speed of the map reads (its swept speeds, else the scene's and those
+    # the draws may take) would be reported as no spread
+    found = (uncertain_without_effect(scene, uncertain, gv["speed"], drawn=())
+             if "speed" in gv else uncertain_without_effect(scene, uncertain))
+    if found:
+        raise ValueError(found[1])
     entropy, chosen = resolve_seed(seed)
     base = scene.values()
     # a speed model named by the scene or swept by the map is given, not drawn
@@ -97,6 +104,8 @@ def robust_sweep(scene: Scene, nominal: xr.Dataset, grid: tuple, *, uncertain,
         assumed = sd.assumed
         not_drawn_all += [t for t in sd.not_drawn if t not in not_drawn_all]
         draws, laws = sd.draws, sd.draws.dists
+        # the draws of every law, and a point's propensity, u0* and e_w at every draw
+        check_memory_for("samples", int(samples), 8 * (len(laws) + 3), item="sample")
         drawn = {k: np.empty(int(samples)) for k in laws}
         for _ in draws.chunks(out=drawn):
             pass

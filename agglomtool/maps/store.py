@@ -345,6 +345,13 @@ def _check_path(store) -> Path:
     if path.exists() and not path.is_dir():
         raise ValueError(f"store = '{path}' is an existing file, not a directory; give the path "
                          "of a directory (created if missing) for the sweep's blocks")
+    # the store, or the directory it will be created in: written as the sweep runs, and
+    # its writer lock is a file in it even where every block is there
+    here = next((p for p in (path, *path.absolute().parents) if p.exists()), None)
+    if here is not None and not os.access(here, os.W_OK | os.X_OK):
+        raise ValueError(f"store = '{path}' is not writable ('{here}': a read-only file "
+                         "system, or no permission): a store holds a writer lock and the "
+                         "sweep's blocks; give a directory this process may write")
     return path
 
 

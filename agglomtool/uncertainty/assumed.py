@@ -103,9 +103,16 @@ def speed_model_weights(values: dict) -> dict[str, float]:
     the scene (:func:`agglomtool.impact_speed_methods`, calibrated), weighted by
     ``agglomtool.bed.speed_models.choice_weights``."""
     from ..bed.speed_models import choice_weights
-    from ..scene import Scene, impact_speed_methods
+    from ..scene import Resolved, Scene, impact_speed_methods
 
-    return choice_weights(impact_speed_methods(Scene(**values)))
+    try:
+        return choice_weights(impact_speed_methods(Scene(**values)))
+    except ValueError as exc:  # none valid: say why, with the scene's own speed's reason
+        try:
+            _ = Resolved(values).u_typical  # raises where the scene has no speed
+        except ValueError as why:
+            raise ValueError(f"{exc}; the scene's own ({values.get('speed')}): {why}") from None
+        raise
 
 
 def chosen_fields(scene) -> tuple[str, ...]:

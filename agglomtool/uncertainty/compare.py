@@ -22,6 +22,7 @@ import numpy as np
 import xarray as xr
 
 from .._fields import CATEGORICAL_FIELDS, FIELD_META, NUMERIC_FIELDS
+from .._validate import check_memory_for
 from .._version import __version__
 from ..scene import Scene
 
@@ -71,8 +72,13 @@ def _first_order(x: np.ndarray, d: np.ndarray, bins: int) -> float:
     return between / var
 
 
+#: Equal-count bins of the first-order index that finds the deciding input (the default of
+#: :func:`compare`; a comparison needs at least as many draws).
+BINS = 16
+
+
 def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | None = 0,
-            bins: int = 16, **option) -> xr.Dataset:
+            bins: int = BINS, **option) -> xr.Dataset:
     """Compare the options of one Scene field under paired uncertain inputs.
 
     Parameters
@@ -84,7 +90,7 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         ``"assumed"`` (every value the materials database assumes, from the laws it
         states), or a mapping holding ``"assumed": True`` as well. Default ``"assumed"``.
     n : int
-        Draws per option (>= 1; thousands for a ranking to be read).
+        Draws per option (>= ``bins``; thousands for a ranking to be read).
     seed : int or None
         Seed of the draws (the same for every option: paired draws).
     bins : int
@@ -107,22 +113,32 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
     from .._validate import material_key
     from ..scene import Scene, swept_without_effect
     from ._sampling import resolve_seed
-    from .monte_carlo import monte_carlo
-    from .scene_mc import drawn_speeds, split_uncertain
+    from .scene_mc import (
+        drawn_speeds,
+        scene_monte_carlo,
+        split_uncertain,
+        uncertain_without_effect,
+    )
 
     if not isinstance(scene, Scene):
         raise ValueError(f"scene = {scene!r} is not allowed: an agglomtool.Scene is required")
     field, opts = _options(option)
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ValueError(f"n = {n!r} must be a positive integer")
-    if isinstance(bins, bool) or not isinstance(bins, int | np.integer) or not 2 <= bins <= n:
+    if isinstance(bins, bool) or not isinstance(bins, int | np.integer) or bins < 2:
         raise ValueError(f"bins = {bins!r} must be an integer in [2, n = {n}]")
+    if n < bins:
+        raise ValueError(f"n = {n} is fewer draws than the {bins} equal-count bins that find "
+                         f"the deciding input; allowed: n >= {bins} (or bins <= n)")
     resolve_seed(seed)  # every request checked before the first draw
     split_uncertain(uncertain)
     found = swept_without_effect(scene.values(), {field: opts},
                                  drawn_speeds(scene, uncertain), what="")
     if found:
         raise ValueError(f"compare {field}: {found[1]}")
+    found = uncertain_without_effect(scene, uncertain, opts if field == "speed" else ())
+    if found:
+        raise ValueError(found[1])
     scenes = []
     for v in opts:
         try:
@@ -137,7 +153,12 @@ def compare(scene: Scene, *, uncertain="assumed", n: int = 4096, seed: int | Non
         raise ValueError(f"compare {field}: options repeat: {opts!r} are "
                          f"{len(set(held))} distinct options; allowed: distinct options")
     q = (0.05, 0.5, 0.95)
-    runs = [monte_carlo(s, uncertain=uncertain, n=int(n), seed=seed, quantiles=q, bins=8)
+    # every option's propensity, u0* and e_w of every draw, kept side by side
+    check_memory_for("n", n, len(scenes) * 32)
+    # each option's draws as monte_carlo(s, ...) makes them; an uncertain field was checked
+    # above against the speeds of every option, not of one
+    runs = [scene_monte_carlo(s, uncertain=uncertain, n=int(n), seed=seed,
+                              chunk_size=1_000_000, quantiles=q, bins=8, keep_samples=True)
             for s in scenes]
     prop = np.stack([r.propensity.values for r in runs])  # (option, sample)
     # the inputs each option drew (its sample variables that carry a distribution)

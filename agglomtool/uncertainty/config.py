@@ -24,11 +24,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from .._config import ConfigError, check_tables, parse_scene, read_toml, warn_scene_findings
+from .._config import (
+    ConfigError,
+    _plain_number,
+    check_tables,
+    parse_scene,
+    read_toml,
+    warn_scene_findings,
+)
 from .._fields import FIELD_META
 from .._validate import suggestion
 from ..plausibility import scene_findings
 from ..scene import Scene, field_names
+from .compare import BINS
 from .distributions import LogNormal, Normal, Uniform
 
 __all__ = ["CompareConfig", "load_compare_config", "parse_compare_config", "parse_uncertain"]
@@ -67,13 +75,22 @@ def parse_compare_config(data: dict, source: str = "config") -> CompareConfig:
                           f"options, got {options!r}")
     uncertain = (parse_uncertain(data["uncertain"], source) if "uncertain" in data
                  else "assumed")
+    from ..scene import typed_unread
+    from .scene_mc import drawn_speeds
+
+    found = typed_unread(scene, [k for k in data.get("scene", {}) if k != field],
+                         options if field == "speed" else (), drawn_speeds(scene, uncertain))
+    if found:
+        raise ConfigError(f"{source}: [scene] {found[0]}: {found[1]}")
     opts = dict(data.get("options", {}))
     bad = sorted(set(opts) - {"n", "seed"})
     if bad:
         raise ConfigError(f"{source}: [options] {bad[0]}: unknown; allowed: n, seed")
     n = opts.get("n", 4096)
-    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
-        raise ConfigError(f"{source}: [options] n: must be an integer >= 1, got {n!r}")
+    least = BINS
+    if isinstance(n, bool) or not isinstance(n, int) or n < least:
+        raise ConfigError(f"{source}: [options] n: must be an integer >= {least} (the "
+                          f"equal-count bins that find the deciding input), got {n!r}")
     seed = opts.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ConfigError(f"{source}: [options] seed: must be an integer >= 0, got {seed!r}")
@@ -91,6 +108,26 @@ UNCERTAIN_LAWS = {
     "lognormal": (("mean", "sd"), ("lo", "hi", "units")),
     "uniform": (("low", "high"), ("lo", "hi", "units")),
 }
+
+
+def _one_kind(where: str, key: str, params: dict) -> None:
+    """The numbers of a law hold quantities with units or bare SI numbers, not both (as a
+    grid's lists and ranges do, :func:`agglomtool._config._same_kind`), unless ``units``
+    says what the bare ones are in: ``{ mean = "5 um", sd = 1e-6 }`` would be read as a
+    spread of 1 um only by chance, ``sd = 1`` as 1 m."""
+    unit = FIELD_META[key][0]
+    if "units" in params or unit in ("", "-", "1", "dimensionless"):
+        return
+    numbers = [k for k in params if k != "units"]
+    texts = [k for k in numbers if isinstance(params[k], str) and not _plain_number(params[k])]
+    bare = [k for k in numbers if isinstance(params[k], int | float)
+            and not isinstance(params[k], bool)]
+    if texts and bare:
+        t, b = texts[0], bare[0]
+        raise ConfigError(
+            f"{where}: {t} = \"{params[t]}\" has a unit and {b} = {params[b]!r} has none "
+            f"(read as {params[b]!r} {unit}); give each number of the law with its unit, or "
+            f"units = \"...\" for the bare ones")
 
 
 def parse_uncertain(table, source: str = "config"):
@@ -134,6 +171,7 @@ def parse_uncertain(table, source: str = "config"):
                               f"optionally {', '.join(optional)}); "
                               + (f"unknown: {unknown[0]}" if unknown else
                                  f"missing: {missing[0]}"))
+        _one_kind(where, key, params)
         try:
             out[key] = laws[law](**params)
         except (ValueError, TypeError) as exc:

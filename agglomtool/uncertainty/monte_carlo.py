@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from .._fields import DEFAULT_MODE
-from .._validate import check_int, check_range
+from .._validate import check_int, check_memory_for, check_range
 from .._version import __version__
 from ..collision.outcome import Stage
 from ._inputs import UNCERTAIN_INPUTS, base_inputs, evaluate_e_w
@@ -140,7 +140,8 @@ def monte_carlo(
         ``e`` [-]. Draws outside an input's physical range (a diameter > 0, a coating
         >= 0, ...) are resampled from the truncated law; how many is reported.
     n : int
-        Number of samples (> 0).
+        Number of samples (>= 2: one has no spread; at most what the memory available
+        holds, refused before any draw otherwise).
     seed : int, optional
         Seed of the draws (>= 0). Each input has its own streams derived from ``seed`` and
         its name (one for its draws, one for the replacements of draws outside its range),
@@ -189,8 +190,9 @@ def monte_carlo(
     agglomeration probability are those of numpy (``numpy.quantile``, linear), computed
     without sorting the samples.
     """
-    if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
-        raise ValueError(f"n = {n!r} must be a positive integer")
+    if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 2:
+        raise ValueError(f"n = {n!r} is not allowed: the number of draws, an integer; "
+                         "allowed: n >= 2 (one draw has no spread, no standard error)")
     check_summary_options(quantiles, bins)
     from ..scene import Scene
 
@@ -200,8 +202,11 @@ def monte_carlo(
         if given:
             raise ValueError(f"{given[0]} is given with a Scene: the Scene holds it (use "
                              "scene.replace(...))")
-        from .scene_mc import scene_monte_carlo
+        from .scene_mc import scene_monte_carlo, uncertain_without_effect
 
+        found = uncertain_without_effect(p_i, uncertain)
+        if found:
+            raise ValueError(found[1])
         return scene_monte_carlo(p_i, uncertain=uncertain, n=int(n), seed=seed,
                                  chunk_size=int(chunk_size), quantiles=quantiles, bins=bins,
                                  keep_samples=keep_samples)
@@ -231,6 +236,7 @@ def monte_carlo(
 
     # Memory: e_w of every sample (8 bytes each, for exact quantiles) and, only when they
     # are kept, the samples; everything else is one chunk at a time.
+    check_memory_for("n", n, 8 + (1 + 8 * len(dists) if keep_samples else 0))
     e_w = np.empty(n)
     stage = np.empty(n, dtype=np.int8) if keep_samples else None
     values = {k: np.empty(n) for k in dists} if keep_samples else {}

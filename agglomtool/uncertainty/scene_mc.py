@@ -20,6 +20,7 @@ import numpy as np
 import xarray as xr
 
 from .._fields import FIELD_META, NUMERIC_FIELDS
+from .._validate import check_memory_for
 from .._version import __version__
 from ..collision.outcome import Stage
 from ..plausibility import scene_findings, warn_findings
@@ -38,7 +39,7 @@ from .assumed import ASSUMED, assumed_draws, chosen_fields, scene_fields
 from .distributions import Distribution, to_si
 
 __all__ = ["scene_monte_carlo", "scene_e_w", "field_law", "check_fields", "SCENE_TO_CORE",
-           "SceneDraws"]
+           "SceneDraws", "uncertain_without_effect"]
 
 #: Scene name -> the core input name whose random stream it shares (where they differ).
 SCENE_TO_CORE = {"h0": "h0_i"}
@@ -57,6 +58,25 @@ def drawn_speeds(scene, uncertain) -> tuple[str, ...]:
     from .assumed import speed_model_weights
 
     return tuple(speed_model_weights(scene.values()))
+
+
+def uncertain_without_effect(scene, uncertain, speeds=(), drawn=None) -> tuple[str, str] | None:
+    """The first field of the caller's laws in ``uncertain`` that no speed computing on
+    the draws of ``scene`` reads, and why, as ``(field, message)``; ``None`` if each is read
+    (:func:`agglomtool.scene.swept_without_effect`, for draws). The speeds: ``speeds`` where
+    a comparison or a map sets them (its options or its axis), else the scene's, and
+    ``drawn`` (default: :func:`drawn_speeds`). A law that nothing reads leaves every draw
+    alike: its spread would be reported as none."""
+    from ..scene import swept_without_effect
+
+    fields, _ = split_uncertain(uncertain)
+    if not fields:
+        return None
+    swept: dict[str, Any] = {"speed": [str(v) for v in speeds]} if len(speeds) else {}
+    swept.update({k: [float(field_law(k, d)[0].nominal)] for k, d in fields.items()})
+    if drawn is None:
+        drawn = drawn_speeds(scene, uncertain)
+    return swept_without_effect(scene.values(), swept, drawn, what="uncertain ", act="draw")
 
 
 def split_uncertain(uncertain) -> tuple[dict, bool]:
@@ -186,6 +206,7 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
     before = set(scene_findings(base)) - set(getattr(scene, "_deferred_findings", ()))
 
     # Memory as on the core path: the outputs of every sample, the samples only when kept.
+    check_memory_for("n", n, 24 + (1 + 8 * len(dists) if keep_samples else 0))
     e_w, propensity, u_star = np.empty(n), np.empty(n), np.empty(n)
     stage = np.empty(n, dtype=np.int8) if keep_samples else None
     values = {k: np.empty(n) for k in dists} if keep_samples else {}
@@ -199,7 +220,18 @@ def scene_monte_carlo(scene: Scene, *, uncertain, n: int, seed, chunk_size: int,
         # its standard deviation, ...) are said, as for a Scene.
         findings += [f for f in scene_findings({**base, **drawn})
                      if f not in before and f not in findings]
-        out = _map_outputs(base, drawn, nodes)
+        try:
+            out = _map_outputs(base, drawn, nodes)
+        except ValueError as exc:  # a draw outside what a property model takes: whose
+            if not fields:
+                raise
+            laws = "; ".join(f"{k} = {dists[k]!r} [{FIELD_META[k][0]}]" for k in fields)
+            bare = [k for k, d in fields.items() if not d._with_units()]
+            hint = (f"; {', '.join(bare)} given without a unit, so in SI "
+                    f"({', '.join(FIELD_META[k][0] for k in bare)}): if another unit was "
+                    "meant, write it (\"25 degC\", \"5 um\")" if bare else "")
+            raise ValueError(f"uncertain {', '.join(fields)}: a draw is refused: {exc} (the "
+                             f"law in SI: {laws}{hint})") from None
         e_w[sl], propensity[sl], u_star[sl] = out["e_w"], out["propensity"], out["u_star"]
         if stage is not None:  # keep_samples
             stage[sl] = out["stage"]
