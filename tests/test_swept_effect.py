@@ -312,3 +312,17 @@ def test_a_scene_field_a_computing_speed_reads_is_taken():
                                '"bubble-darton"]\n'), "m.toml")
         parse_config(_map_file('bed_height = 1.0', '[grid]\nU_Umf = [1.5, 3.0]\n'
                                '[uncertain]\nassumed = true\n'), "m.toml")
+
+
+def test_a_robust_map_refuses_an_unread_law_before_its_nominal_map(monkeypatch):
+    # the refusal of robust_sweep came after the nominal map had been computed
+    import agglomtool.maps.plan as plan
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("the nominal map was computed before the refusal")
+
+    monkeypatch.setattr(plan.SweepPlan, "evaluate", no_work)
+    scene = at.Scene(**WATER, speed="excess-gas")
+    with pytest.raises(ValueError, match="uncertain wake_fraction has no effect"):
+        at.sweep(scene, uncertain={"wake_fraction": UNREAD_LAWS["wake_fraction"]},
+                 samples=4, h0=[2e-6, 8e-6])

@@ -204,10 +204,18 @@ def _sweep(scene: Scene, *, chunks, nodes, store, progress, compute, overwrite, 
         if store is not None or not compute or client not in (None, False):
             raise ValueError("a robust map (uncertain=...) is computed in memory, here: "
                              "store=, compute=False and client= are not for it")
-        from ..uncertainty.scene_mc import drawn_speeds, split_uncertain
+        from ..uncertainty.scene_mc import (
+            drawn_speeds,
+            split_uncertain,
+            uncertain_without_effect,
+        )
         from .robust import robust_sweep
 
         split_uncertain(uncertain)  # a bad request fails before the nominal map is made
+        if "speed" not in grid:  # (a speed axis: robust_sweep asks with its checked names)
+            found = uncertain_without_effect(scene, uncertain)
+            if found:  # a law nothing reads: said before the nominal map, not after it
+                raise ValueError(found[1])
         nominal = _sweep(scene, chunks=chunks, nodes=nodes, store=None, progress=progress,
                          compute=True, overwrite=False, client=False, uncertain=None,
                          samples=samples, threshold=threshold, seed=seed,
