@@ -229,6 +229,10 @@ def plan_layout(ds: xr.Dataset, var: str = "propensity", *, x=None, y=None, col=
         x_from = [d for d in x_from if d in numeric] or numeric
         pick = next((d for d in _X_PREF if d in x_from), x_from[0] if x_from else None)
         if pick is None and y is not None:
+            if f"y = {y}" not in chosen:  # the caller's y, not the tool's: not moved unsaid
+                raise ValueError(f"y = {y!r} leaves no dimension for x: {var} varies along "
+                                 f"{y} alone, which a line plot draws along x; give x = "
+                                 f"{y!r} (--x {y}), or no axis")
             chosen = [f"x = {y}" if c == f"y = {y}" else c for c in chosen]
             x, y = y, None  # one numeric dim: a line plot over it
         elif pick is None:

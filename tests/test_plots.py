@@ -460,3 +460,14 @@ def test_a_log_axis_under_three_decades_labels_1_2_5_as_numbers_without_overlap(
     boxes = sorted((t.get_window_extent(r) for t in inside), key=lambda b: b.x0)
     assert all(not _overlap(a, b) for a, b in zip(boxes[:-1], boxes[1:], strict=True))
     plt.close(fig)
+
+
+def test_a_y_axis_given_for_a_one_dimensional_map_is_not_moved_to_x():
+    # the caller's y was drawn along x without a word (a line plot has its one dimension
+    # on x); the tool's own choice still is
+    h0 = np.geomspace(1e-6, 2e-5, 4)
+    ds = xr.Dataset({"propensity": ("h0", np.linspace(0.1, 0.9, 4))}, coords={"h0": h0})
+    with pytest.raises(ValueError, match=r"y = 'h0' leaves no dimension for x.*--x h0"):
+        plan_layout(ds, y="h0")
+    assert (plan_layout(ds).x, plan_layout(ds).y) == ("h0", None)
+    assert (plan_layout(ds, x="h0").x, plan_layout(ds, x="h0").y) == ("h0", None)
