@@ -167,6 +167,26 @@ def _plain_collide(scene, axes):
     return lambda: r.collide(u)
 
 
+def _map_against_collide(sc, axes, repeats, warm_step):
+    """``(last map, map times, collide times, load at the start)``: the map of ``sc`` over
+    ``axes`` and one plain ``collide`` of its pairs, in turn ``repeats`` times, after a
+    map over every ``warm_step``-th value of each axis (compilation, property tables)."""
+    sweep(sc, **{k: v[::warm_step] for k, v in axes.items()})
+    plain = _plain_collide(sc, axes)
+    plain()
+    load = os.getloadavg()
+    t_map, t_col = [], []
+    ds = None
+    for _ in range(repeats):
+        t = time.perf_counter()
+        ds = sweep(sc, **axes)
+        t_map.append(time.perf_counter() - t)
+        t = time.perf_counter()
+        plain()
+        t_col.append(time.perf_counter() - t)
+    return ds, t_map, t_col, load
+
+
 def bench_speeds(repeats: int = 5, which=None) -> None:
     import agglomtool
 
@@ -178,20 +198,7 @@ def bench_speeds(repeats: int = 5, which=None) -> None:
             if which and f"{mat}/{law}" not in which:
                 continue
             sc = Scene(**{**scene.values(), **fields})
-            axes = {**base, **axis}
-            small = {k: v[::33] for k, v in axes.items()}
-            sweep(sc, **small)  # compile and warm the property tables
-            plain = _plain_collide(sc, axes)
-            plain()
-            load = os.getloadavg()
-            t_map, t_col = [], []
-            for _ in range(repeats):
-                t = time.perf_counter()
-                ds = sweep(sc, **axes)
-                t_map.append(time.perf_counter() - t)
-                t = time.perf_counter()
-                plain()
-                t_col.append(time.perf_counter() - t)
+            ds, t_map, t_col, load = _map_against_collide(sc, {**base, **axis}, repeats, 33)
             ratio = np.median(t_map) / np.median(t_col)
             print(f"{mat:5s} {law:10s} map ({ds.propensity.size} points, mean propensity "
                   f"{float(ds.propensity.mean()):.4f}): best {min(t_map):.3f} s, median "
@@ -222,19 +229,7 @@ def bench_tiers(repeats: int = 3, which=None) -> None:
             if which and name not in which:
                 continue
             sc = Scene(**{**scene.values(), **fields, **extra})
-            axes = {**base, **axis}
-            sweep(sc, **{k: v[::10] for k, v in axes.items()})  # compile, warm
-            plain = _plain_collide(sc, axes)
-            plain()
-            load = os.getloadavg()
-            t_map, t_col = [], []
-            for _ in range(repeats):
-                t = time.perf_counter()
-                sweep(sc, **axes)
-                t_map.append(time.perf_counter() - t)
-                t = time.perf_counter()
-                plain()
-                t_col.append(time.perf_counter() - t)
+            _, t_map, t_col, load = _map_against_collide(sc, {**base, **axis}, repeats, 10)
             print(f"{mat:5s} {name:18s}: map best {min(t_map):.3f} s, median "
                   f"{np.median(t_map):.3f} s; plain collide median {np.median(t_col):.3f} s; "
                   f"map / collide {np.median(t_map) / np.median(t_col):.1f}x; load "
