@@ -20,7 +20,8 @@ from .plausibility import PlausibilityWarning, scene_findings
 from .scene import Scene, field_names, typed_without_effect
 from .units import to_si
 
-__all__ = ["ConfigError", "check_tables", "parse_scene", "read_toml", "warn_scene_findings"]
+__all__ = ["ConfigError", "check_field_key", "check_tables", "parse_scene", "read_toml",
+           "warn_scene_findings"]
 
 
 class ConfigError(ValueError):
@@ -129,6 +130,17 @@ def check_tables(data: dict, source: str, allowed: tuple[str, ...]) -> None:
                           f"{', '.join(allowed)}")
 
 
+def check_field_key(where: str, key: str) -> None:
+    """A :class:`ConfigError` where the key ``key`` of a table (``where``: the file and the
+    table, as ``"map.toml: [grid]"``) is not a Scene field, with the field it may have
+    meant and the fields there are (the ``[scene]``, ``[grid]`` and ``[compare]`` keys)."""
+    fields = field_names()
+    if key not in fields:
+        raise ConfigError(f"{where} {key}: not a Scene field"
+                          f"{suggestion(key, fields, material=False)}; fields: "
+                          f"{', '.join(fields)}")
+
+
 def parse_scene(scene_data, source: str = "config", grid: dict | None = None) -> Scene:
     """The :class:`~agglomtool.Scene` of a configuration's ``[scene]`` table.
 
@@ -139,14 +151,10 @@ def parse_scene(scene_data, source: str = "config", grid: dict | None = None) ->
     names needs (``u0`` of ``speed = "fixed"``), where the ``grid`` (``{name: SI values}``)
     sweeps it and the table does not give it, is the grid's first: the sweep replaces it.
     """
-    fields = field_names()
     if not isinstance(scene_data, dict):
         raise ConfigError(f"{source}: [scene] must be a table of field = value")
     for key, value in scene_data.items():
-        if key not in fields:
-            raise ConfigError(f"{source}: [scene] {key}: not a Scene field"
-                              f"{suggestion(key, fields, material=False)}; fields: "
-                              f"{', '.join(fields)}")
+        check_field_key(f"{source}: [scene]", key)
         if isinstance(value, list | dict):
             raise ConfigError(f"{source}: [scene] {key} = {value!r} must be a single value; "
                               "put ranges in [grid]")

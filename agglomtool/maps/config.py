@@ -21,9 +21,16 @@ Every error names the file, the table and the key.
 
 from __future__ import annotations
 
-from .._config import ConfigError, _axis, check_tables, parse_scene, read_toml, warn_scene_findings
-from .._validate import suggestion
-from ..scene import CATEGORICAL_FIELDS, Scene, field_names
+from .._config import (
+    ConfigError,
+    _axis,
+    check_field_key,
+    check_tables,
+    parse_scene,
+    read_toml,
+    warn_scene_findings,
+)
+from ..scene import CATEGORICAL_FIELDS, Scene
 
 __all__ = ["ConfigError", "MapConfig", "load_config", "parse_config", "parse_scene",
            "warn_scene_findings", "read_toml"]
@@ -42,17 +49,13 @@ class MapConfig:
 def parse_config(data: dict, source: str = "config") -> MapConfig:
     """Build a :class:`MapConfig` from a parsed TOML mapping."""
     check_tables(data, source, ("[scene]", "[grid]", "[uncertain]", "[options]"))
-    fields = field_names()
     grid_data = data.get("grid", {})
     if not isinstance(grid_data, dict) or not grid_data:
         raise ConfigError(f"{source}: [grid] must hold at least one field = values")
     grid = {}
     for key, value in grid_data.items():
+        check_field_key(f"{source}: [grid]", key)
         where = f"{source}: [grid] {key}"
-        if key not in fields:
-            raise ConfigError(f"{where}: not a Scene field"
-                              f"{suggestion(key, fields, material=False)}; fields: "
-                              f"{', '.join(fields)}")
         axis = _axis(where, value, key)
         if key in CATEGORICAL_FIELDS and not isinstance(axis, list):
             raise ConfigError(f"{where}: {key} takes names, e.g. [\"silica-sand\"]")

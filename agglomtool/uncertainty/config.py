@@ -27,15 +27,15 @@ from typing import Any
 from .._config import (
     ConfigError,
     _plain_number,
+    check_field_key,
     check_tables,
     parse_scene,
     read_toml,
     warn_scene_findings,
 )
 from .._fields import FIELD_META
-from .._validate import suggestion
 from ..plausibility import scene_findings
-from ..scene import Scene, field_names
+from ..scene import Scene
 from .compare import BINS
 from .distributions import LogNormal, Normal, Uniform
 
@@ -63,11 +63,7 @@ def parse_compare_config(data: dict, source: str = "config") -> CompareConfig:
         raise ConfigError(f"{source}: [compare] must hold exactly one field with its "
                           "options, e.g. solid_j = [\"silica-sand\", \"ilmenite\"]")
     (field, options), = comp.items()
-    fields = field_names()
-    if field not in fields:  # said here, with the file and the table, as [scene] says it
-        raise ConfigError(f"{source}: [compare] {field}: not a Scene field"
-                          f"{suggestion(field, fields, material=False)}; fields: "
-                          f"{', '.join(fields)}")
+    check_field_key(f"{source}: [compare]", field)  # with the file and the table
     base = {k: v for k, v in scene.values().items() if k != field}  # the options replace it
     warn_scene_findings(scene, source, scene_findings(base))
     if not isinstance(options, list) or len(options) < 2:
