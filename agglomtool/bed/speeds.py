@@ -413,6 +413,11 @@ def _bracketed(speeds: SpeedModel, u_star, fused, shape, left, p, nodes):
         ok[positive] = known
         val = f_star[open_] + rest[open_] * stuck  # the one node's sum, P exactly
         return exact + _put(p, open_, val, ok), 0, _unproven(open_, ok)
+    from ..collision.sticking_bracketed import kind_of
+
+    if kind_of(fused[3]) is not None:
+        val, ok = _bracketed_compiled(speeds, u_star, fused, shape, open_, nodes)
+        return exact, _put(p, open_, val, ok), _unproven(open_, ok)
     law, cand, stuck, cross, ok = bracket_elements(speeds, u_star, fused, shape, open_,
                                                    nodes)
     f_c = law.cdf(cand)
@@ -422,6 +427,46 @@ def _bracketed(speeds: SpeedModel, u_star, fused, shape, left, p, nodes):
                               + s[:, 1:] * (f_c[:, 1:] - f_x), axis=1)
            + s[:, -1] * (1.0 - f_c[:, -1]))
     return exact, _put(p, open_, np.minimum(val, 1.0), ok), _unproven(open_, ok)
+
+
+def _bracketed_compiled(speeds: SpeedModel, u_star, fused, shape, within, nodes):
+    """``(P, ok)`` at the elements ``within`` (in their order) by the compiled bracketing
+    of :mod:`agglomtool.collision.sticking_bracketed`: the method of
+    :func:`bracket_elements` and :func:`_bracketed` in one pass per block."""
+    from ..collision.sticking_bracketed import bracketed_propensity, kind_of
+    from ..collision.sticking_numeric import TAIL
+
+    ins, steps, cshape, tier, body, particle_slip = fused
+    cshape = tuple(cshape)
+    us_c = np.ascontiguousarray(np.broadcast_to(u_star, cshape), dtype=float).reshape(-1)
+    coll = _collision_of(cshape, shape).reshape(-1)[np.flatnonzero(within)]
+    law = speeds.at(within, shape)
+    fam = law.family
+    if fam == "maxwellian":
+        p1, p2 = law.theta, 1.0
+    elif fam == "lognormal":
+        p1, p2 = law.u0, law.sigma_ln
+    else:
+        p1, p2 = law.u0, 1.0
+
+    def lognormal(k0, k1):
+        # the nodes and the top speed of elements k0 to k1, as bracket_elements makes them
+        part = _column(SpeedModel(fam, u0=_rows(law.u0, k0, k1),
+                                  sigma_ln=_rows(law.sigma_ln, k0, k1)))
+        f_o = part.cdf(us_c[coll[k0:k1]][:, None])
+        q = f_o + (1.0 - f_o) * ((np.arange(nodes) + 0.5) / nodes)[None, :]
+        q = np.concatenate([q, np.maximum(1.0 - TAIL, q[:, -1:])], axis=1)
+        return np.broadcast_to(part.quantile(q), q.shape)
+
+    return bracketed_propensity(ins, steps, kind_of(tier), us_c, coll, _FAMILY_CODES[fam],
+                                np.asarray(p1, dtype=float), np.asarray(p2, dtype=float),
+                                body=body, particle_slip=particle_slip, nodes=nodes,
+                                lognormal=lognormal)
+
+
+def _rows(a, k0, k1):
+    """Elements ``k0`` to ``k1`` of a parameter of :meth:`SpeedModel.at` (a scalar stays)."""
+    return a if a.ndim == 0 else a[k0:k1]
 
 
 def _put(p, mask, val, ok):

@@ -1,0 +1,448 @@
+"""The bracketing of :mod:`.sticking_numeric` in one compiled pass per block.
+
+:mod:`.sticking_numeric` states the method (candidate speeds above ``u0*``, the changes of
+the tier's stick indicator between them bisected with the tier's own kernel, the law's CDF
+integrated over the sticking pieces) and writes it as batches of numpy over every element
+at once: its reference. This module runs the same method element by element inside one
+compiled loop, parallel over the elements, for the tiers whose verdict is compiled code
+that can be called per collision: modes "paper" and "relative" with the flags that take
+them off their closed-form sets (body forces on the axis in mode "paper", the drag's slip
+from the particle's own speed), and mode "auto" (its choice of form, and "ode" where it
+chooses it, at the default tolerance as scenes run it). Modes "ode" and
+"ode_selfconsistent" keep the numpy batches.
+
+What changes is only where the numbers are made, not which:
+
+- the candidates are the same speeds (``u0*``, :data:`.sticking_numeric.NEAR` above it,
+  mode "relative"'s windows widened by :data:`.sticking_numeric.SEED_OFFSETS`, the law's
+  ``N`` equal-probability nodes above ``u0*`` and its top speed), those of the collision
+  alone evaluated once per run of consecutive elements of one collision;
+- each change of verdict between adjacent candidates is bisected in the same steps (the
+  geometric middle, to :data:`.sticking_numeric.U_RTOL`, at most
+  :data:`.sticking_numeric.MAX_BISECTIONS` steps);
+- ``P = F(c_0) + sum over the pieces`` as :func:`agglomtool.bed.speeds._bracketed`
+  writes it, summed in candidate order.
+
+An element whose verdict is unknown at a candidate, or whose bisection does not settle,
+is flagged (not ``ok``) and left to the node quadrature, as in the reference.
+
+The speed laws' quantiles are compiled for the fixed and Maxwellian laws (and the speed
+models, which are Maxwellian). The lognormal quantile needs the inverse of the normal
+CDF, which only scipy's compiled special functions provide here; a compiled function that
+calls them cannot be cached by numba (it holds their address), so the lognormal nodes are
+made by scipy beforehand, in chunks, and read by the loop. Its CDF is written with
+``erfc`` in the loop (as :mod:`.sticking`), which differs from scipy's ``ndtr`` by a few
+units in the last place.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange, types
+from numba.extending import overload
+
+from .._jit import CACHE, parallel_launch
+from .auto import DEFAULT_TOL, _check_tol, _decide, ode_options, ode_rtol
+from .critical import _raw
+from .fused import TIER_PAPER, TIER_RELATIVE, launch_blocks, prepare_one, slip_flag, tier_kernel
+from .ode import ode_kernel
+from .records import OdeOptions, Pair
+from .sticking import EXACT, FIXED, LOGNORMAL, MAX_WINDOWS, REST_MIN, _cdf, _windows_one
+from .sticking_numeric import MAX_BISECTIONS, NEAR, SEED_OFFSETS, TAIL, U_RTOL
+
+__all__ = ["KIND_AUTO", "bracketed_propensity", "kind_of"]
+
+#: The verdict's kernel: the fused tiers' codes, and mode "auto".
+KIND_AUTO = 2
+
+#: Verdicts: rebounds, sticks, no verdict (NaN ``e_w`` or a failed integration), not yet
+#: evaluated.
+_REBOUNDS, _STICKS, _UNKNOWN, _TODO = 0, 1, -1, -2
+
+#: Candidates of a collision alone: ``u0*``, :data:`NEAR`, and per window of mode
+#: "relative" its middle, four speeds per end and offset, and one above an open end.
+_N_NEAR = len(NEAR)
+_SEEDS_PER_WINDOW = 2 + 4 * len(SEED_OFFSETS)
+_MAX_OWN = 1 + _N_NEAR + MAX_WINDOWS * _SEEDS_PER_WINDOW
+
+
+def kind_of(tier):
+    """The verdict kind of a tier (a fused tier code, or a mode's name), or None where
+    this module does not bracket it (modes "ode" and "ode_selfconsistent")."""
+    if tier == "auto":
+        return KIND_AUTO
+    if isinstance(tier, str):
+        return None
+    return int(tier)
+
+
+def verdict(kind, pair, w, opts, empty):
+    """The stick verdict (:data:`_STICKS`, :data:`_REBOUNDS`, :data:`_UNKNOWN`) of the
+    kernel ``kind`` on ``pair`` at relative speed ``w``, in compiled code only; ``opts``
+    the :class:`~.records.OdeOptions` of mode "auto"'s integration (read by that kind
+    only)."""
+    raise NotImplementedError("verdict is called from compiled code only")
+
+
+@njit(cache=CACHE, inline="always")
+def _code(ew):
+    if math.isnan(ew):
+        return _UNKNOWN
+    return _STICKS if ew == 0.0 else _REBOUNDS
+
+
+@overload(verdict, prefer_literal=True, inline="always")
+def _verdict(kind, pair, w, opts, empty):
+    def auto(kind, pair, w, opts, empty):
+        ew, _, _, nq, _ = _decide(pair, w, DEFAULT_TOL, empty)
+        if nq == 0:
+            ew, _, _, _, status = ode_kernel(pair, w, empty, opts)
+            if status != 0:
+                return _UNKNOWN
+        return _code(ew)
+
+    def fused(kind, pair, w, opts, empty):
+        ew, _, _ = tier_kernel(kind, pair, w, empty)
+        return _code(ew)
+
+    if isinstance(kind, types.IntegerLiteral):
+        return auto if kind.literal_value == KIND_AUTO else fused
+
+    def either(kind, pair, w, opts, empty):
+        if kind == KIND_AUTO:
+            return auto(kind, pair, w, opts, empty)
+        return fused(kind, pair, w, opts, empty)
+
+    return either
+
+
+@njit(cache=CACHE, inline="always")
+def _at(kind, raw, vals, u, flags, opts, empty):
+    """The verdict at head-on lab speed ``u`` of the collision ``raw`` (``vals``: its
+    :func:`.fused.prepare_one` at speed 0, used where the body forces do not depend on the
+    speed)."""
+    body, particle_slip = flags
+    w = u * vals[10]  # u_i + u_j, exactly: 2 u head-on, u against a plate
+    if particle_slip:
+        if body:  # the drag depends on the speed: prepared at this one
+            vals = prepare_one(raw, u, math.nan, body, particle_slip)
+            w = vals[9]
+    m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, _ = vals
+    pair = Pair(m_i, m_j, r, H0, Ha, raw[8], raw[9], cos_t, theta, fn_i, fn_j, raw[17])
+    return verdict(kind, pair, w, opts, empty)
+
+
+@njit(cache=CACHE, inline="always")
+def _own(kind, raw, vals, us, flags, opts, sp, sv, lo, hi, empty):
+    """The candidates of the collision alone into ``sp`` (speeds, sorted) and ``sv``
+    (verdicts); returns their count. ``u0*`` comes first and is kept whatever its
+    verdict."""
+    body, _ = flags
+    k = 0
+    sp[k] = us
+    k += 1
+    for x in NEAR:
+        sp[k] = us * (1.0 + x)
+        k += 1
+    count, status = _windows_one(raw, us, (TIER_RELATIVE, body, None), lo, hi, empty)
+    if status == EXACT:
+        for j in range(count):
+            a = lo[j]
+            b = hi[j] if math.isfinite(hi[j]) else math.nan
+            sp[k] = math.sqrt(a) * math.sqrt(b)
+            k += 1
+            for x in SEED_OFFSETS:
+                sp[k] = a * (1.0 - x)
+                sp[k + 1] = a * (1.0 + x)
+                sp[k + 2] = b * (1.0 - x)
+                sp[k + 3] = b * (1.0 + x)
+                k += 4
+            sp[k] = a * 2.0 if math.isnan(b) else math.nan
+            k += 1
+    # keep u0* and the speeds above it (not NaN), sorted after u0* (insertion)
+    n = 1
+    for j in range(1, k):
+        s = sp[j]
+        if j > _N_NEAR and not s > us:
+            continue
+        i = n
+        while i > 1 and sp[i - 1] > s:
+            sp[i] = sp[i - 1]
+            i -= 1
+        sp[i] = s
+        n += 1
+    for j in range(n):
+        sv[j] = _at(kind, raw, vals, sp[j], flags, opts, empty) if sp[j] > 0.0 else _TODO
+    return n
+
+
+@njit(cache=CACHE, inline="always")
+def _quantile(family, q, p1, p2):
+    """The Maxwellian quantile (as :meth:`agglomtool.bed.speeds.SpeedModel.quantile`)."""
+    return math.sqrt(-p1 * math.log1p(-q))
+
+
+@njit(cache=CACHE, inline="always")
+def _node(family, given, k, j, n_nodes, f_star, rest, a, b, top):
+    """Node ``j`` of the law above ``u0*`` (``j = n_nodes``: the top speed)."""
+    if j == n_nodes:
+        return top
+    if family == LOGNORMAL:
+        return given[k, j]
+    return _quantile(family, f_star + rest * ((j + 0.5) / n_nodes), a, b)
+
+
+@njit(cache=CACHE)
+def _element(kind, raw, vals, us, family, a, b, given, k, n_nodes, own, flags, opts, cand,
+             ver, empty):
+    """``(P, ok)`` of one element: its collision (``raw``, ``vals``, ``u0*`` ``us``, its
+    own candidates ``own = (speeds, verdicts, count)``), the law ``family`` of parameters
+    ``a``, ``b`` (the lognormal nodes in row ``k`` of ``given``); ``cand``, ``ver``:
+    scratch rows."""
+    f_star = _cdf(family, us, a, b)
+    rest = 1.0 - f_star
+    if not rest > REST_MIN:
+        return 1.0, True
+    if family == FIXED:
+        if not a > 0.0:
+            return f_star + rest, True  # a speed of 0 cannot collide: sticks
+        v = _at(kind, raw, vals, a, flags, opts, empty)
+        if v == _UNKNOWN:
+            return math.nan, False
+        return f_star + rest * (1.0 if v == _STICKS else 0.0), True
+    sp, sv, n_own = own
+    # the law's nodes above u0* and its top speed
+    top_q = f_star + rest * ((n_nodes - 1 + 0.5) / n_nodes)
+    top_q = max(1.0 - TAIL, top_q)
+    if family == LOGNORMAL:
+        top = given[k, n_nodes]
+    else:
+        top = _quantile(family, top_q, a, b)
+    # merge: the collision's candidates (u0* always, the others below the top) and the
+    # nodes, then the top; a tie puts the collision's candidate first (its verdict known)
+    n_keep = 1
+    while n_keep < n_own and sp[n_keep] < top:
+        n_keep += 1
+    m = 0
+    i = 0
+    j = 0
+    node = _node(family, given, k, 0, n_nodes, f_star, rest, a, b, top)
+    while i < n_keep or j <= n_nodes:
+        if j <= n_nodes and (i >= n_keep or node < sp[i]):
+            cand[m] = node
+            ver[m] = _TODO
+            j += 1
+            if j <= n_nodes:
+                node = _node(family, given, k, j, n_nodes, f_star, rest, a, b, top)
+        else:
+            cand[m] = sp[i]
+            ver[m] = sv[i]
+            i += 1
+        m += 1
+    # the verdicts: each distinct positive speed once, a repeat takes its first's
+    for j in range(m):
+        s = cand[j]
+        if not s > 0.0:
+            continue
+        if j > 0 and s == cand[j - 1]:
+            ver[j] = ver[j - 1]
+            continue
+        if ver[j] == _TODO:
+            ver[j] = _at(kind, raw, vals, s, flags, opts, empty)
+        if ver[j] == _UNKNOWN:
+            return math.nan, False
+    # a speed of 0 cannot collide: the next candidate's verdict
+    if not cand[m - 1] > 0.0:
+        ver[m - 1] = _REBOUNDS
+    for j in range(m - 2, -1, -1):
+        if not cand[j] > 0.0:
+            ver[j] = ver[j + 1]
+    # the pieces: between candidates, constant up to the crossing bisected
+    p = _cdf(family, cand[0], a, b)
+    f_lo = p
+    for j in range(m - 1):
+        s0 = ver[j] == _STICKS
+        s1 = ver[j + 1] == _STICKS
+        f_hi = _cdf(family, cand[j + 1], a, b)
+        if s0 == s1:
+            if s0:
+                p += f_hi - f_lo
+        else:
+            lo = cand[j]
+            hi = cand[j + 1]
+            settled = False
+            for _ in range(MAX_BISECTIONS):
+                if not hi - lo > U_RTOL * hi:
+                    settled = True
+                    break
+                mid = math.sqrt(lo) * math.sqrt(hi) if lo > 0.0 else 0.5 * (lo + hi)
+                v = _at(kind, raw, vals, mid, flags, opts, empty)
+                if v == _UNKNOWN:
+                    return math.nan, False
+                if (v == _STICKS) == s0:
+                    lo = mid
+                else:
+                    hi = mid
+            if not settled:
+                return math.nan, False
+            f_x = _cdf(family, 0.5 * (lo + hi), a, b)
+            p += (f_x - f_lo) if s0 else (f_hi - f_x)
+        f_lo = f_hi
+    if ver[m - 1] == _STICKS:
+        p += 1.0 - f_lo
+    return min(p, 1.0), True
+
+
+@njit(cache=CACHE, inline="always")
+def _range(kind, inp, coll, law, given, n_nodes, flags, opts, out, ok, k0, k1):
+    """Elements ``k0 <= k < k1`` (collision ``coll[k]`` of ``inp``, a
+    :data:`.sticking.SetInputs` tuple) into ``out`` and ``ok``; the collision's own
+    candidates kept while consecutive elements share it."""
+    ins, st, u_star, su = inp
+    family, p1, s1, p2, s2 = law
+    empty = np.empty(0)
+    lo = np.zeros(MAX_WINDOWS)
+    hi = np.zeros(MAX_WINDOWS)
+    sp = np.empty(_MAX_OWN)
+    sv = np.empty(_MAX_OWN, dtype=np.int64)
+    cand = np.empty(_MAX_OWN + n_nodes + 1)
+    ver = np.empty(_MAX_OWN + n_nodes + 1, dtype=np.int64)
+    body, particle_slip = flags
+    last = -1
+    n_own = 0
+    raw = _raw(ins, st, 0)
+    vals = prepare_one(raw, 0.0, math.nan, body, particle_slip)
+    for k in range(k0, k1):
+        q = coll[k]
+        us = u_star[q * su]
+        if q != last:
+            raw = _raw(ins, st, q)
+            vals = prepare_one(raw, 0.0, math.nan, body, particle_slip)
+            last = q
+            n_own = -1  # made on first need (not for a fixed law, nor P = 1)
+        a = p1[k * s1]
+        b = p2[k * s2]
+        if n_own < 0 and family != FIXED and 1.0 - _cdf(family, us, a, b) > REST_MIN:
+            n_own = _own(kind, raw, vals, us, flags, opts, sp, sv, lo, hi, empty)
+        out[k], ok[k] = _element(kind, raw, vals, us, family, a, b, given, k, n_nodes,
+                                 (sp, sv, n_own), flags, opts, cand, ver, empty)
+
+
+@njit(cache=CACHE)
+def _serial(kind, inp, coll, law, given, n_nodes, flags, opts, out, ok):
+    _range(kind, inp, coll, law, given, n_nodes, flags, opts, out, ok, 0, out.shape[0])
+
+
+@njit(parallel=True, cache=CACHE)
+def _parallel(kind, inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes):
+    # the records made in the loop's body from their parts: a parallel loop cannot take
+    # a tuple that holds the tuple of input arrays (as in .sticking)
+    ins, st, u_star, su = inp
+    family, p1, s1, p2, s2 = law
+    n = out.shape[0]
+    nb = (n + block - 1) // block
+    for t in prange(lanes):
+        for b in range(t, nb, lanes):
+            _range(kind, (ins, st, u_star, su), coll, (family, p1, s1, p2, s2), given,
+                   n_nodes, flags, opts, out, ok, b * block, min(n, (b + 1) * block))
+
+
+# One serial and one parallel entry per kind, the kind a compile-time constant: only its
+# kernel is compiled into the loop (as the fused loops do).
+
+
+@njit(cache=CACHE)
+def _serial_paper(inp, coll, law, given, n_nodes, flags, opts, out, ok):
+    _serial(TIER_PAPER, inp, coll, law, given, n_nodes, flags, opts, out, ok)
+
+
+@njit(cache=CACHE)
+def _serial_relative(inp, coll, law, given, n_nodes, flags, opts, out, ok):
+    _serial(TIER_RELATIVE, inp, coll, law, given, n_nodes, flags, opts, out, ok)
+
+
+@njit(cache=CACHE)
+def _serial_auto(inp, coll, law, given, n_nodes, flags, opts, out, ok):
+    _serial(KIND_AUTO, inp, coll, law, given, n_nodes, flags, opts, out, ok)
+
+
+@njit(cache=CACHE)
+def _parallel_paper(inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes):
+    _parallel(TIER_PAPER, inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes)
+
+
+@njit(cache=CACHE)
+def _parallel_relative(inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes):
+    _parallel(TIER_RELATIVE, inp, coll, law, given, n_nodes, flags, opts, out, ok, block,
+              lanes)
+
+
+@njit(cache=CACHE)
+def _parallel_auto(inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes):
+    _parallel(KIND_AUTO, inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes)
+
+
+_ENTRIES = {
+    TIER_PAPER: (_serial_paper, _parallel_paper),
+    TIER_RELATIVE: (_serial_relative, _parallel_relative),
+    KIND_AUTO: (_serial_auto, _parallel_auto),
+}
+
+#: Elements below which the loop runs on the calling thread (an element costs about 20
+#: kernel evaluations).
+SERIAL_BELOW = 64
+#: Elements per block of the parallel loop, and the fewest.
+BLOCK, MIN_BLOCK = 1024, 16
+#: Lognormal elements whose nodes scipy makes at a time (17 speeds each).
+LOGNORMAL_CHUNK = 1 << 16
+
+
+def _auto_options():
+    o = ode_options(ode_rtol(_check_tol(DEFAULT_TOL)))
+    return OdeOptions(o["rtol"], o["atol"], False, True, o["first_step"], o["max_step"],
+                      o["first_change"], o["stick_margin"])
+
+
+def bracketed_propensity(ins, steps, kind, u_star, coll, family, p1, p2, *, body,
+                         particle_slip, nodes=16, lognormal=None):
+    """``(P, ok)`` at ``coll.size`` elements, element ``k`` of collision ``coll[k]`` of the
+    fused inputs ``ins, steps`` (their lab speeds not read) with head-on ``u_star`` (float64,
+    length 1 or one per collision), by the bracketing of :mod:`.sticking_numeric` with the
+    kernel ``kind`` (:func:`kind_of`) and the law ``family`` (:data:`.sticking.FIXED`,
+    ``LOGNORMAL``, ``MAXWELLIAN``) of parameters ``p1``, ``p2`` (float64, length 1 or one
+    per element; as :func:`.sticking.propensity_from_windows`). ``nodes``: the law's
+    quantile nodes among the candidates. ``lognormal``: for that family, a function
+    ``(start, stop) -> (stop - start, nodes + 1)`` array, the nodes and the top speed of
+    elements ``start`` to ``stop`` (:func:`agglomtool.bed.speeds.bracket_elements`' rule,
+    by scipy). ``ok`` false where the element is left to the quadrature (``P`` NaN)."""
+    coll = np.ascontiguousarray(coll, dtype=np.int64)
+    u_star = np.ascontiguousarray(u_star, dtype=np.float64).reshape(-1)
+    su = 1 if u_star.shape[0] > 1 else 0
+    m = coll.shape[0]
+    out = np.empty(m)
+    ok = np.empty(m, dtype=np.bool_)
+    p1 = np.ascontiguousarray(p1, dtype=np.float64).reshape(-1)
+    p2 = np.ascontiguousarray(p2, dtype=np.float64).reshape(-1)
+    serial, parallel = _ENTRIES[int(kind)]
+    flags = (bool(body), slip_flag(particle_slip))
+    opts = _auto_options()
+    n_nodes = int(nodes)
+    step = LOGNORMAL_CHUNK if family == LOGNORMAL else max(m, 1)
+    for k0 in range(0, m, step):
+        k1 = min(m, k0 + step)
+        if family == LOGNORMAL:
+            given = np.ascontiguousarray(lognormal(k0, k1), dtype=np.float64)
+        else:
+            given = np.zeros((1, 1))
+        law = (int(family), p1[k0:k1] if p1.shape[0] > 1 else p1, int(p1.shape[0] > 1),
+               p2[k0:k1] if p2.shape[0] > 1 else p2, int(p2.shape[0] > 1))
+        args = ((ins, steps, u_star, su), coll[k0:k1], law, given, n_nodes, flags, opts,
+                out[k0:k1], ok[k0:k1])
+        if k1 - k0 < SERIAL_BELOW:
+            serial(*args)
+        else:
+            block, lanes = launch_blocks(k1 - k0, BLOCK, MIN_BLOCK)
+            parallel_launch(parallel, *args, block, lanes)
+    return out, ok
