@@ -38,6 +38,7 @@ units in the last place.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit, prange, types
@@ -78,11 +79,20 @@ def kind_of(tier):
     return int(tier)
 
 
-def verdict(kind, pair, w, opts, empty):
+def _auto_options():
+    o = ode_options(ode_rtol(_check_tol(DEFAULT_TOL)))
+    return OdeOptions(o["rtol"], o["atol"], False, True, o["first_step"], o["max_step"],
+                      o["first_change"], o["stick_margin"])
+
+
+#: Mode "auto"'s integration where it chooses "ode" (its default tolerance, as scenes run
+#: it): a constant of the compiled loop.
+_AUTO_OPTS = _auto_options()
+
+
+def verdict(kind, pair, w, empty):
     """The stick verdict (:data:`_STICKS`, :data:`_REBOUNDS`, :data:`_UNKNOWN`) of the
-    kernel ``kind`` on ``pair`` at relative speed ``w``, in compiled code only; ``opts``
-    the :class:`~.records.OdeOptions` of mode "auto"'s integration (read by that kind
-    only)."""
+    kernel ``kind`` on ``pair`` at relative speed ``w``, in compiled code only."""
     raise NotImplementedError("verdict is called from compiled code only")
 
 
@@ -94,59 +104,115 @@ def _code(ew):
 
 
 @overload(verdict, prefer_literal=True, inline="always")
-def _verdict(kind, pair, w, opts, empty):
-    def auto(kind, pair, w, opts, empty):
+def _verdict(kind, pair, w, empty):
+    def auto(kind, pair, w, empty):
         ew, _, _, nq, _ = _decide(pair, w, DEFAULT_TOL, empty)
         if nq == 0:
-            ew, _, _, _, status = ode_kernel(pair, w, empty, opts)
+            ew, _, _, _, status = ode_kernel(pair, w, empty, _AUTO_OPTS)
             if status != 0:
                 return _UNKNOWN
         return _code(ew)
 
-    def fused(kind, pair, w, opts, empty):
+    def fused(kind, pair, w, empty):
         ew, _, _ = tier_kernel(kind, pair, w, empty)
         return _code(ew)
 
     if isinstance(kind, types.IntegerLiteral):
         return auto if kind.literal_value == KIND_AUTO else fused
 
-    def either(kind, pair, w, opts, empty):
+    def either(kind, pair, w, empty):
         if kind == KIND_AUTO:
-            return auto(kind, pair, w, opts, empty)
-        return fused(kind, pair, w, opts, empty)
+            return auto(kind, pair, w, empty)
+        return fused(kind, pair, w, empty)
 
     return either
 
 
+class Judge(NamedTuple):
+    """How a verdict is reached (made inside the loop from its parts)."""
+
+    #: weight, buoyancy and drag on
+    body: bool
+    #: the drag's slip is the particle's own speed: ``True``, or ``None`` for false
+    particle_slip: object
+    #: any array of length 0 (the kernels' details row)
+    empty: np.ndarray
+
+
+class Collision(NamedTuple):
+    """One collision of the loop."""
+
+    #: its raw inputs (:class:`.records.RawPair`)
+    raw: tuple
+    #: :func:`.fused.prepare_one` at speed 0 (used where the forces do not depend on it)
+    vals: tuple
+    #: its head-on ``u0*`` [m/s]
+    u_star: float
+
+
+class ElementLaw(NamedTuple):
+    """The speed law of one element, and its lognormal nodes."""
+
+    #: :data:`.sticking.FIXED`, ``LOGNORMAL`` or ``MAXWELLIAN``
+    family: int
+    #: the fixed speed, the lognormal median [m/s] or the granular temperature [m2/s2]
+    a: float
+    #: the lognormal ``sigma_ln`` [-]
+    b: float
+    #: the lognormal nodes and top speeds, one row per element of the launch
+    given: np.ndarray
+    #: the element's row of ``given``
+    k: int
+    #: ``N``, the law's nodes among the candidates
+    n_nodes: int
+
+
+class Scratch(NamedTuple):
+    """A thread's rows: the collision's own candidates and an element's."""
+
+    #: the collision's candidate speeds [m/s], sorted, ``u0*`` first
+    own: np.ndarray
+    #: their verdicts
+    own_v: np.ndarray
+    #: an element's candidate speeds [m/s]
+    cand: np.ndarray
+    #: their verdicts
+    ver: np.ndarray
+    #: mode "relative"'s windows, lower ends [m/s]
+    lo: np.ndarray
+    #: and upper ends [m/s]
+    hi: np.ndarray
+
+
 @njit(cache=CACHE, inline="always")
-def _at(kind, raw, vals, u, flags, opts, empty):
-    """The verdict at head-on lab speed ``u`` of the collision ``raw`` (``vals``: its
-    :func:`.fused.prepare_one` at speed 0, used where the body forces do not depend on the
-    speed)."""
-    body, particle_slip = flags
+def _at(kind, coll, u, judge):
+    """The verdict at head-on lab speed ``u`` of ``coll`` (a :class:`Collision`)."""
+    raw, vals, _ = coll
     w = u * vals[10]  # u_i + u_j, exactly: 2 u head-on, u against a plate
-    if particle_slip:
-        if body:  # the drag depends on the speed: prepared at this one
-            vals = prepare_one(raw, u, math.nan, body, particle_slip)
+    if judge.particle_slip:
+        if judge.body:  # the drag depends on the speed: prepared at this one
+            vals = prepare_one(raw, u, math.nan, judge.body, judge.particle_slip)
             w = vals[9]
     m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, _ = vals
     pair = Pair(m_i, m_j, r, H0, Ha, raw[8], raw[9], cos_t, theta, fn_i, fn_j, raw[17])
-    return verdict(kind, pair, w, opts, empty)
+    return verdict(kind, pair, w, judge.empty)
 
 
 @njit(cache=CACHE, inline="always")
-def _own(kind, raw, vals, us, flags, opts, sp, sv, lo, hi, empty):
-    """The candidates of the collision alone into ``sp`` (speeds, sorted) and ``sv``
-    (verdicts); returns their count. ``u0*`` comes first and is kept whatever its
-    verdict."""
-    body, _ = flags
+def _own(kind, coll, judge, rows):
+    """The candidates of the collision alone into ``rows.own`` (speeds, sorted) and
+    ``rows.own_v`` (verdicts; ``rows``: a :class:`Scratch`); returns their count.
+    ``u0*`` comes first and is kept whatever its verdict."""
+    us = coll.u_star
+    sp, lo, hi = rows.own, rows.lo, rows.hi
     k = 0
     sp[k] = us
     k += 1
     for x in NEAR:
         sp[k] = us * (1.0 + x)
         k += 1
-    count, status = _windows_one(raw, us, (TIER_RELATIVE, body, None), lo, hi, empty)
+    count, status = _windows_one(coll.raw, us, (TIER_RELATIVE, judge.body, None), lo, hi,
+                                 judge.empty)
     if status == EXACT:
         for j in range(count):
             a = lo[j]
@@ -161,7 +227,7 @@ def _own(kind, raw, vals, us, flags, opts, sp, sv, lo, hi, empty):
                 k += 4
             sp[k] = a * 2.0 if math.isnan(b) else math.nan
             k += 1
-    # keep u0* and the speeds above it (not NaN), sorted after u0* (insertion)
+    # keep u0*, the speeds NEAR it and the seeds above it (not NaN), sorted (insertion)
     n = 1
     for j in range(1, k):
         s = sp[j]
@@ -174,68 +240,53 @@ def _own(kind, raw, vals, us, flags, opts, sp, sv, lo, hi, empty):
         sp[i] = s
         n += 1
     for j in range(n):
-        sv[j] = _at(kind, raw, vals, sp[j], flags, opts, empty) if sp[j] > 0.0 else _TODO
+        rows.own_v[j] = _at(kind, coll, sp[j], judge) if sp[j] > 0.0 else _TODO
     return n
 
 
 @njit(cache=CACHE, inline="always")
-def _quantile(family, q, p1, p2):
+def _quantile(q, theta):
     """The Maxwellian quantile (as :meth:`agglomtool.bed.speeds.SpeedModel.quantile`)."""
-    return math.sqrt(-p1 * math.log1p(-q))
+    return math.sqrt(-theta * math.log1p(-q))
 
 
 @njit(cache=CACHE, inline="always")
-def _node(family, given, k, j, n_nodes, f_star, rest, a, b, top):
+def _node(law, j, f_star, rest, top):
     """Node ``j`` of the law above ``u0*`` (``j = n_nodes``: the top speed)."""
-    if j == n_nodes:
+    if j == law.n_nodes:
         return top
-    if family == LOGNORMAL:
-        return given[k, j]
-    return _quantile(family, f_star + rest * ((j + 0.5) / n_nodes), a, b)
+    if law.family == LOGNORMAL:
+        return law.given[law.k, j]
+    return _quantile(f_star + rest * ((j + 0.5) / law.n_nodes), law.a)
 
 
-@njit(cache=CACHE)
-def _element(kind, raw, vals, us, family, a, b, given, k, n_nodes, own, flags, opts, cand,
-             ver, empty):
-    """``(P, ok)`` of one element: its collision (``raw``, ``vals``, ``u0*`` ``us``, its
-    own candidates ``own = (speeds, verdicts, count)``), the law ``family`` of parameters
-    ``a``, ``b`` (the lognormal nodes in row ``k`` of ``given``); ``cand``, ``ver``:
-    scratch rows."""
-    f_star = _cdf(family, us, a, b)
-    rest = 1.0 - f_star
-    if not rest > REST_MIN:
-        return 1.0, True
-    if family == FIXED:
-        if not a > 0.0:
-            return f_star + rest, True  # a speed of 0 cannot collide: sticks
-        v = _at(kind, raw, vals, a, flags, opts, empty)
-        if v == _UNKNOWN:
-            return math.nan, False
-        return f_star + rest * (1.0 if v == _STICKS else 0.0), True
-    sp, sv, n_own = own
-    # the law's nodes above u0* and its top speed
-    top_q = f_star + rest * ((n_nodes - 1 + 0.5) / n_nodes)
-    top_q = max(1.0 - TAIL, top_q)
-    if family == LOGNORMAL:
-        top = given[k, n_nodes]
+@njit(cache=CACHE, inline="always")
+def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
+    """The element's candidates into ``rows.cand`` and their verdicts into ``rows.ver``:
+    the collision's own (``u0*`` always, the others below the top) merged with the law's
+    nodes and top speed; a tie puts the collision's first (its verdict known). Returns
+    their count, or -1 where a verdict is unknown."""
+    sp, sv, cand, ver = rows.own, rows.own_v, rows.cand, rows.ver
+    n_nodes = law.n_nodes
+    top_q = max(1.0 - TAIL, f_star + rest * ((n_nodes - 1 + 0.5) / n_nodes))
+    if law.family == LOGNORMAL:
+        top = law.given[law.k, n_nodes]
     else:
-        top = _quantile(family, top_q, a, b)
-    # merge: the collision's candidates (u0* always, the others below the top) and the
-    # nodes, then the top; a tie puts the collision's candidate first (its verdict known)
+        top = _quantile(top_q, law.a)
     n_keep = 1
     while n_keep < n_own and sp[n_keep] < top:
         n_keep += 1
     m = 0
     i = 0
     j = 0
-    node = _node(family, given, k, 0, n_nodes, f_star, rest, a, b, top)
+    node = _node(law, 0, f_star, rest, top)
     while i < n_keep or j <= n_nodes:
         if j <= n_nodes and (i >= n_keep or node < sp[i]):
             cand[m] = node
             ver[m] = _TODO
             j += 1
             if j <= n_nodes:
-                node = _node(family, given, k, j, n_nodes, f_star, rest, a, b, top)
+                node = _node(law, j, f_star, rest, top)
         else:
             cand[m] = sp[i]
             ver[m] = sv[i]
@@ -250,15 +301,58 @@ def _element(kind, raw, vals, us, family, a, b, given, k, n_nodes, own, flags, o
             ver[j] = ver[j - 1]
             continue
         if ver[j] == _TODO:
-            ver[j] = _at(kind, raw, vals, s, flags, opts, empty)
+            ver[j] = _at(kind, coll, s, judge)
         if ver[j] == _UNKNOWN:
-            return math.nan, False
+            return -1
     # a speed of 0 cannot collide: the next candidate's verdict
     if not cand[m - 1] > 0.0:
         ver[m - 1] = _REBOUNDS
     for j in range(m - 2, -1, -1):
         if not cand[j] > 0.0:
             ver[j] = ver[j + 1]
+    return m
+
+
+@njit(cache=CACHE, inline="always")
+def _crossing(kind, coll, lo, hi, lo_sticks, judge):
+    """The speed where the verdict changes between ``lo`` and ``hi`` (``lo_sticks``: the
+    verdict at ``lo``), bisected as :func:`.sticking_numeric.bracket` does; NaN where a
+    verdict is unknown or the bisection does not settle."""
+    for _ in range(MAX_BISECTIONS):
+        if not hi - lo > U_RTOL * hi:
+            return 0.5 * (lo + hi)
+        mid = math.sqrt(lo) * math.sqrt(hi) if lo > 0.0 else 0.5 * (lo + hi)
+        v = _at(kind, coll, mid, judge)
+        if v == _UNKNOWN:
+            return math.nan
+        if (v == _STICKS) == lo_sticks:
+            lo = mid
+        else:
+            hi = mid
+    return math.nan
+
+
+@njit(cache=CACHE)
+def _element(kind, coll, law, n_own, judge, rows):
+    """``(P, ok)`` of one element of collision ``coll`` (:class:`Collision`, its own
+    candidates in ``rows`` (:class:`Scratch`), ``n_own`` of them) under ``law``
+    (:class:`ElementLaw`)."""
+    family, a, b = law.family, law.a, law.b
+    f_star = _cdf(family, coll.u_star, a, b)
+    rest = 1.0 - f_star
+    if not rest > REST_MIN:
+        return 1.0, True
+    if family == FIXED:
+        if not a > 0.0:
+            return f_star + rest, True  # a speed of 0 cannot collide: sticks
+        v = _at(kind, coll, a, judge)
+        if v == _UNKNOWN:
+            return math.nan, False
+        return f_star + rest * (1.0 if v == _STICKS else 0.0), True
+    m = _candidates(kind, coll, law, n_own, judge, rows, f_star, rest)
+    if m < 0:
+        return math.nan, False
+    cand, ver = rows.cand, rows.ver
     # the pieces: between candidates, constant up to the crossing bisected
     p = _cdf(family, cand[0], a, b)
     f_lo = p
@@ -270,24 +364,10 @@ def _element(kind, raw, vals, us, family, a, b, given, k, n_nodes, own, flags, o
             if s0:
                 p += f_hi - f_lo
         else:
-            lo = cand[j]
-            hi = cand[j + 1]
-            settled = False
-            for _ in range(MAX_BISECTIONS):
-                if not hi - lo > U_RTOL * hi:
-                    settled = True
-                    break
-                mid = math.sqrt(lo) * math.sqrt(hi) if lo > 0.0 else 0.5 * (lo + hi)
-                v = _at(kind, raw, vals, mid, flags, opts, empty)
-                if v == _UNKNOWN:
-                    return math.nan, False
-                if (v == _STICKS) == s0:
-                    lo = mid
-                else:
-                    hi = mid
-            if not settled:
+            x = _crossing(kind, coll, cand[j], cand[j + 1], s0, judge)
+            if math.isnan(x):
                 return math.nan, False
-            f_x = _cdf(family, 0.5 * (lo + hi), a, b)
+            f_x = _cdf(family, x, a, b)
             p += (f_x - f_lo) if s0 else (f_hi - f_x)
         f_lo = f_hi
     if ver[m - 1] == _STICKS:
@@ -296,57 +376,56 @@ def _element(kind, raw, vals, us, family, a, b, given, k, n_nodes, own, flags, o
 
 
 @njit(cache=CACHE, inline="always")
-def _range(kind, inp, coll, law, given, n_nodes, flags, opts, out, ok, k0, k1):
-    """Elements ``k0 <= k < k1`` (collision ``coll[k]`` of ``inp``, a
-    :data:`.sticking.SetInputs` tuple) into ``out`` and ``ok``; the collision's own
-    candidates kept while consecutive elements share it."""
-    ins, st, u_star, su = inp
-    family, p1, s1, p2, s2 = law
-    empty = np.empty(0)
-    lo = np.zeros(MAX_WINDOWS)
-    hi = np.zeros(MAX_WINDOWS)
-    sp = np.empty(_MAX_OWN)
-    sv = np.empty(_MAX_OWN, dtype=np.int64)
-    cand = np.empty(_MAX_OWN + n_nodes + 1)
-    ver = np.empty(_MAX_OWN + n_nodes + 1, dtype=np.int64)
-    body, particle_slip = flags
+def _range(kind, task, judge, res, k0, k1):
+    """Elements ``k0 <= k < k1`` of ``task`` (``(inp, coll, law, given, n_nodes)``: a
+    :class:`.sticking.SetInputs` tuple, each element's collision, a
+    :class:`.sticking.SpeedLaw` tuple with steps for ``how``, the lognormal nodes and
+    ``N``) into ``res`` (``(P, ok)``); ``judge``: ``(body, particle_slip)``. A
+    collision's own candidates are kept while consecutive elements share it."""
+    (ins, st, u_star, su), coll, (family, p1, s1, p2, s2), given, n_nodes = task
+    out, ok = res
+    how = Judge(judge[0], judge[1], np.empty(0))
+    rows = Scratch(np.empty(_MAX_OWN), np.empty(_MAX_OWN, dtype=np.int64),
+                   np.empty(_MAX_OWN + n_nodes + 1),
+                   np.empty(_MAX_OWN + n_nodes + 1, dtype=np.int64),
+                   np.zeros(MAX_WINDOWS), np.zeros(MAX_WINDOWS))
     last = -1
     n_own = 0
     raw = _raw(ins, st, 0)
-    vals = prepare_one(raw, 0.0, math.nan, body, particle_slip)
+    c = Collision(raw, prepare_one(raw, 0.0, math.nan, how.body, how.particle_slip), 0.0)
     for k in range(k0, k1):
         q = coll[k]
-        us = u_star[q * su]
         if q != last:
             raw = _raw(ins, st, q)
-            vals = prepare_one(raw, 0.0, math.nan, body, particle_slip)
+            c = Collision(raw, prepare_one(raw, 0.0, math.nan, how.body, how.particle_slip),
+                          u_star[q * su])
             last = q
-            n_own = -1  # made on first need (not for a fixed law, nor P = 1)
-        a = p1[k * s1]
-        b = p2[k * s2]
-        if n_own < 0 and family != FIXED and 1.0 - _cdf(family, us, a, b) > REST_MIN:
-            n_own = _own(kind, raw, vals, us, flags, opts, sp, sv, lo, hi, empty)
-        out[k], ok[k] = _element(kind, raw, vals, us, family, a, b, given, k, n_nodes,
-                                 (sp, sv, n_own), flags, opts, cand, ver, empty)
+            n_own = -1  # made on first need (not for a fixed law, nor where P = 1)
+        law = ElementLaw(family, p1[k * s1], p2[k * s2], given, k, n_nodes)
+        if (n_own < 0 and family != FIXED
+                and 1.0 - _cdf(family, c.u_star, law.a, law.b) > REST_MIN):
+            n_own = _own(kind, c, how, rows)
+        out[k], ok[k] = _element(kind, c, law, n_own, how, rows)
 
 
 @njit(cache=CACHE)
-def _serial(kind, inp, coll, law, given, n_nodes, flags, opts, out, ok):
-    _range(kind, inp, coll, law, given, n_nodes, flags, opts, out, ok, 0, out.shape[0])
+def _serial(kind, task, judge, res):
+    _range(kind, task, judge, res, 0, res[0].shape[0])
 
 
 @njit(parallel=True, cache=CACHE)
-def _parallel(kind, inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes):
-    # the records made in the loop's body from their parts: a parallel loop cannot take
-    # a tuple that holds the tuple of input arrays (as in .sticking)
+def _parallel(kind, task, judge, res, block, lanes):
+    # the task's and the judge's tuples made in the loop's body from their parts: a
+    # parallel loop cannot take a tuple that holds a tuple of arrays (as in .sticking)
+    inp, coll, law, given, n_nodes = task
     ins, st, u_star, su = inp
-    family, p1, s1, p2, s2 = law
-    n = out.shape[0]
+    body, particle_slip = judge
+    n = res[0].shape[0]
     nb = (n + block - 1) // block
     for t in prange(lanes):
         for b in range(t, nb, lanes):
-            _range(kind, (ins, st, u_star, su), coll, (family, p1, s1, p2, s2), given,
-                   n_nodes, flags, opts, out, ok, b * block, min(n, (b + 1) * block))
+            _range(kind, ((ins, st, u_star, su), coll, law, given, n_nodes),
+                   (body, particle_slip), res, b * block, min(n, (b + 1) * block))
 
 
 # One serial and one parallel entry per kind, the kind a compile-time constant: only its
@@ -354,34 +433,33 @@ def _parallel(kind, inp, coll, law, given, n_nodes, flags, opts, out, ok, block,
 
 
 @njit(cache=CACHE)
-def _serial_paper(inp, coll, law, given, n_nodes, flags, opts, out, ok):
-    _serial(TIER_PAPER, inp, coll, law, given, n_nodes, flags, opts, out, ok)
+def _serial_paper(task, judge, res):
+    _serial(TIER_PAPER, task, judge, res)
 
 
 @njit(cache=CACHE)
-def _serial_relative(inp, coll, law, given, n_nodes, flags, opts, out, ok):
-    _serial(TIER_RELATIVE, inp, coll, law, given, n_nodes, flags, opts, out, ok)
+def _serial_relative(task, judge, res):
+    _serial(TIER_RELATIVE, task, judge, res)
 
 
 @njit(cache=CACHE)
-def _serial_auto(inp, coll, law, given, n_nodes, flags, opts, out, ok):
-    _serial(KIND_AUTO, inp, coll, law, given, n_nodes, flags, opts, out, ok)
+def _serial_auto(task, judge, res):
+    _serial(KIND_AUTO, task, judge, res)
 
 
 @njit(cache=CACHE)
-def _parallel_paper(inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes):
-    _parallel(TIER_PAPER, inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes)
+def _parallel_paper(task, judge, res, block, lanes):
+    _parallel(TIER_PAPER, task, judge, res, block, lanes)
 
 
 @njit(cache=CACHE)
-def _parallel_relative(inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes):
-    _parallel(TIER_RELATIVE, inp, coll, law, given, n_nodes, flags, opts, out, ok, block,
-              lanes)
+def _parallel_relative(task, judge, res, block, lanes):
+    _parallel(TIER_RELATIVE, task, judge, res, block, lanes)
 
 
 @njit(cache=CACHE)
-def _parallel_auto(inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes):
-    _parallel(KIND_AUTO, inp, coll, law, given, n_nodes, flags, opts, out, ok, block, lanes)
+def _parallel_auto(task, judge, res, block, lanes):
+    _parallel(KIND_AUTO, task, judge, res, block, lanes)
 
 
 _ENTRIES = {
@@ -397,12 +475,6 @@ SERIAL_BELOW = 64
 BLOCK, MIN_BLOCK = 1024, 16
 #: Lognormal elements whose nodes scipy makes at a time (17 speeds each).
 LOGNORMAL_CHUNK = 1 << 16
-
-
-def _auto_options():
-    o = ode_options(ode_rtol(_check_tol(DEFAULT_TOL)))
-    return OdeOptions(o["rtol"], o["atol"], False, True, o["first_step"], o["max_step"],
-                      o["first_change"], o["stick_margin"])
 
 
 def bracketed_propensity(ins, steps, kind, u_star, coll, family, p1, p2, *, body,
@@ -426,8 +498,6 @@ def bracketed_propensity(ins, steps, kind, u_star, coll, family, p1, p2, *, body
     p1 = np.ascontiguousarray(p1, dtype=np.float64).reshape(-1)
     p2 = np.ascontiguousarray(p2, dtype=np.float64).reshape(-1)
     serial, parallel = _ENTRIES[int(kind)]
-    flags = (bool(body), slip_flag(particle_slip))
-    opts = _auto_options()
     n_nodes = int(nodes)
     step = LOGNORMAL_CHUNK if family == LOGNORMAL else max(m, 1)
     for k0 in range(0, m, step):
@@ -438,8 +508,8 @@ def bracketed_propensity(ins, steps, kind, u_star, coll, family, p1, p2, *, body
             given = np.zeros((1, 1))
         law = (int(family), p1[k0:k1] if p1.shape[0] > 1 else p1, int(p1.shape[0] > 1),
                p2[k0:k1] if p2.shape[0] > 1 else p2, int(p2.shape[0] > 1))
-        args = ((ins, steps, u_star, su), coll[k0:k1], law, given, n_nodes, flags, opts,
-                out[k0:k1], ok[k0:k1])
+        args = (((ins, steps, u_star, su), coll[k0:k1], law, given, n_nodes),
+                (bool(body), slip_flag(particle_slip)), (out[k0:k1], ok[k0:k1]))
         if k1 - k0 < SERIAL_BELOW:
             serial(*args)
         else:
