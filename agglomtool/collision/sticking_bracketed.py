@@ -204,7 +204,10 @@ def _own(kind, coll, judge, rows):
     ``rows.own_v`` (verdicts; ``rows``: a :class:`Scratch`); returns their count.
     ``u0*`` comes first and is kept whatever its verdict."""
     us = coll.u_star
-    sp, lo, hi = rows.own, rows.lo, rows.hi
+    # the rows as local names: numba 0.68 dropped the stores of ``rows.own_v[j] = ...``
+    # written through the record's attribute in this inlined function (measured: the
+    # verdicts stayed as allocated)
+    sp, sv, lo, hi = rows.own, rows.own_v, rows.lo, rows.hi
     k = 0
     sp[k] = us
     k += 1
@@ -240,7 +243,7 @@ def _own(kind, coll, judge, rows):
         sp[i] = s
         n += 1
     for j in range(n):
-        rows.own_v[j] = _at(kind, coll, sp[j], judge) if sp[j] > 0.0 else _TODO
+        sv[j] = _at(kind, coll, sp[j], judge) if sp[j] > 0.0 else _TODO
     return n
 
 
