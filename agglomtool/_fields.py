@@ -17,11 +17,11 @@ __all__ = ["FIELD_META", "DEFAULTS", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CH
 #: The model tier used unless one is asked for: the frame-consistent closed forms. Of the
 #: tiers that cost about as much as the paper's own ("paper", "relative"), it is the most
 #: accurate (max e_w error 0.055 against 0.33, u0* within 1.2 % against 22 % on the fidelity
-#: scenes); "auto" is more accurate still (0.004) but measured 25x (water) and 4.3x (a
+#: scenes); "auto" is more accurate still (0.004) but measured 55x (water) and 1.6x (a
 #: viscous melt) the time of "relative" on operating maps (benchmarks/bench_tiers_map.py,
-#: 2026-11-26; 2.8x and 4.2x on 2026-11-24, before "relative"'s propensity was found in
-#: closed form), beyond the 3x this default may cost. The paper's model stays one word away:
-#: mode="paper".
+#: 2026-11-26, load 1.7, its propensity bracketed in one compiled pass: the time is its
+#: kernel's, integrating near each point's u0*), beyond the 3x this default may cost.
+#: The paper's model stays one word away: mode="paper".
 DEFAULT_MODE = "relative"
 
 #: Default ceiling on the critical impact speed [m/s]: of the order of the fastest impacts

@@ -218,7 +218,7 @@ TIERS = {
 }
 
 
-def bench_tiers(repeats: int = 3, which=None) -> None:
+def bench_tiers(repeats: int = 5, which=None) -> None:
     """The 1e6-point maps of ``--speeds`` (excess-gas speeds) under each of :data:`TIERS`,
     against one plain ``collide`` of the same pairs in the same settings, timed in the
     same run: where the propensity is bracketed with the tier's kernel instead of found
@@ -304,7 +304,7 @@ if __name__ == "__main__":
     ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args()
     if a.tiers is not None:
-        bench_tiers(min(a.repeats, 3), a.tiers)
+        bench_tiers(a.repeats, a.tiers)
     elif a.busy:
         bench_busy(max(a.repeats, 7))
     elif a.speeds is not None:
