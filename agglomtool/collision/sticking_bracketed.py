@@ -11,6 +11,10 @@ from the particle's own speed), and mode "auto" (its choice of form, and "ode" w
 chooses it, at the default tolerance as scenes run it). Modes "ode" and
 "ode_selfconsistent" keep the numpy batches.
 
+The functions are plain compiled functions, not inlined by numba (``inline="always"``):
+numba 0.68's inlining of them lost stores made through a record's attribute and warned
+at compile time of variables "not in scope" (LLVM still inlines where it pays).
+
 What changes is only where the numbers are made, not which:
 
 - the candidates are the same speeds (``u0*``, :data:`.sticking_numeric.NEAR` above it,
@@ -96,14 +100,14 @@ def verdict(kind, pair, w, empty):
     raise NotImplementedError("verdict is called from compiled code only")
 
 
-@njit(cache=CACHE, inline="always")
+@njit(cache=CACHE)
 def _code(ew):
     if math.isnan(ew):
         return _UNKNOWN
     return _STICKS if ew == 0.0 else _REBOUNDS
 
 
-@overload(verdict, prefer_literal=True, inline="always")
+@overload(verdict, prefer_literal=True)
 def _verdict(kind, pair, w, empty):
     def auto(kind, pair, w, empty):
         ew, _, _, nq, _ = _decide(pair, w, DEFAULT_TOL, empty)
@@ -184,7 +188,7 @@ class Scratch(NamedTuple):
     hi: np.ndarray
 
 
-@njit(cache=CACHE, inline="always")
+@njit(cache=CACHE)
 def _at(kind, coll, u, judge):
     """The verdict at head-on lab speed ``u`` of ``coll`` (a :class:`Collision`)."""
     raw, vals, _ = coll
@@ -198,15 +202,14 @@ def _at(kind, coll, u, judge):
     return verdict(kind, pair, w, judge.empty)
 
 
-@njit(cache=CACHE, inline="always")
+@njit(cache=CACHE)
 def _own(kind, coll, judge, rows):
     """The candidates of the collision alone into ``rows.own`` (speeds, sorted) and
     ``rows.own_v`` (verdicts; ``rows``: a :class:`Scratch`); returns their count.
     ``u0*`` comes first and is kept whatever its verdict."""
     us = coll.u_star
-    # the rows as local names: numba 0.68 dropped the stores of ``rows.own_v[j] = ...``
-    # written through the record's attribute in this inlined function (measured: the
-    # verdicts stayed as allocated)
+    # the rows as local names: with numba's own inlining of these functions
+    # (``inline="always"``, since removed) the stores ``rows.own_v[j] = ...`` were lost
     sp, sv, lo, hi = rows.own, rows.own_v, rows.lo, rows.hi
     k = 0
     sp[k] = us
@@ -247,13 +250,13 @@ def _own(kind, coll, judge, rows):
     return n
 
 
-@njit(cache=CACHE, inline="always")
+@njit(cache=CACHE)
 def _quantile(q, theta):
     """The Maxwellian quantile (as :meth:`agglomtool.bed.speeds.SpeedModel.quantile`)."""
     return math.sqrt(-theta * math.log1p(-q))
 
 
-@njit(cache=CACHE, inline="always")
+@njit(cache=CACHE)
 def _node(law, j, f_star, rest, top):
     """Node ``j`` of the law above ``u0*`` (``j = n_nodes``: the top speed)."""
     if j == law.n_nodes:
@@ -263,7 +266,7 @@ def _node(law, j, f_star, rest, top):
     return _quantile(f_star + rest * ((j + 0.5) / law.n_nodes), law.a)
 
 
-@njit(cache=CACHE, inline="always")
+@njit(cache=CACHE)
 def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     """The element's candidates into ``rows.cand`` and their verdicts into ``rows.ver``:
     the collision's own (``u0*`` always, the others below the top) merged with the law's
@@ -316,7 +319,7 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     return m
 
 
-@njit(cache=CACHE, inline="always")
+@njit(cache=CACHE)
 def _crossing(kind, coll, lo, hi, lo_sticks, judge):
     """The speed where the verdict changes between ``lo`` and ``hi`` (``lo_sticks``: the
     verdict at ``lo``), bisected as :func:`.sticking_numeric.bracket` does; NaN where a
@@ -378,7 +381,7 @@ def _element(kind, coll, law, n_own, judge, rows):
     return min(p, 1.0), True
 
 
-@njit(cache=CACHE, inline="always")
+@njit(cache=CACHE)
 def _range(kind, task, judge, res, k0, k1):
     """Elements ``k0 <= k < k1`` of ``task`` (``(inp, coll, law, given, n_nodes)``: a
     :class:`.sticking.SetInputs` tuple, each element's collision, a
