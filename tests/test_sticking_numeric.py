@@ -330,3 +330,51 @@ def test_compiled_pass_is_the_numpy_method(mode, slip, monkeypatch):
                                            pair=pairs.pair, report=rep_n)
             assert rep_c == rep_n
             np.testing.assert_allclose(got, ref, rtol=0.0, atol=1e-15)
+
+
+def test_compiled_pass_in_parallel_over_chunks(monkeypatch):
+    """The compiled pass's parallel entry and its lognormal chunks, which the hard set's
+    few elements per call (under ``SERIAL_BELOW``) never reach: a water-case batch of 104
+    elements whose collision changes at every element (the law varies along the first
+    axis, the collisions along the last: no run of one collision), the lognormal nodes
+    made by scipy in chunks of 66 (``LOGNORMAL_CHUNK`` shrunk from 65536: one parallel
+    launch, then 38 elements on the calling thread, the second chunk starting within a
+    round of the angles). Against the numpy batches within 1e-15 (as
+    test_compiled_pass_is_the_numpy_method), the same elements proven, and bitwise the
+    same on one thread as on two."""
+    import numba
+
+    import agglomtool.collision.sticking_bracketed as compiled
+
+    pairs = _hard_set("relative", True)[3]  # Table 2 water against ilmenite, 4 angles
+    rng = np.random.default_rng(11)
+    med = pairs.u_star[None, :] * 10 ** rng.uniform(-0.3, 2.0, (26, pairs.u_star.size))
+    law = SpeedModel("lognormal", u0=med, sigma_ln=rng.uniform(0.1, 1.5, (26, 1)))
+    launches = []
+    launch = compiled.parallel_launch
+
+    def counted(f, *args):
+        launches.append(args[2][0].size)  # the elements of the launch
+        return launch(f, *args)
+
+    monkeypatch.setattr(compiled, "LOGNORMAL_CHUNK", 66)
+    monkeypatch.setattr(compiled, "parallel_launch", counted)
+    before = numba.get_num_threads()
+    got, reps = [], []
+    try:
+        for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
+            numba.set_num_threads(threads)
+            reps.append({})
+            got.append(sticking_probability(law, pairs.u_star, pairs.collide,
+                                            pair=pairs.pair, report=reps[-1]))
+    finally:
+        numba.set_num_threads(before)
+    assert launches == [66, 66]
+    with monkeypatch.context() as m:
+        m.setattr(compiled, "kind_of", lambda tier: None)
+        rep = {}
+        ref = sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair,
+                                   report=rep)
+    assert reps[0] == reps[1] == rep and rep["bracketed"] == got[0].size == 104
+    np.testing.assert_array_equal(got[0], got[1])
+    np.testing.assert_allclose(got[0], ref, rtol=0.0, atol=1e-15)
