@@ -264,10 +264,7 @@ def test_other_tiers_take_their_own_sets(mode):
     """Tiers without a compiled sticking set: "stokes" takes ``F(u0*)`` (counted exact),
     the others the bracketing of :mod:`agglomtool.collision.sticking_numeric` (counted
     bracketed); none is left to the quadrature, and where no window lies above u0* the
-    numbers are the quadrature's (tests/test_sticking_numeric.py: the hard set): bitwise
-    from the numpy batches ("ode", "ode_selfconsistent"), within 1e-15 from the compiled
-    pass ("auto": its lognormal CDF is ``erfc``'s form, scipy's ``ndtr`` in the
-    quadrature, a unit in the last place apart)."""
+    numbers are bitwise the quadrature's (tests/test_sticking_numeric.py: the hard set)."""
     p, liquid, gas = _water()
     pairs = Pairs(p, at.Particle(d=600e-6, rho=2650.0, h0=p.h0, ha=p.ha), liquid, gas,
                   np.array([0.0, 90.0]), 0.9, mode=mode)
@@ -276,10 +273,7 @@ def test_other_tiers_take_their_own_sets(mode):
     got = sticking_probability(law, pairs.u_star, pairs.collide, nodes=16,
                                pair=pairs.pair, report=report)
     ref = sticking_probability(law, pairs.u_star, pairs.collide, nodes=16)
-    if mode == "auto":
-        np.testing.assert_allclose(got, ref, rtol=0.0, atol=1e-15)
-    else:
-        np.testing.assert_array_equal(got, ref)
+    np.testing.assert_array_equal(got, ref)
     done = "exact" if mode == "stokes" else "bracketed"
     assert report[done] == got.size and report["quadrature"] == 0, report
 

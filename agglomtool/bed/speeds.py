@@ -397,6 +397,14 @@ def _bracketed(speeds: SpeedModel, u_star, fused, shape, left, p, nodes):
     exact = int(np.count_nonzero(left & ~open_))
     if not open_.any():
         return exact, 0, None
+    from ..collision.sticking_bracketed import kind_of
+
+    if kind_of(fused[3]) is not None:
+        val, ok = _bracketed_compiled(speeds, u_star, fused, shape, open_, nodes)
+        done = _put(p, open_, val, ok)
+        if speeds.family == "fixed":  # the verdict at the speed itself: exact
+            return exact + done, 0, _unproven(open_, ok)
+        return exact, done, _unproven(open_, ok)
     if speeds.family == "fixed":
         from ..collision.sticking_numeric import stick_indicator
 
@@ -413,11 +421,6 @@ def _bracketed(speeds: SpeedModel, u_star, fused, shape, left, p, nodes):
         ok[positive] = known
         val = f_star[open_] + rest[open_] * stuck  # the one node's sum, P exactly
         return exact + _put(p, open_, val, ok), 0, _unproven(open_, ok)
-    from ..collision.sticking_bracketed import kind_of
-
-    if kind_of(fused[3]) is not None:
-        val, ok = _bracketed_compiled(speeds, u_star, fused, shape, open_, nodes)
-        return exact, _put(p, open_, val, ok), _unproven(open_, ok)
     law, cand, stuck, cross, ok = bracket_elements(speeds, u_star, fused, shape, open_,
                                                    nodes)
     f_c = law.cdf(cand)
@@ -450,13 +453,14 @@ def _bracketed_compiled(speeds: SpeedModel, u_star, fused, shape, within, nodes)
         p1, p2 = law.u0, 1.0
 
     def lognormal(k0, k1):
-        # the nodes and the top speed of elements k0 to k1, as bracket_elements makes them
+        # the nodes, the top speed and F(u0*) of elements k0 to k1, as bracket_elements
+        # makes them
         part = _column(SpeedModel(fam, u0=_rows(law.u0, k0, k1),
                                   sigma_ln=_rows(law.sigma_ln, k0, k1)))
-        f_o = part.cdf(us_c[coll[k0:k1]][:, None])
+        f_o = np.broadcast_to(part.cdf(us_c[coll[k0:k1]][:, None]), (k1 - k0, 1))
         q = f_o + (1.0 - f_o) * ((np.arange(nodes) + 0.5) / nodes)[None, :]
         q = np.concatenate([q, np.maximum(1.0 - TAIL, q[:, -1:])], axis=1)
-        return np.broadcast_to(part.quantile(q), q.shape)
+        return np.concatenate([np.broadcast_to(part.quantile(q), q.shape), f_o], axis=1)
 
     return bracketed_propensity(ins, steps, kind_of(tier), us_c, coll, _FAMILY_CODES[fam],
                                 np.asarray(p1, dtype=float), np.asarray(p2, dtype=float),

@@ -34,9 +34,10 @@ The speed laws' quantiles are compiled for the fixed and Maxwellian laws (and th
 models, which are Maxwellian). The lognormal quantile needs the inverse of the normal
 CDF, which only scipy's compiled special functions provide here; a compiled function that
 calls them cannot be cached by numba (it holds their address), so the lognormal nodes are
-made by scipy beforehand, in chunks, and read by the loop. Its CDF is written with
-``erfc`` in the loop (as :mod:`.sticking`), which differs from scipy's ``ndtr`` by a few
-units in the last place.
+made by scipy beforehand, in chunks, and read by the loop, with ``F(u0*)``. Its CDF
+elsewhere (at the candidates and crossings) is written with ``erfc`` in the loop (as
+:mod:`.sticking`), which differs from scipy's ``ndtr`` by a few units in the last place;
+where nothing sticks above ``u0*``, ``P = F(u0*)`` is scipy's, bitwise the quadrature's.
 """
 
 from __future__ import annotations
@@ -339,12 +340,21 @@ def _crossing(kind, coll, lo, hi, lo_sticks, judge):
 
 
 @njit(cache=CACHE)
+def _f_star(coll, law):
+    """``F(u0*)`` of the element: scipy's (given) for the lognormal law, so that an element
+    with nothing sticking above ``u0*`` has the quadrature's ``P`` bitwise."""
+    if law.family == LOGNORMAL:
+        return law.given[law.k, law.n_nodes + 1]
+    return _cdf(law.family, coll.u_star, law.a, law.b)
+
+
+@njit(cache=CACHE)
 def _element(kind, coll, law, n_own, judge, rows):
     """``(P, ok)`` of one element of collision ``coll`` (:class:`Collision`, its own
     candidates in ``rows`` (:class:`Scratch`), ``n_own`` of them) under ``law``
     (:class:`ElementLaw`)."""
     family, a, b = law.family, law.a, law.b
-    f_star = _cdf(family, coll.u_star, a, b)
+    f_star = _f_star(coll, law)
     rest = 1.0 - f_star
     if not rest > REST_MIN:
         return 1.0, True
@@ -360,7 +370,7 @@ def _element(kind, coll, law, n_own, judge, rows):
         return math.nan, False
     cand, ver = rows.cand, rows.ver
     # the pieces: between candidates, constant up to the crossing bisected
-    p = _cdf(family, cand[0], a, b)
+    p = f_star if cand[0] == coll.u_star else _cdf(family, cand[0], a, b)
     f_lo = p
     for j in range(m - 1):
         s0 = ver[j] == _STICKS
@@ -408,8 +418,7 @@ def _range(kind, task, judge, res, k0, k1):
             last = q
             n_own = -1  # made on first need (not for a fixed law, nor where P = 1)
         law = ElementLaw(family, p1[k * s1], p2[k * s2], given, k, n_nodes)
-        if (n_own < 0 and family != FIXED
-                and 1.0 - _cdf(family, c.u_star, law.a, law.b) > REST_MIN):
+        if n_own < 0 and family != FIXED and 1.0 - _f_star(c, law) > REST_MIN:
             n_own = _own(kind, c, how, rows)
         out[k], ok[k] = _element(kind, c, law, n_own, how, rows)
 
@@ -492,9 +501,10 @@ def bracketed_propensity(ins, steps, kind, u_star, coll, family, p1, p2, *, body
     ``LOGNORMAL``, ``MAXWELLIAN``) of parameters ``p1``, ``p2`` (float64, length 1 or one
     per element; as :func:`.sticking.propensity_from_windows`). ``nodes``: the law's
     quantile nodes among the candidates. ``lognormal``: for that family, a function
-    ``(start, stop) -> (stop - start, nodes + 1)`` array, the nodes and the top speed of
-    elements ``start`` to ``stop`` (:func:`agglomtool.bed.speeds.bracket_elements`' rule,
-    by scipy). ``ok`` false where the element is left to the quadrature (``P`` NaN)."""
+    ``(start, stop) -> (stop - start, nodes + 2)`` array, the nodes, the top speed and
+    ``F(u0*)`` of elements ``start`` to ``stop`` (:func:`agglomtool.bed.speeds.bracket_elements`'
+    rule, by scipy). ``ok`` false where the element is left to the quadrature (``P``
+    NaN)."""
     coll = np.ascontiguousarray(coll, dtype=np.int64)
     u_star = np.ascontiguousarray(u_star, dtype=np.float64).reshape(-1)
     su = 1 if u_star.shape[0] > 1 else 0
