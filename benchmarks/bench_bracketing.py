@@ -1,8 +1,8 @@
 """The compiled bracketing against the numpy batches of the same method, on maps.
 
-The propensity of the tiers without a closed-form sticking set (mode "auto", mode "paper"
-with gravity off the collision axis, ``drag_slip = "particle"``) is bracketed with the
-tier's own kernel. It runs in one compiled pass per block
+The propensity of the tiers without a closed-form sticking set (modes "auto", "ode" and
+"ode_selfconsistent", mode "paper" with gravity off the collision axis, ``drag_slip =
+"particle"``) is bracketed with the tier's own kernel. It runs in one compiled pass per block
 (``agglomtool.collision.sticking_bracketed``); the numpy batches of
 ``agglomtool.collision.sticking_numeric`` are its reference. This script maps water and
 slag (T x h0 x the law's axis, ``--points`` values each) under each setting and each speed
@@ -25,7 +25,9 @@ from bench_sweep import LAWS, MATERIALS, TIERS
 import agglomtool.collision.sticking_bracketed as compiled
 from agglomtool import Scene, sweep
 
-SETTINGS = ("auto", "paper, beta 90", "drag_slip particle")
+#: The settings whose propensity is bracketed (``bench_sweep.TIERS``'s, and the ODE tiers).
+SETTINGS = {name: TIERS[name] for name in ("auto", "paper, beta 90", "drag_slip particle")}
+SETTINGS.update({"ode": {"mode": "ode"}, "ode_selfconsistent": {"mode": "ode_selfconsistent"}})
 
 
 def one(scene, axes):
@@ -35,13 +37,13 @@ def one(scene, axes):
     return ds.propensity.values, time.perf_counter() - t
 
 
-def main(points: int) -> None:
+def main(points: int, settings) -> None:
     print(f"load average {os.getloadavg()[0]:.2f} at start", flush=True)
     worst = 0.0
     for mat, (scene, base) in MATERIALS.items():
-        for name in SETTINGS:
+        for name in settings:
             for law, (fields, axis) in LAWS.items():
-                sc = Scene(**{**scene.values(), **fields, **TIERS[name]})
+                sc = Scene(**{**scene.values(), **fields, **SETTINGS[name]})
                 axes = {k: v[::max(1, 100 // points)][:points]
                         for k, v in {**base, **axis}.items()}
                 p_c, t_c = one(sc, axes)
@@ -58,6 +60,8 @@ def main(points: int) -> None:
 if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("--points", type=int, default=20)
+    ap.add_argument("--settings", nargs="*", choices=list(SETTINGS), default=list(SETTINGS))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        main(ap.parse_args().points)
+        a = ap.parse_args()
+        main(a.points, a.settings)

@@ -309,13 +309,19 @@ def test_the_nodes_are_candidates():
 
 
 @pytest.mark.parametrize("mode, slip", [("auto", False), ("paper", False), ("relative", True),
-                                        ("paper", True)])
+                                        ("paper", True), ("ode", False),
+                                        ("ode_selfconsistent", False)])
 def test_compiled_pass_is_the_numpy_method(mode, slip, monkeypatch):
     """The compiled pass of :mod:`agglomtool.collision.sticking_bracketed` against the
     numpy batches of the same method (:func:`bracket_elements` and its integral) on the
     hard set, every law: the same elements proven and the same propensity within 1e-15
     (the compiled sum runs in candidate order, numpy's pairwise; the lognormal CDF is
-    ``erfc``'s form there, scipy's ``ndtr`` here: a few units in the last place)."""
+    ``erfc``'s form there, scipy's ``ndtr`` here: a few units in the last place). Mode
+    "ode_selfconsistent" within its stated bound instead: the law's probability in the
+    band ``FLICKER`` above ``u0*`` where its verdict flickers, since a node a unit in the
+    last place apart (the compiled ``log1p`` against numpy's) can let a bisection settle on
+    another of the band's crossings (measured: 1.2e-9 on one of
+    ``benchmarks/bench_bracketing.py``'s maps, 0 on this set)."""
     import agglomtool.collision.sticking_bracketed as compiled
 
     rng = np.random.default_rng(7)
@@ -329,7 +335,10 @@ def test_compiled_pass_is_the_numpy_method(mode, slip, monkeypatch):
                 ref = sticking_probability(law, pairs.u_star, pairs.collide,
                                            pair=pairs.pair, report=rep_n)
             assert rep_c == rep_n
-            np.testing.assert_allclose(got, ref, rtol=0.0, atol=1e-15)
+            band = 0.0
+            if mode == "ode_selfconsistent":
+                band = law.cdf(pairs.u_star * (1.0 + FLICKER)) - law.cdf(pairs.u_star)
+            assert np.all(np.abs(got - ref) <= 1e-15 + band)
 
 
 def test_compiled_pass_in_parallel_over_chunks(monkeypatch):

@@ -4,12 +4,12 @@
 the tier's stick indicator between them bisected with the tier's own kernel, the law's CDF
 integrated over the sticking pieces) and writes it as batches of numpy over every element
 at once: its reference. This module runs the same method element by element inside one
-compiled loop, parallel over the elements, for the tiers whose verdict is compiled code
-that can be called per collision: modes "paper" and "relative" with the flags that take
-them off their closed-form sets (body forces on the axis in mode "paper", the drag's slip
-from the particle's own speed), and mode "auto" (its choice of form, and "ode" where it
-chooses it, at the default tolerance as scenes run it). Modes "ode" and
-"ode_selfconsistent" keep the numpy batches.
+compiled loop, parallel over the elements, for every tier that brackets: modes "paper"
+and "relative" with the flags that take them off their closed-form sets (body forces on
+the axis in mode "paper", the drag's slip from the particle's own speed), mode "auto"
+(its choice of form, and "ode" where it chooses it, at the default tolerance as scenes
+run it), and modes "ode" and "ode_selfconsistent" (their integration with the tier's own
+settings). The numpy batches are the reference the tests hold this pass to.
 
 The functions are plain compiled functions, not inlined by numba (``inline="always"``):
 numba 0.68's inlining of them lost stores made through a record's attribute and warned
@@ -38,6 +38,11 @@ made by scipy beforehand, in chunks, and read by the loop, with ``F(u0*)``. Its 
 elsewhere (at the candidates and crossings) is written with ``erfc`` in the loop (as
 :mod:`.sticking`), which differs from scipy's ``ndtr`` by a few units in the last place;
 where nothing sticks above ``u0*``, ``P = F(u0*)`` is scipy's, bitwise the quadrature's.
+The Maxwellian nodes are the loop's own (``sqrt(-theta log1p(-q))``), which may lie a unit
+in the last place from numpy's: immaterial to ``P`` (1e-16) except in mode
+"ode_selfconsistent"'s flicker band above ``u0*``, where a bisection from a node that far
+apart may settle on another of the band's many crossings (measured 1.2e-9 on one map of
+``benchmarks/bench_bracketing.py``; within that tier's stated bound).
 """
 
 from __future__ import annotations
@@ -47,21 +52,24 @@ from typing import NamedTuple
 
 import numpy as np
 from numba import njit, prange, types
+from numba.core.errors import TypingError
 from numba.extending import overload
 
 from .._jit import CACHE, parallel_launch
 from .auto import DEFAULT_TOL, _check_tol, _decide, ode_options, ode_rtol
 from .critical import _raw
 from .fused import TIER_PAPER, TIER_RELATIVE, launch_blocks, prepare_one, slip_flag, tier_kernel
-from .ode import ode_kernel
+from .ode import DEFAULT_ATOL, DEFAULT_FIRST_STEP, DEFAULT_RTOL, ode_kernel
 from .records import OdeOptions, Pair
 from .sticking import EXACT, FIXED, LOGNORMAL, MAX_WINDOWS, REST_MIN, _cdf, _windows_one
 from .sticking_numeric import MAX_BISECTIONS, NEAR, SEED_OFFSETS, TAIL, U_RTOL
 
-__all__ = ["KIND_AUTO", "bracketed_propensity", "kind_of"]
+__all__ = ["KIND_AUTO", "KIND_ODE", "KIND_ODE_SC", "bracketed_propensity", "kind_of"]
 
-#: The verdict's kernel: the fused tiers' codes, and mode "auto".
-KIND_AUTO = 2
+#: The verdict's kernel: the fused tiers' codes, modes "auto", "ode" and
+#: "ode_selfconsistent".
+KIND_AUTO, KIND_ODE, KIND_ODE_SC = 2, 3, 4
+_KINDS = {"auto": KIND_AUTO, "ode": KIND_ODE, "ode_selfconsistent": KIND_ODE_SC}
 
 #: Verdicts: rebounds, sticks, no verdict (NaN ``e_w`` or a failed integration), not yet
 #: evaluated.
@@ -76,11 +84,9 @@ _MAX_OWN = 1 + _N_NEAR + MAX_WINDOWS * _SEEDS_PER_WINDOW
 
 def kind_of(tier):
     """The verdict kind of a tier (a fused tier code, or a mode's name), or None where
-    this module does not bracket it (modes "ode" and "ode_selfconsistent")."""
-    if tier == "auto":
-        return KIND_AUTO
+    this module does not bracket it (mode "stokes", which needs no bracket)."""
     if isinstance(tier, str):
-        return None
+        return _KINDS.get(tier)
     return int(tier)
 
 
@@ -90,9 +96,18 @@ def _auto_options():
                       o["first_change"], o["stick_margin"])
 
 
+def _ode_options(self_consistent):
+    """Mode "ode"'s (or "ode_selfconsistent"'s) integration as the tier runs it
+    (:func:`.ode.run_ode`'s defaults)."""
+    return OdeOptions(DEFAULT_RTOL, DEFAULT_ATOL, self_consistent, True, DEFAULT_FIRST_STEP,
+                      math.inf, math.inf, -1.0)
+
+
 #: Mode "auto"'s integration where it chooses "ode" (its default tolerance, as scenes run
-#: it): a constant of the compiled loop.
+#: it), and modes "ode" and "ode_selfconsistent"'s: constants of the compiled loop.
 _AUTO_OPTS = _auto_options()
+_ODE_OPTS = _ode_options(False)
+_ODE_SC_OPTS = _ode_options(True)
 
 
 def verdict(kind, pair, w, empty):
@@ -118,19 +133,23 @@ def _verdict(kind, pair, w, empty):
                 return _UNKNOWN
         return _code(ew)
 
+    def ode(kind, pair, w, empty):
+        ew, _, _, _, status = ode_kernel(pair, w, empty, _ODE_OPTS)
+        return _UNKNOWN if status != 0 else _code(ew)
+
+    def ode_sc(kind, pair, w, empty):
+        ew, _, _, _, status = ode_kernel(pair, w, empty, _ODE_SC_OPTS)
+        return _UNKNOWN if status != 0 else _code(ew)
+
     def fused(kind, pair, w, empty):
         ew, _, _ = tier_kernel(kind, pair, w, empty)
         return _code(ew)
 
-    if isinstance(kind, types.IntegerLiteral):
-        return auto if kind.literal_value == KIND_AUTO else fused
-
-    def either(kind, pair, w, empty):
-        if kind == KIND_AUTO:
-            return auto(kind, pair, w, empty)
-        return fused(kind, pair, w, empty)
-
-    return either
+    if not isinstance(kind, types.IntegerLiteral):
+        raise TypingError("verdict: the kind must be a compile-time constant (the entry "
+                          "points pass one)")
+    return {KIND_AUTO: auto, KIND_ODE: ode, KIND_ODE_SC: ode_sc}.get(kind.literal_value,
+                                                                      fused)
 
 
 class Judge(NamedTuple):
@@ -477,10 +496,32 @@ def _parallel_auto(task, judge, res, block, lanes):
     _parallel(KIND_AUTO, task, judge, res, block, lanes)
 
 
+@njit(cache=CACHE)
+def _serial_ode(task, judge, res):
+    _serial(KIND_ODE, task, judge, res)
+
+
+@njit(cache=CACHE)
+def _serial_ode_sc(task, judge, res):
+    _serial(KIND_ODE_SC, task, judge, res)
+
+
+@njit(cache=CACHE)
+def _parallel_ode(task, judge, res, block, lanes):
+    _parallel(KIND_ODE, task, judge, res, block, lanes)
+
+
+@njit(cache=CACHE)
+def _parallel_ode_sc(task, judge, res, block, lanes):
+    _parallel(KIND_ODE_SC, task, judge, res, block, lanes)
+
+
 _ENTRIES = {
     TIER_PAPER: (_serial_paper, _parallel_paper),
     TIER_RELATIVE: (_serial_relative, _parallel_relative),
     KIND_AUTO: (_serial_auto, _parallel_auto),
+    KIND_ODE: (_serial_ode, _parallel_ode),
+    KIND_ODE_SC: (_serial_ode_sc, _parallel_ode_sc),
 }
 
 #: Elements below which the loop runs on the calling thread (an element costs about 20

@@ -39,10 +39,9 @@ from a few candidates resolves; its bound adds the law's probability there. Wher
 kernel gives no verdict (NaN) at a candidate or a bracket, or a bisection
 does not settle, the element is left to the node quadrature (counted).
 
-Where the tier's verdict is compiled code that can be called per collision (modes
-"paper", "relative" and "auto"), the same method runs element by element in one compiled
-pass per block (:mod:`.sticking_bracketed`); the batches here are its reference (tested
-equal on the hard set) and serve modes "ode" and "ode_selfconsistent".
+Maps, beds and scenes run the same method element by element in one compiled pass per
+block (:mod:`.sticking_bracketed`); the batches here are its reference (tested equal on
+the hard set, mode "ode_selfconsistent" within its flicker band).
 
 Mode "stokes" takes none of this: Ennis' criterion sticks iff ``St_v <= (1 + 1/e)
 ln(H0 / Ha)`` with ``St_v = m_r w / c`` rising in proportion to the speed (no body force,
