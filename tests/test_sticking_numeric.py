@@ -387,3 +387,24 @@ def test_compiled_pass_in_parallel_over_chunks(monkeypatch):
     assert reps[0] == reps[1] == rep and rep["bracketed"] == got[0].size == 104
     np.testing.assert_array_equal(got[0], got[1])
     np.testing.assert_allclose(got[0], ref, rtol=0.0, atol=1e-15)
+
+
+def test_compiled_pass_leaves_an_element_without_u_star():
+    """Called directly with a NaN ``u0*`` (no critical speed), the compiled pass proves
+    nothing: P NaN and not ``ok``, every law (the compiled lognormal CDF of NaN is 0, which
+    would otherwise give P = 0 as if proven; ``sticking_probability`` closes such elements
+    before they reach the pass)."""
+    from agglomtool.collision.sticking import FIXED, LOGNORMAL, MAXWELLIAN
+    from agglomtool.collision.sticking_bracketed import bracketed_propensity, kind_of
+
+    pairs = _hard_set("paper", False)[3]
+    ins, steps, cshape, tier, body, slip = pairs.pair(pairs.u_star)
+    n = int(np.prod(cshape))
+    u_star = np.full(n, np.nan)
+    coll = np.arange(n)
+    for family, p1, p2 in ((LOGNORMAL, 0.1, 0.5), (MAXWELLIAN, 0.01, 1.0), (FIXED, 0.1, 1.0)):
+        nodes = lambda k0, k1: np.full((k1 - k0, 18), np.nan)  # noqa: E731
+        p, ok = bracketed_propensity(ins, steps, kind_of(tier), u_star, coll, family,
+                                     np.array([p1]), np.array([p2]), body=body,
+                                     particle_slip=slip, lognormal=nodes)
+        assert not ok.any() and np.isnan(p).all(), (family, p, ok)

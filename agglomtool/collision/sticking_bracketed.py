@@ -373,6 +373,8 @@ def _element(kind, coll, law, n_own, judge, rows):
     candidates in ``rows`` (:class:`Scratch`), ``n_own`` of them) under ``law``
     (:class:`ElementLaw`)."""
     family, a, b = law.family, law.a, law.b
+    if not coll.u_star >= 0.0:
+        return math.nan, False  # no u0* (NaN): nothing proven, left to the caller
     f_star = _f_star(coll, law)
     rest = 1.0 - f_star
     if not rest > REST_MIN:
