@@ -294,12 +294,7 @@ def _exact(speeds: SpeedModel, u_star, fused, shape, out=None):
     n_c = int(np.prod(cshape, dtype=np.int64))
     us = np.ascontiguousarray(np.broadcast_to(u_star, cshape), dtype=float).reshape(-1)
     fam = speeds.family
-    if fam == "maxwellian":
-        p1, p2 = speeds.theta, 1.0
-    elif fam == "lognormal":
-        p1, p2 = speeds.u0, speeds.sigma_ln
-    else:
-        p1, p2 = speeds.u0, 1.0
+    p1, p2 = _law_params(speeds)
     lead = _trailing(cshape, shape)
     if lead is not None:  # each collision's elements consecutive: one pass, no index
         inner = int(np.prod(shape[lead:], dtype=np.int64))
@@ -324,6 +319,17 @@ def _exact(speeds: SpeedModel, u_star, fused, shape, out=None):
     # one reduction decides the common case (no NaN: the minimum is NaN exactly when some
     # element is); the mask only where the quadrature has elements to fill in
     return p, (np.isnan(p) if p.size and math.isnan(p.min()) else None)
+
+
+def _law_params(speeds: SpeedModel):
+    """``(p1, p2)`` of a law as the compiled integration reads them
+    (:class:`agglomtool.collision.sticking.SpeedLaw`): the fixed speed, the lognormal
+    median or the granular temperature, and the lognormal ``sigma_ln`` (1 otherwise)."""
+    if speeds.family == "maxwellian":
+        return speeds.theta, 1.0
+    if speeds.family == "lognormal":
+        return speeds.u0, speeds.sigma_ln
+    return speeds.u0, 1.0
 
 
 def _collision_of(cshape, shape) -> np.ndarray:
@@ -445,12 +451,7 @@ def _bracketed_compiled(speeds: SpeedModel, u_star, fused, shape, within, nodes)
     coll = _collision_of(cshape, shape).reshape(-1)[np.flatnonzero(within)]
     law = speeds.at(within, shape)
     fam = law.family
-    if fam == "maxwellian":
-        p1, p2 = law.theta, 1.0
-    elif fam == "lognormal":
-        p1, p2 = law.u0, law.sigma_ln
-    else:
-        p1, p2 = law.u0, 1.0
+    p1, p2 = _law_params(law)
 
     def lognormal(k0, k1):
         # the nodes, the top speed and F(u0*) of elements k0 to k1, as bracket_elements
