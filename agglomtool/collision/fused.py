@@ -225,12 +225,7 @@ def _prepare(raw, theta, cos_t, sin_b, u0, u0_j, body, particle_slip):
     else:
         u_j = u0_j
     if body:
-        if math.isnan(U):
-            U_e = U_E_PER_UMF * max(
-                wet_umf(d_i, h0_i, m_i, mu_g, rho_g, WEN_YU_C1, WEN_YU_C2),
-                wet_umf(d_j, h0_j, m_j, mu_g, rho_g, WEN_YU_C1, WEN_YU_C2))
-        else:
-            U_e = U
+        U_e = _gas_speed(U, d_i, h0_i, m_i, d_j, h0_j, m_j, mu_g, rho_g)
         # The cosine of the collision angle only projects a lateral slip (particle_slip).
         cos_b = math.cos(beta_deg * _DEG) if particle_slip else 0.0
         gas = GasFlow(mu_g=mu_g, rho_g=rho_g, eps=eps, U_e=U_e)
@@ -244,6 +239,55 @@ def _prepare(raw, theta, cos_t, sin_b, u0, u0_j, body, particle_slip):
     w_per_u0 = 1.0 if (plate_i or plate_j) else 2.0
     return (m_i, m_j, r, h0_i + h0_j, ha_i + ha_j, cos_t, theta, fn_i, fn_j, u_i + u_j,
             w_per_u0)
+
+
+@njit(cache=CACHE, inline="always")
+def _gas_speed(U, d_i, h0_i, m_i, d_j, h0_j, m_j, mu_g, rho_g):
+    """The superficial gas speed around a pair [m/s]: ``U``, or where it is NaN the excess
+    gas speed, ``1.1`` times the larger Wen-Yu ``U_mf`` of the two wet particles (wet masses
+    ``m_i``, ``m_j``)."""
+    if math.isnan(U):
+        return U_E_PER_UMF * max(
+            wet_umf(d_i, h0_i, m_i, mu_g, rho_g, WEN_YU_C1, WEN_YU_C2),
+            wet_umf(d_j, h0_j, m_j, mu_g, rho_g, WEN_YU_C1, WEN_YU_C2))
+    return U
+
+
+@njit(cache=CACHE)
+def body_force_bounds(raw, u_max):
+    """``(g_i, D_i, g_j, D_j)`` [N]: at every head-on lab speed ``0 <= u <= u_max`` [m/s],
+    ``fn_i`` (:func:`prepare_one` with ``body`` and ``particle_slip``) lies within ``D_i``
+    of ``g_i``, and ``fn_j`` within ``D_j`` of ``g_j``.
+
+    ``g`` is the weight less buoyancy projected on the axis (``sin(beta)`` times it), which
+    does not depend on the speed. The drag's projection is at most its size: a particle's
+    slip is ``(-u_y, U_e / eps - u_z)`` with ``|(u_y, u_z)| = u``, so the slip's size is at
+    most ``U_e / eps + u_max``, and Gidaspow's drag grows with the slip's size (both of its
+    branches; ``C_d Re`` jumps upwards at ``Re = 1000``). NaN for a plate (not bounded
+    here)."""
+    d_i, rho_i, h0_i = raw.d_i, raw.rho_i, raw.h0_i
+    d_j, rho_j, h0_j = raw.d_j, raw.rho_j, raw.h0_j
+    rho_l, mu_g, rho_g, eps = raw.rho_l, raw.mu_g, raw.rho_g, raw.eps
+    m_i = wet_mass(d_i, rho_i, h0_i, rho_l)
+    m_j = wet_mass(d_j, rho_j, h0_j, rho_l)
+    U_e = _gas_speed(raw.U, d_i, h0_i, m_i, d_j, h0_j, m_j, mu_g, rho_g)
+    sin_b = math.sin(raw.beta_deg * _DEG)
+    slip = abs(U_e / eps) + u_max
+    g_i, big_i = _force_bound(d_i, h0_i, m_i, slip, eps, mu_g, rho_g, sin_b)
+    g_j, big_j = _force_bound(d_j, h0_j, m_j, slip, eps, mu_g, rho_g, sin_b)
+    return g_i, big_i, g_j, big_j
+
+
+@njit(cache=CACHE)
+def _force_bound(d, h0, m, slip, eps, mu_g, rho_g, sin_b):
+    """:func:`body_force_bounds` of one particle (wet mass ``m``) at the largest slip
+    ``slip`` [m/s]: ``(g, D)``."""
+    if math.isinf(d):
+        return math.nan, math.nan
+    d_wet = d + 2.0 * h0
+    vol = (math.pi / 6.0) * (d_wet * d_wet * d_wet)
+    return ((rho_g * vol - m) * GRAVITY * sin_b,
+            abs(drag_gidaspow(slip, d_wet, vol, eps, mu_g, rho_g)))
 
 
 class FusedFlags(NamedTuple):

@@ -15,12 +15,21 @@ The functions are plain compiled functions, not inlined by numba (``inline="alwa
 numba 0.68's inlining of them lost stores made through a record's attribute and warned
 at compile time of variables "not in scope" (LLVM still inlines where it pays).
 
-What changes is only where the numbers are made, not which:
+What changes is where the numbers are made, and, in modes "paper" and "relative", which
+candidates need a kernel evaluation:
 
 - the candidates are the same speeds (``u0*``, :data:`.sticking_numeric.NEAR` above it,
   mode "relative"'s windows widened by :data:`.sticking_numeric.SEED_OFFSETS`, the law's
   ``N`` equal-probability nodes above ``u0*`` and its top speed), those of the collision
   alone evaluated once per run of consecutive elements of one collision;
+- in modes "paper" and "relative" (body forces on the axis, or the drag's slip from the
+  particle's own speed) the candidates from the lowest speed that :mod:`.rebound_proof`
+  proves the pair rebounds at, up to the top, are replaced by that speed, taken as a
+  rebound without an evaluation (the proof starts at most 1e-2 above ``u0*``, above the
+  speeds :data:`.sticking_numeric.NEAR` it). The verdicts skipped are rebounds (proven), so
+  the integral is the same, except that a change of verdict below that speed is bisected
+  from it rather than from the next candidate above, which may settle on another change
+  where several lie between the two (each still within the method's tolerance of one);
 - each change of verdict between adjacent candidates is bisected in the same steps (the
   geometric middle, to :data:`.sticking_numeric.U_RTOL`, at most
   :data:`.sticking_numeric.MAX_BISECTIONS` steps);
@@ -60,6 +69,7 @@ from .auto import DEFAULT_TOL, _check_tol, _decide, ode_options, ode_rtol
 from .critical import _raw
 from .fused import TIER_PAPER, TIER_RELATIVE, launch_blocks, prepare_one, slip_flag, tier_kernel
 from .ode import DEFAULT_ATOL, DEFAULT_FIRST_STEP, DEFAULT_RTOL, ode_kernel
+from .rebound_proof import proven_from
 from .records import OdeOptions, Pair
 from .sticking import EXACT, FIXED, LOGNORMAL, MAX_WINDOWS, REST_MIN, _cdf, _windows_one
 from .sticking_numeric import MAX_BISECTIONS, NEAR, SEED_OFFSETS, TAIL, U_RTOL
@@ -299,24 +309,42 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
         top = law.given[law.k, n_nodes]
     else:
         top = _quantile(top_q, law.a)
+    # modes "paper" and "relative": from a proven speed up to the top every speed rebounds
+    # (.rebound_proof); the candidates there are not evaluated, that speed closes the row
+    cut = math.inf
+    if kind == TIER_PAPER or kind == TIER_RELATIVE:
+        cut = proven_from(kind == TIER_RELATIVE, coll.raw, coll.vals, judge.body,
+                          judge.particle_slip, coll.u_star * (1.0 + NEAR[-1]), top)
+    proven = cut < top
+    if not proven:
+        cut = top
     n_keep = 1
-    while n_keep < n_own and sp[n_keep] < top:
+    while n_keep < n_own and sp[n_keep] < cut:
         n_keep += 1
+    last = n_nodes  # the law's nodes 0 .. n_nodes - 1 and its top (j = n_nodes) taken
+    if proven:
+        last = -1
+        while last < n_nodes and _node(law, last + 1, f_star, rest, top) < cut:
+            last += 1
     m = 0
     i = 0
     j = 0
     node = _node(law, 0, f_star, rest, top)
-    while i < n_keep or j <= n_nodes:
-        if j <= n_nodes and (i >= n_keep or node < sp[i]):
+    while i < n_keep or j <= last:
+        if j <= last and (i >= n_keep or node < sp[i]):
             cand[m] = node
             ver[m] = _TODO
             j += 1
-            if j <= n_nodes:
+            if j <= last:
                 node = _node(law, j, f_star, rest, top)
         else:
             cand[m] = sp[i]
             ver[m] = sv[i]
             i += 1
+        m += 1
+    if proven:
+        cand[m] = cut
+        ver[m] = _REBOUNDS
         m += 1
     # the verdicts: each distinct positive speed once, a repeat takes its first's
     for j in range(m):
