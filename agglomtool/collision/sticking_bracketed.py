@@ -25,8 +25,9 @@ candidates need a kernel evaluation:
 - in modes "paper" and "relative" (body forces on the axis, or the drag's slip from the
   particle's own speed) the candidates from the lowest speed that :mod:`.rebound_proof`
   proves the pair rebounds at, up to the top, are replaced by that speed, taken as a
-  rebound without an evaluation (the proof starts at most 1e-2 above ``u0*``, above the
-  speeds :data:`.sticking_numeric.NEAR` it). The verdicts skipped are rebounds (proven), so
+  rebound without an evaluation (the proof may start from the first speed of
+  :data:`.sticking_numeric.NEAR` up; the collision's own candidates are evaluated only
+  where an element keeps them). The verdicts skipped are rebounds (proven), so
   the integral is the same, except that a change of verdict below that speed is bisected
   from it rather than from the next candidate above, which may settle on another change
   where several lie between the two (each still within the method's tolerance of one);
@@ -234,9 +235,11 @@ def _at(kind, coll, u, judge):
 
 @njit(cache=CACHE)
 def _own(kind, coll, judge, rows):
-    """The candidates of the collision alone into ``rows.own`` (speeds, sorted) and
-    ``rows.own_v`` (verdicts; ``rows``: a :class:`Scratch`); returns their count.
-    ``u0*`` comes first and is kept whatever its verdict."""
+    """The candidates of the collision alone into ``rows.own`` (speeds, sorted; ``rows``:
+    a :class:`Scratch`), their verdicts in ``rows.own_v`` left to evaluate
+    (:data:`_TODO`: :func:`_candidates` evaluates those an element keeps, once for the
+    collision); returns their count. ``u0*`` comes first and is kept whatever its
+    verdict."""
     us = coll.u_star
     # the rows as local names: with numba's own inlining of these functions
     # (``inline="always"``, since removed) the stores ``rows.own_v[j] = ...`` were lost
@@ -276,7 +279,7 @@ def _own(kind, coll, judge, rows):
         sp[i] = s
         n += 1
     for j in range(n):
-        sv[j] = _at(kind, coll, sp[j], judge) if sp[j] > 0.0 else _TODO
+        sv[j] = _TODO  # evaluated where an element first needs it (:func:`_candidates`)
     return n
 
 
@@ -300,8 +303,10 @@ def _node(law, j, f_star, rest, top):
 def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     """The element's candidates into ``rows.cand`` and their verdicts into ``rows.ver``:
     the collision's own (``u0*`` always, the others below the top) merged with the law's
-    nodes and top speed; a tie puts the collision's first (its verdict known). Returns
-    their count, or -1 where a verdict is unknown."""
+    nodes and top speed; a tie puts the collision's first (its verdict known). In modes
+    "paper" and "relative" the candidates from the lowest speed :mod:`.rebound_proof`
+    proves (from just above ``u0*`` to the top) are replaced by that speed, a rebound, and
+    not evaluated. Returns their count, or -1 where a verdict is unknown."""
     sp, sv, cand, ver = rows.own, rows.own_v, rows.cand, rows.ver
     n_nodes = law.n_nodes
     top_q = max(1.0 - TAIL, f_star + rest * ((n_nodes - 1 + 0.5) / n_nodes))
@@ -314,13 +319,16 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     cut = math.inf
     if kind == TIER_PAPER or kind == TIER_RELATIVE:
         cut = proven_from(kind == TIER_RELATIVE, coll.raw, coll.vals, judge.body,
-                          judge.particle_slip, coll.u_star * (1.0 + NEAR[-1]), top)
+                          judge.particle_slip, coll.u_star * (1.0 + NEAR[0]), top)
     proven = cut < top
     if not proven:
         cut = top
     n_keep = 1
     while n_keep < n_own and sp[n_keep] < cut:
         n_keep += 1
+    for i in range(n_keep):  # the collision's own, once for all its elements
+        if sv[i] == _TODO and sp[i] > 0.0:
+            sv[i] = _at(kind, coll, sp[i], judge)
     last = n_nodes  # the law's nodes 0 .. n_nodes - 1 and its top (j = n_nodes) taken
     if proven:
         last = -1
