@@ -212,7 +212,7 @@ def _prepare(raw, theta, cos_t, sin_b, u0, u0_j, body, particle_slip):
     :class:`.records.Prepared` (:func:`_one` adds the angles' memo to it)."""
     d_i, rho_i, h0_i, ha_i = raw.d_i, raw.rho_i, raw.h0_i, raw.ha_i
     d_j, rho_j, h0_j, ha_j = raw.d_j, raw.rho_j, raw.h0_j, raw.ha_j
-    rho_l, mu_g, rho_g, eps, U = raw.rho_l, raw.mu_g, raw.rho_g, raw.eps, raw.U
+    rho_l, mu_g, rho_g, eps = raw.rho_l, raw.mu_g, raw.rho_g, raw.eps
     beta_deg = raw.beta_deg
     plate_i = math.isinf(d_i)
     plate_j = math.isinf(d_j)
@@ -225,7 +225,7 @@ def _prepare(raw, theta, cos_t, sin_b, u0, u0_j, body, particle_slip):
     else:
         u_j = u0_j
     if body:
-        U_e = _gas_speed(U, d_i, h0_i, m_i, d_j, h0_j, m_j, mu_g, rho_g)
+        U_e = _gas_speed(raw, m_i, m_j)
         # The cosine of the collision angle only projects a lateral slip (particle_slip).
         cos_b = math.cos(beta_deg * _DEG) if particle_slip else 0.0
         gas = GasFlow(mu_g=mu_g, rho_g=rho_g, eps=eps, U_e=U_e)
@@ -242,14 +242,16 @@ def _prepare(raw, theta, cos_t, sin_b, u0, u0_j, body, particle_slip):
 
 
 @njit(cache=CACHE, inline="always")
-def _gas_speed(U, d_i, h0_i, m_i, d_j, h0_j, m_j, mu_g, rho_g):
-    """The superficial gas speed around a pair [m/s]: ``U``, or where it is NaN the excess
-    gas speed, ``1.1`` times the larger Wen-Yu ``U_mf`` of the two wet particles (wet masses
-    ``m_i``, ``m_j``)."""
+def _gas_speed(raw, m_i, m_j):
+    """The superficial gas speed around a pair [m/s] (``raw``: a :class:`.records.RawPair`):
+    its ``U``, or where that is NaN the excess gas speed, ``1.1`` times the larger Wen-Yu
+    ``U_mf`` of the two wet particles (wet masses ``m_i``, ``m_j`` [kg])."""
+    U = raw.U
     if math.isnan(U):
+        mu_g, rho_g = raw.mu_g, raw.rho_g
         return U_E_PER_UMF * max(
-            wet_umf(d_i, h0_i, m_i, mu_g, rho_g, WEN_YU_C1, WEN_YU_C2),
-            wet_umf(d_j, h0_j, m_j, mu_g, rho_g, WEN_YU_C1, WEN_YU_C2))
+            wet_umf(raw.d_i, raw.h0_i, m_i, mu_g, rho_g, WEN_YU_C1, WEN_YU_C2),
+            wet_umf(raw.d_j, raw.h0_j, m_j, mu_g, rho_g, WEN_YU_C1, WEN_YU_C2))
     return U
 
 
@@ -270,7 +272,7 @@ def body_force_bounds(raw, u_max):
     rho_l, mu_g, rho_g, eps = raw.rho_l, raw.mu_g, raw.rho_g, raw.eps
     m_i = wet_mass(d_i, rho_i, h0_i, rho_l)
     m_j = wet_mass(d_j, rho_j, h0_j, rho_l)
-    U_e = _gas_speed(raw.U, d_i, h0_i, m_i, d_j, h0_j, m_j, mu_g, rho_g)
+    U_e = _gas_speed(raw, m_i, m_j)
     sin_b = math.sin(raw.beta_deg * _DEG)
     slip = abs(U_e / eps) + u_max
     g_i, big_i = _force_bound(d_i, h0_i, m_i, slip, eps, mu_g, rho_g, sin_b)
