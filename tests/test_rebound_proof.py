@@ -17,10 +17,8 @@ import agglomtool as at
 from agglomtool.api import _fused_inputs
 from agglomtool.collision import _codes as codes
 from agglomtool.collision import fused
-from agglomtool.collision.auto import auto_fused
 from agglomtool.collision.physics import reduced_mass
 from agglomtool.collision.rebound_proof import (
-    AUTO,
     MARGIN,
     floors_over,
     proven_from,
@@ -33,20 +31,14 @@ def _raw(ins, steps, q):
     return RawPair(*[float(a[q * s]) for a, s in zip(ins[:18], steps[:18], strict=True)])
 
 
-def _e_w(raw, speeds, tier, body, slip, details=False, closed_only=True):
+def _e_w(raw, speeds, tier, body, slip, details=False):
     """A kernel's ``e_w`` for one collision at head-on lab speeds ``speeds`` [m/s], through
     the fused loops (the forces prepared at each speed, as the bracketing does); with
-    ``details``, also its details' rows. Mode "auto" (``tier`` :data:`AUTO`, at its default
-    tolerance, as the bracketing runs it): ``e_w``, with ``closed_only`` NaN where it took
-    another form than its closed forms on whole stages (the proof claims those)."""
+    ``details``, also its details' rows."""
     ins = tuple(np.array([x]) for x in raw) + (np.ascontiguousarray(speeds),
                                                 np.array([math.nan]))
     steps = np.zeros(len(ins), dtype=np.int64)
     steps[18] = 1
-    if tier == AUTO:
-        e_w, _, _, _, pieces = auto_fused(ins, steps, speeds.size, body=body,
-                                          particle_slip=slip, return_pieces=True)
-        return np.where(pieces == 1, e_w, np.nan) if closed_only else e_w
     e_w, _, _, _, det = fused.fused_batch(ins, steps, speeds.size, tier, body=body,
                                           particle_slip=slip, details=details)
     return (e_w, det) if details else e_w
@@ -65,9 +57,8 @@ def test_proven_intervals_rebound_on_random_collisions(body, slip):
     """Random collisions without plates (sizes 10 um-10 mm, viscosities 1e-4-1e7 Pa s,
     coatings, angles, voidages on both sides of Gidaspow's switch, e from 0 to 1): from a
     floor just above the paper's ``u0*`` (1e-4 to 1e-1 above it) to a top 1.02 to 1000 times
-    the floor, wherever the proof gives a speed for a kernel (modes "paper", "relative",
-    "auto"), that kernel rebounds from it to the top (mode "auto" by its closed forms on
-    whole stages, which it takes there)."""
+    the floor, wherever the proof gives a speed for a kernel (modes "paper", "relative"),
+    that kernel rebounds from it to the top."""
     rng = np.random.default_rng(29)
     n = 250
     p_i, p_j, liq, gas, bed, beta, e, _ = _random_scene(rng, n, plates=False)
@@ -78,7 +69,7 @@ def test_proven_intervals_rebound_on_random_collisions(body, slip):
                                      check=False)
     flag = fused.slip_flag(slip)
     proven = tried = 0
-    by_tier = dict.fromkeys((fused.TIER_PAPER, fused.TIER_RELATIVE, AUTO), 0)
+    by_tier = dict.fromkeys((fused.TIER_PAPER, fused.TIER_RELATIVE), 0)
     for q in range(n):
         if not (math.isfinite(u_star[q]) and u_star[q] > 0.0):
             continue
@@ -87,7 +78,7 @@ def test_proven_intervals_rebound_on_random_collisions(body, slip):
         top = floor * 10 ** rng.uniform(math.log10(1.02), 3.0)
         raw = _raw(ins, steps, q)
         vals = fused.prepare_one(raw, 0.0, math.nan, body, flag)
-        for tier in (fused.TIER_PAPER, fused.TIER_RELATIVE, AUTO):
+        for tier in (fused.TIER_PAPER, fused.TIER_RELATIVE):
             w_from = proven_from(tier, raw, vals, body, flag, floor, top)
             if not math.isfinite(w_from):
                 continue
@@ -197,8 +188,8 @@ def test_proof_leaves_the_windows_above_u_star(slip):
             raw = _raw(ins, steps, q)
             scan = us[q] * np.geomspace(1.0 + 1e-6, 1000.0, 3000)
             vals = fused.prepare_one(raw, 0.0, math.nan, True, flag)
-            for tier in (fused.TIER_PAPER, fused.TIER_RELATIVE, AUTO):
-                stuck = _e_w(raw, scan, tier, True, slip, closed_only=False) == 0.0
+            for tier in (fused.TIER_PAPER, fused.TIER_RELATIVE):
+                stuck = _e_w(raw, scan, tier, True, slip) == 0.0
                 windows += bool(stuck.any())
                 w_from = proven_from(tier, raw, vals, True, flag, us[q] * 1.01, scan[-1])
                 if math.isfinite(w_from):
@@ -217,7 +208,7 @@ def test_no_proof_where_the_kernels_underflow():
                   1000.0, 0.0, 1.8e-5, 1.2, 0.5, math.nan, 0.0, 7e-163)
     vals = fused.prepare_one(raw, 0.0, math.nan, False, None)
     speeds = np.array([1.0, 1.5, 2.0])
-    for tier in (fused.TIER_PAPER, fused.TIER_RELATIVE, AUTO):
-        assert (_e_w(raw, speeds, tier, False, False, closed_only=False) == 0.0).all()
+    for tier in (fused.TIER_PAPER, fused.TIER_RELATIVE):
+        assert (_e_w(raw, speeds, tier, False, False) == 0.0).all()
         assert not rebounds_over(tier, raw, vals, False, None, 1.0, 2.0)
         assert math.isinf(proven_from(tier, raw, vals, False, None, 0.5, 2.0))

@@ -1,13 +1,13 @@
-"""Proof that modes "paper", "relative" and "auto" rebound at every speed of an interval.
+"""Proof that modes "paper" and "relative" rebound at every speed of an interval.
 
 The bracketed propensity (:mod:`.sticking_bracketed`) evaluates the tier's kernel at the
 speed law's nodes above ``u0*`` to find where the pair sticks again. Far above ``u0*``
 nearly every pair rebounds, and in modes "paper" and "relative" that can be proven for a
 whole interval of speeds at once, with no kernel evaluation, from the closed forms the
-kernels are made of; in mode "auto" where it provably takes those closed forms. This
-module gives that proof; the bracketing then skips the candidates inside it. It serves
-the settings that have no closed-form sticking set: body forces on the axis in mode
-"paper", the drag's slip from the particle's own speed in either mode, and mode "auto".
+kernels are made of. This module gives that proof; the bracketing then skips the
+candidates inside it. It serves the settings that have no closed-form sticking set: body
+forces on the axis in mode "paper", and the drag's slip from the particle's own speed in
+either mode.
 
 The bound
 ---------
@@ -49,19 +49,14 @@ on the speed (``fn_i``, ``fn_j`` of :func:`.fused.prepare_one`); with it they ar
 over the interval by :func:`.fused.body_force_bounds` (the weight exactly, the drag by its
 size at the interval's top speed).
 
-Mode "auto" decides each collision by the first of its forms whose error bound passes;
-where the closed forms on whole stages (mode "relative"'s arithmetic) rebound and their
-error indicator ``g`` is at most ``min(G_MAX, tol / CLOSED_FORM_BOUND)``, it takes that
-rebound without integrating (:func:`.auto._decide`). :func:`auto_takes_closed_forms`
-bounds ``g`` over the interval from the same floors (``g`` rises with the closed forms'
-``eta`` and falls with their ``e_w``, each bounded at an end of the interval), so that
-where it holds mode "auto" rebounds at every speed of the interval, by its closed forms.
-Nothing is claimed where it would take its piecewise forms or integrate.
+Mode "auto" is not served: where the proof holds for its closed forms it takes them only
+where their error indicator is small enough, and bounding that indicator over an interval
+(tried) cost as much as the closed-form evaluations it spared; the speeds where it
+integrates, its dear ones, lie nearer ``u0*`` than any such proof reaches.
 
 Which interval: :func:`proven_from` solves the inequalities for the lowest ``w_a`` below a
 top speed (:func:`lowest_provable`, the rupture gap's bound taken at the top), checks that
-interval, and repeats below it while that gains (for mode "auto", whose indicator may
-pass only higher, the lowest speed from which it passes is bisected).
+interval, and repeats below it while that gains.
 
 Not proven here (no interval is): a plate on either side (mode "paper" tracks a plate's
 stop apart), no bridge (the kernels' dry contact), ``e = 0``, a final energy below
@@ -79,16 +74,14 @@ from numba import njit
 
 from .._jit import CACHE
 from . import stages
-from .auto import CLOSED_FORM_BOUND, DEFAULT_TOL, G_MAX
 from .bridge import bridge_volume, g_change, gap_parts, ln_f_change, rupture_gap
 from .fused import TIER_PAPER, TIER_RELATIVE, body_force_bounds
 from .physics import reduced_mass
 from .records import Gap, Pair
 
 __all__ = ["MARGIN", "LEAST", "NUDGE", "ROUNDS", "ProofConstants", "proof_constants",
-           "energy_floors", "rebounds_between", "auto_takes_closed_forms", "lowest_provable",
-           "floors_over", "rebounds_over", "proven_from", "PAPER", "RELATIVE", "AUTO",
-           "Floors"]
+           "energy_floors", "rebounds_between", "lowest_provable", "floors_over",
+           "rebounds_over", "proven_from", "PAPER", "RELATIVE"]
 
 #: Relative margin every inequality of the proof must clear, of the size of its terms.
 MARGIN = 1e-9
@@ -100,17 +93,9 @@ LEAST = 1e-200
 NUDGE = 1e-3
 #: Rounds of :func:`proven_from` (each proposes an interval below the last one proven).
 ROUNDS = 3
-#: Relative margin below mode "auto"'s bound of its indicator ``g`` that the proof asks of
-#: its bound of ``g`` (:func:`auto_takes_closed_forms`).
-G_MARGIN = 1e-6
-#: Geometric bisections of mode "auto"'s lowest proven speed, per round.
-AUTO_STEPS = 12
-#: The kinds of :func:`proven_from`: the kernels of modes "paper", "relative" (the fused
-#: tiers' codes) and "auto".
-PAPER, RELATIVE, AUTO = TIER_PAPER, TIER_RELATIVE, 2
-#: The largest indicator ``g`` at which mode "auto" (at its default tolerance, as the
-#: bracketing runs it) takes the rebound of its closed forms on whole stages.
-AUTO_G_MAX = min(G_MAX, DEFAULT_TOL / CLOSED_FORM_BOUND)
+#: The kinds of :func:`proven_from`: the kernels of modes "paper" and "relative" (the fused
+#: tiers' codes).
+PAPER, RELATIVE = TIER_PAPER, TIER_RELATIVE
 
 
 class ProofConstants(NamedTuple):
@@ -160,66 +145,6 @@ def proof_constants(pair):
     return ok, k
 
 
-class Floors(NamedTuple):
-    """What :func:`_floors` bounds over an interval of speeds."""
-
-    #: the approach's energy floor [J] and its terms' size [J]
-    a_lo: float
-    a_size: float
-    #: the separation's energy floor [J] and its terms' size [J]
-    b_lo: float
-    b_size: float
-    #: the speed left by viscosity alone at the approach's end, at its least [m/s]
-    x_a: float
-    #: the separation's largest ``c Delta`` [kg m/s], ``g(h) - g(Ha)`` [m] and length [m]
-    c_sep: float
-    g_sep: float
-    d_sep: float
-    #: the speed left by viscosity alone at the separation's end, at its least [m/s]
-    x_s: float
-
-
-@njit(cache=CACHE)
-def _floors(k, w_a, w_b, phi_a, psi_a, phi_s):
-    """:func:`energy_floors` with the bounds that make them (a :class:`Floors`; NaN where
-    not reached)."""
-    m_r, c, kcap, a2, c_app, l_app, d_app, gap_ha, vol3, e, mu_per_gamma, theta = k
-    nan = math.nan
-    if not (w_a > 0.0 and w_b >= w_a):
-        return Floors(nan, nan, nan, nan, nan, nan, nan, nan, nan)
-    # ---- the approach: viscosity alone does not stop it, and energy is left
-    x_a = w_a - c_app / m_r  # the speed left by viscosity alone [m/s]
-    x_b = w_b - c_app / m_r
-    a_size = 0.5 * m_r * w_b * w_b + abs(l_app) + (abs(phi_a) + abs(psi_a)) * d_app
-    if not x_a > MARGIN * w_a:
-        return Floors(nan, a_size, nan, nan, x_a, nan, nan, nan, nan)
-    a_lo = 0.5 * m_r * x_a * x_a - l_app + phi_a * d_app
-    a_hi = 0.5 * m_r * x_b * x_b - l_app + psi_a * d_app
-    if not a_lo > 0.0:
-        return Floors(a_lo, a_size, nan, nan, x_a, nan, nan, nan, nan)
-    # ---- the opening speeds and the rupture gaps (at least Ha: a broken bridge has none)
-    ws_lo = e * math.sqrt(2.0 * a_lo / m_r)
-    ws_hi = e * math.sqrt(2.0 * a_hi / m_r)
-    ha = gap_ha.d
-    h_lo = max(rupture_gap(theta, mu_per_gamma * ws_lo, vol3), ha)
-    h_hi = max(rupture_gap(theta, mu_per_gamma * ws_hi, vol3), ha)
-    top = Gap(h_hi, *gap_parts(h_hi, a2))
-    c_sep = c * abs(ln_f_change(gap_ha, top))
-    g_sep = g_change(gap_ha, top, a2)
-    if kcap >= 0.0:
-        l_sep = kcap * g_sep
-    else:
-        l_sep = kcap * g_change(gap_ha, Gap(h_lo, *gap_parts(h_lo, a2)), a2)
-    d_hi = h_hi - ha
-    b_size = 0.5 * m_r * ws_hi * ws_hi + abs(l_sep) + abs(phi_s) * d_hi
-    x_s = ws_lo - c_sep / m_r
-    if not x_s > MARGIN * ws_lo:
-        return Floors(a_lo, a_size, nan, b_size, x_a, c_sep, g_sep, d_hi, x_s)
-    body = phi_s * (h_lo - ha) if phi_s >= 0.0 else phi_s * d_hi
-    return Floors(a_lo, a_size, 0.5 * m_r * x_s * x_s - l_sep + body, b_size, x_a, c_sep,
-                  g_sep, d_hi, x_s)
-
-
 @njit(cache=CACHE)
 def energy_floors(k, w_a, w_b, phi_a, psi_a, phi_s):
     """Lower bounds at every relative speed ``w_a <= w <= w_b`` [m/s] of the energy [J] the
@@ -231,8 +156,39 @@ def energy_floors(k, w_a, w_b, phi_a, psi_a, phi_s):
 
     Returns ``(a_lo, a_size, b_lo, b_size)``, each bound with the size of its terms; a bound
     is NaN where viscosity alone may stop its stage, ``b_lo`` also where ``a_lo <= 0``."""
-    f = _floors(k, w_a, w_b, phi_a, psi_a, phi_s)
-    return f.a_lo, f.a_size, f.b_lo, f.b_size
+    m_r, c, kcap, a2, c_app, l_app, d_app, gap_ha, vol3, e, mu_per_gamma, theta = k
+    nan = math.nan
+    if not (w_a > 0.0 and w_b >= w_a):
+        return nan, nan, nan, nan
+    # ---- the approach: viscosity alone does not stop it, and energy is left
+    x_a = w_a - c_app / m_r  # the speed left by viscosity alone [m/s]
+    x_b = w_b - c_app / m_r
+    a_size = 0.5 * m_r * w_b * w_b + abs(l_app) + (abs(phi_a) + abs(psi_a)) * d_app
+    if not x_a > MARGIN * w_a:
+        return nan, a_size, nan, nan
+    a_lo = 0.5 * m_r * x_a * x_a - l_app + phi_a * d_app
+    a_hi = 0.5 * m_r * x_b * x_b - l_app + psi_a * d_app
+    if not a_lo > 0.0:
+        return a_lo, a_size, nan, nan
+    # ---- the opening speeds and the rupture gaps (at least Ha: a broken bridge has none)
+    ws_lo = e * math.sqrt(2.0 * a_lo / m_r)
+    ws_hi = e * math.sqrt(2.0 * a_hi / m_r)
+    ha = gap_ha.d
+    h_lo = max(rupture_gap(theta, mu_per_gamma * ws_lo, vol3), ha)
+    h_hi = max(rupture_gap(theta, mu_per_gamma * ws_hi, vol3), ha)
+    top = Gap(h_hi, *gap_parts(h_hi, a2))
+    c_sep = c * abs(ln_f_change(gap_ha, top))
+    if kcap >= 0.0:
+        l_sep = kcap * g_change(gap_ha, top, a2)
+    else:
+        l_sep = kcap * g_change(gap_ha, Gap(h_lo, *gap_parts(h_lo, a2)), a2)
+    d_hi = h_hi - ha
+    b_size = 0.5 * m_r * ws_hi * ws_hi + abs(l_sep) + abs(phi_s) * d_hi
+    x_s = ws_lo - c_sep / m_r
+    if not x_s > MARGIN * ws_lo:
+        return a_lo, a_size, nan, b_size
+    body = phi_s * (h_lo - ha) if phi_s >= 0.0 else phi_s * d_hi
+    return a_lo, a_size, 0.5 * m_r * x_s * x_s - l_sep + body, b_size
 
 
 @njit(cache=CACHE)
@@ -243,35 +199,6 @@ def rebounds_between(k, w_a, w_b, phi_a, psi_a, phi_s):
     a_lo, a_size, b_lo, b_size = energy_floors(k, w_a, w_b, phi_a, psi_a, phi_s)
     return (a_lo > MARGIN * a_size and b_lo > MARGIN * b_size
             and b_lo > LEAST * (0.5 * k.m_r * w_b * w_b))
-
-
-@njit(cache=CACHE)
-def auto_takes_closed_forms(k, w_a, w_b, phi_a, psi_a, phi_s, g_max):
-    """True where mode "auto" provably takes the rebound of its closed forms on whole
-    stages at every relative speed ``w_a <= w <= w_b`` [m/s]: they rebound there
-    (:func:`rebounds_between` with the relative motion's forces, ``phi_a <= f_b <= psi_a``,
-    ``phi_s = -psi_a``) and their error indicator ``g`` stays at most ``g_max``
-    (:func:`.auto._decide`: ``min(G_MAX, tol / CLOSED_FORM_BOUND)``).
-
-    ``g = eta / max(e_w, sqrt(eta))`` rises with ``eta`` and falls with ``e_w``; ``eta`` is
-    the approach's and the separation's ``c Delta / (m_r (v - c Delta / m_r))`` times the
-    size of their capillary and body work, over ``k0 = m_r w^2 / 2``
-    (:func:`.auto._whole_at`). Over the interval each factor is bounded at an end:
-    ``c Delta`` at its largest, the speeds left by viscosity alone at their least, the
-    works at their largest (``|kcap| (g(h) - g(Ha))`` and ``|f_b| (h - Ha)`` at the largest
-    rupture gap), ``k0`` at ``w_a``; ``e_w^2 = k_end / k0`` at least the separation's floor
-    over ``m_r w_b^2 / 2``."""
-    m_r, c, kcap, a2, c_app, l_app, d_app, gap_ha, vol3, e, mu_per_gamma, theta = k
-    f = _floors(k, w_a, w_b, phi_a, psi_a, phi_s)
-    if not (f.a_lo > MARGIN * f.a_size and f.b_lo > MARGIN * f.b_size
-            and f.b_lo > LEAST * (0.5 * m_r * w_b * w_b)):
-        return False
-    big = max(abs(phi_a), abs(psi_a))
-    eta = (c_app / (m_r * f.x_a) * (abs(l_app) + big * d_app)
-           + f.c_sep / (m_r * f.x_s) * (abs(kcap) * f.g_sep + big * f.d_sep))
-    eta /= 0.5 * m_r * w_a * w_a
-    ew = math.sqrt(f.b_lo / (0.5 * m_r * w_b * w_b))
-    return eta / max(ew, math.sqrt(eta)) <= g_max * (1.0 - G_MARGIN)
 
 
 @njit(cache=CACHE)
@@ -305,7 +232,7 @@ def _forces(kind, lo_i, hi_i, lo_j, hi_j, frac_i, frac_j):
     """``(phi_a, psi_a, phi_s)`` of :func:`rebounds_between` from ``lo_i <= fn_i <= hi_i``
     and ``lo_j <= fn_j <= hi_j`` [N]: each particle's own force in mode "paper" (``fn_i``
     and ``-fn_j`` on the approach, ``-fn_i`` and ``fn_j`` on the separation), the relative
-    motion's ``f_b = frac_j fn_i - frac_i fn_j`` in modes "relative" and "auto"."""
+    motion's ``f_b = frac_j fn_i - frac_i fn_j`` in mode "relative"."""
     if kind != PAPER:
         f_lo = frac_j * lo_i - frac_i * hi_j
         f_hi = frac_j * hi_i - frac_i * lo_j
@@ -338,18 +265,9 @@ def _forces_below(kind, raw, hi, frac_i, frac_j):
 
 
 @njit(cache=CACHE)
-def _proves(kind, k, w_a, w_b, forces):
-    """The proof over relative speeds ``[w_a, w_b]`` for the kernel ``kind``."""
-    if kind == AUTO:
-        return auto_takes_closed_forms(k, w_a, w_b, forces[0], forces[1], forces[2],
-                                       AUTO_G_MAX)
-    return rebounds_between(k, w_a, w_b, forces[0], forces[1], forces[2])
-
-
-@njit(cache=CACHE)
 def floors_over(kind, raw, vals, body, particle_slip, u_a, u_b):
-    """:func:`energy_floors` of the kernel ``kind`` (:data:`PAPER`, :data:`RELATIVE`; mode
-    "auto"'s closed forms are :data:`RELATIVE`'s) over the head-on speeds
+    """:func:`energy_floors` of the kernel ``kind`` (:data:`PAPER`, :data:`RELATIVE`) over
+    the head-on speeds
     ``u_a <= u <= u_b`` [m/s]; arguments as :func:`proven_from`'s."""
     ok, k, frac_i, frac_j, slip, forces = _setup(kind, raw, vals, body, particle_slip)
     if not ok:
@@ -362,7 +280,7 @@ def floors_over(kind, raw, vals, body, particle_slip, u_a, u_b):
 
 @njit(cache=CACHE)
 def rebounds_over(kind, raw, vals, body, particle_slip, u_a, u_b):
-    """True where the kernel ``kind`` (:data:`PAPER`, :data:`RELATIVE`, :data:`AUTO`)
+    """True where the kernel ``kind`` (:data:`PAPER`, :data:`RELATIVE`)
     provably rebounds at every head-on speed ``u_a <= u <= u_b`` [m/s]; arguments as
     :func:`proven_from`'s."""
     ok, k, frac_i, frac_j, slip, forces = _setup(kind, raw, vals, body, particle_slip)
@@ -371,13 +289,13 @@ def rebounds_over(kind, raw, vals, body, particle_slip, u_a, u_b):
     if slip:
         forces = _forces_below(kind, raw, u_b, frac_i, frac_j)
     wpu = vals[10]
-    return _proves(kind, k, u_a * wpu, u_b * wpu, forces)
+    return rebounds_between(k, u_a * wpu, u_b * wpu, *forces)
 
 
 @njit(cache=CACHE)
 def proven_from(kind, raw, vals, body, particle_slip, floor, top):
     """The lowest head-on speed ``W`` [m/s], ``floor <= W < top``, that this module proves
-    the kernel ``kind`` (:data:`PAPER`, :data:`RELATIVE`, :data:`AUTO`) rebounds at, at
+    the kernel ``kind`` (:data:`PAPER`, :data:`RELATIVE`) rebounds at, at
     every speed from ``W`` to ``top``; ``inf`` where none is proven. ``raw``: the
     collision's :class:`~.records.RawPair`; ``vals``: its :func:`.fused.prepare_one` at
     speed 0 under the flags ``body``, ``particle_slip``.
@@ -386,10 +304,7 @@ def proven_from(kind, raw, vals, body, particle_slip, floor, top):
     one proven (``hi = top`` first) by :func:`lowest_provable`, ``W'`` nudged up by
     :data:`NUDGE` and at least ``floor``, and proves it (:func:`rebounds_between`); a
     later round gains where the smaller ``hi`` tightens the bounds of the rupture gap and
-    of a drag that depends on the speed. Mode "auto" needs its closed forms taken
-    (:func:`auto_takes_closed_forms`), which may hold only higher: there the lowest speed
-    between ``W'`` and ``hi`` from which it holds is bisected geometrically
-    (:data:`AUTO_STEPS` steps)."""
+    of a drag that depends on the speed."""
     ok, k, frac_i, frac_j, slip, forces = _setup(kind, raw, vals, body, particle_slip)
     if not (ok and top > floor and floor > 0.0 and math.isfinite(top)):
         return math.inf
@@ -402,19 +317,8 @@ def proven_from(kind, raw, vals, body, particle_slip, floor, top):
         lo = max(lowest_provable(k, hi * wpu, *forces) / wpu * (1.0 + NUDGE), floor)
         if not lo < hi:
             break
-        if not _proves(kind, k, lo * wpu, hi * wpu, forces):
-            if kind != AUTO:
-                break
-            a, b = lo, hi
-            for _ in range(AUTO_STEPS):
-                mid = math.sqrt(a) * math.sqrt(b)
-                if _proves(kind, k, mid * wpu, hi * wpu, forces):
-                    b = mid
-                else:
-                    a = mid
-            if not b < hi:
-                break
-            lo = b
+        if not rebounds_between(k, lo * wpu, hi * wpu, *forces):
+            break
         proven = lo
         hi = lo
         if lo == floor:

@@ -15,22 +15,22 @@ The functions are plain compiled functions, not inlined by numba (``inline="alwa
 numba 0.68's inlining of them lost stores made through a record's attribute and warned
 at compile time of variables "not in scope" (LLVM still inlines where it pays).
 
-What changes is where the numbers are made, and, in modes "paper", "relative" and "auto",
-which candidates need a kernel evaluation:
+What changes is where the numbers are made, and, in modes "paper" and "relative", which
+candidates need a kernel evaluation:
 
 - the candidates are the same speeds (``u0*``, :data:`.sticking_numeric.NEAR` above it,
   mode "relative"'s windows widened by :data:`.sticking_numeric.SEED_OFFSETS`, the law's
   ``N`` equal-probability nodes above ``u0*`` and its top speed), those of the collision
   alone evaluated once per run of consecutive elements of one collision;
 - in modes "paper" and "relative" (body forces on the axis, or the drag's slip from the
-  particle's own speed) and "auto" the candidates from the lowest speed that
-  :mod:`.rebound_proof` proves the pair rebounds at, up to the top, are replaced by that
-  speed, taken as a rebound without an evaluation (the proof may start from the first
-  speed of :data:`.sticking_numeric.NEAR` up; the collision's own candidates are
-  evaluated only where an element keeps them). The verdicts skipped are rebounds
-  (proven), so the integral is the same, except that a change of verdict below that speed is bisected
-  from it rather than from the next candidate above, which may settle on another change
-  where several lie between the two (each still within the method's tolerance of one);
+  particle's own speed) the candidates from the lowest speed that :mod:`.rebound_proof`
+  proves the pair rebounds at, up to the top, are replaced by that speed, taken as a
+  rebound without an evaluation (the proof may start from the first speed of
+  :data:`.sticking_numeric.NEAR` up; the collision's own candidates are evaluated only
+  where an element keeps them). The verdicts skipped are rebounds (proven), so the
+  integral is the same, except that a change of verdict below that speed is bisected from
+  it rather than from the next candidate above, which may settle on another change where
+  several lie between the two (each still within the method's tolerance of one);
 - each change of verdict between adjacent candidates is bisected in the same steps (the
   geometric middle, to :data:`.sticking_numeric.U_RTOL`, at most
   :data:`.sticking_numeric.MAX_BISECTIONS` steps);
@@ -70,7 +70,7 @@ from .auto import DEFAULT_TOL, _check_tol, _decide, ode_options, ode_rtol
 from .critical import _raw
 from .fused import TIER_PAPER, TIER_RELATIVE, launch_blocks, prepare_one, slip_flag, tier_kernel
 from .ode import DEFAULT_ATOL, DEFAULT_FIRST_STEP, DEFAULT_RTOL, ode_kernel
-from .rebound_proof import AUTO, proven_from
+from .rebound_proof import proven_from
 from .records import OdeOptions, Pair
 from .sticking import EXACT, FIXED, LOGNORMAL, MAX_WINDOWS, REST_MIN, _cdf, _windows_one
 from .sticking_numeric import MAX_BISECTIONS, NEAR, SEED_OFFSETS, TAIL, U_RTOL
@@ -79,8 +79,7 @@ __all__ = ["KIND_AUTO", "KIND_ODE", "KIND_ODE_SC", "bracketed_propensity", "kind
 
 #: The verdict's kernel: the fused tiers' codes, modes "auto", "ode" and
 #: "ode_selfconsistent".
-KIND_AUTO = AUTO  # .rebound_proof's code of mode "auto"
-KIND_ODE, KIND_ODE_SC = 3, 4
+KIND_AUTO, KIND_ODE, KIND_ODE_SC = 2, 3, 4
 _KINDS = {"auto": KIND_AUTO, "ode": KIND_ODE, "ode_selfconsistent": KIND_ODE_SC}
 
 #: Verdicts: rebounds, sticks, no verdict (NaN ``e_w`` or a failed integration), not yet
@@ -305,7 +304,7 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     """The element's candidates into ``rows.cand`` and their verdicts into ``rows.ver``:
     the collision's own (``u0*`` always, the others below the top) merged with the law's
     nodes and top speed; a tie puts the collision's first (its verdict known). In modes
-    "paper", "relative" and "auto" the candidates from the lowest speed
+    "paper" and "relative" the candidates from the lowest speed
     :mod:`.rebound_proof` proves (from just above ``u0*`` to the top) are replaced by that
     speed, a rebound, and not evaluated. Returns their count, or -1 where a verdict is
     unknown."""
@@ -319,7 +318,7 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     # modes "paper" and "relative": from a proven speed up to the top every speed rebounds
     # (.rebound_proof); the candidates there are not evaluated, that speed closes the row
     cut = math.inf
-    if kind == TIER_PAPER or kind == TIER_RELATIVE or kind == KIND_AUTO:
+    if kind == TIER_PAPER or kind == TIER_RELATIVE:
         cut = proven_from(kind, coll.raw, coll.vals, judge.body, judge.particle_slip,
                           coll.u_star * (1.0 + NEAR[0]), top)
     proven = cut < top
