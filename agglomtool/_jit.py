@@ -17,6 +17,18 @@ is set as ``GOMP_SPINCOUNT`` when this module is imported, before any parallel l
 OpenMP's idle threads then sleep sooner, and a map on every thread is not held up by a
 core that another process uses.
 
+Stale kernels
+-------------
+Numba's cache notices a change in a cached function's own source file, not in the files of
+the compiled functions it calls (nor a module constant they read): after an update of a
+source checkout (``git pull``, an edit), a cached kernel could run the old code of another
+module. :func:`drop_stale_kernels`, run at import, fingerprints the package's sources
+(each ``.py`` file's size and modification time) and, where the fingerprint differs from
+the one recorded in the package's ``__pycache__`` by the last import, deletes the
+package's cached kernels there (``*.nbi``, ``*.nbc``) before any is loaded: everything is
+compiled anew once. A fresh install has fresh files and no cache; caches kept elsewhere
+(``NUMBA_CACHE_DIR``) are not touched.
+
 Parallel launches
 -----------------
 Numba's ``workqueue`` threading layer (used when neither TBB nor OpenMP is installed) is not
@@ -28,6 +40,7 @@ without it.
 
 from __future__ import annotations
 
+import hashlib
 import os
 import tempfile
 import threading
@@ -49,7 +62,62 @@ if "GOMP_SPINCOUNT" not in os.environ and "OMP_WAIT_POLICY" not in os.environ:
 import numba  # noqa: E402  (after the spin count: Numba reads no OpenMP setting at import)
 from numba import njit  # noqa: E402
 
-__all__ = ["CACHE", "SPIN_COUNT", "parallel_launch", "cache_status"]
+__all__ = ["CACHE", "SPIN_COUNT", "parallel_launch", "cache_status", "drop_stale_kernels"]
+
+#: The file in the package's ``__pycache__`` that records the sources' fingerprint.
+STAMP_NAME = "agglomtool-sources.stamp"
+
+
+def _fingerprint(root: str) -> str:
+    """A digest of the size and modification time of every ``.py`` file under ``root``."""
+    digest = hashlib.sha1()
+    for here, dirs, files in os.walk(root):
+        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+        for name in sorted(files):
+            if name.endswith(".py"):
+                st = os.stat(os.path.join(here, name))
+                rel = os.path.relpath(os.path.join(here, name), root)
+                digest.update(f"{rel}:{st.st_size}:{st.st_mtime_ns}\n".encode())
+    return digest.hexdigest()
+
+
+def drop_stale_kernels(root: str | None = None) -> int:
+    """Delete the cached kernels in the ``__pycache__`` folders under ``root`` (the
+    package's folder) where its sources changed since the fingerprint recorded there
+    (module docstring); returns how many files were deleted. Quietly does nothing where
+    the folder cannot be read or written."""
+    root = root or os.path.dirname(os.path.abspath(__file__))
+    stamp = os.path.join(root, "__pycache__", STAMP_NAME)
+    try:
+        now = _fingerprint(root)
+    except OSError:
+        return 0
+    try:
+        with open(stamp, encoding="ascii") as f:
+            if f.read() == now:
+                return 0
+    except OSError:
+        pass  # no record yet (or unreadable): treat every cached kernel as stale
+    deleted = 0
+    for here, _, files in os.walk(root):
+        if os.path.basename(here) != "__pycache__":
+            continue
+        for name in files:
+            if name.endswith((".nbi", ".nbc")):
+                try:
+                    os.remove(os.path.join(here, name))
+                    deleted += 1
+                except FileNotFoundError:
+                    pass  # another process cleared it first
+                except OSError:
+                    return deleted  # not ours to clear (read-only): leave the record alone
+    try:
+        os.makedirs(os.path.dirname(stamp), exist_ok=True)
+        with open(stamp, "w", encoding="ascii") as f:
+            f.write(now)
+    except OSError:
+        pass
+    return deleted
 
 _STATUS = "default"
 
@@ -96,6 +164,8 @@ def _decide_cache() -> bool:
     )
     return False
 
+
+drop_stale_kernels()
 
 #: Passed as ``cache=`` to every compiled function of the package (the collision core, the
 #: properties' vectorised kernels, the Monte Carlo summary).
