@@ -56,7 +56,15 @@ from .._jit import CACHE, parallel_launch
 from ..constants import GRAVITY
 from ._codes import N_DETAILS
 from .paper import paper_kernel
-from .physics import U_E_PER_UMF, WEN_YU_C1, WEN_YU_C2, drag_gidaspow, wet_mass, wet_umf
+from .physics import (
+    U_E_PER_UMF,
+    WEN_YU_C1,
+    WEN_YU_C2,
+    drag_gidaspow,
+    wet_mass,
+    wet_sphere,
+    wet_umf,
+)
 from .records import Pair, Prepared, RawPair
 from .relative import relative_kernel
 
@@ -163,8 +171,7 @@ def _body_force_n(d, h0, m, gas, uy, uz, particle_slip, cs_b):
         d_wet = 1.0
         m_f = 0.0
     else:
-        d_wet = d + 2.0 * h0
-        vol = (math.pi / 6.0) * (d_wet * d_wet * d_wet)
+        d_wet, vol = wet_sphere(d, h0)
         m_f = m
     slip_z = U_e / eps
     slip_y = 0.0
@@ -286,8 +293,7 @@ def _force_bound(d, h0, m, slip, eps, mu_g, rho_g, sin_b):
     ``slip`` [m/s]: ``(g, D)``."""
     if math.isinf(d):
         return math.nan, math.nan
-    d_wet = d + 2.0 * h0
-    vol = (math.pi / 6.0) * (d_wet * d_wet * d_wet)
+    d_wet, vol = wet_sphere(d, h0)
     return ((rho_g * vol - m) * GRAVITY * sin_b,
             abs(drag_gidaspow(slip, d_wet, vol, eps, mu_g, rho_g)))
 

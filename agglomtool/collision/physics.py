@@ -31,8 +31,8 @@ from numba import njit
 from .._jit import CACHE
 from ..constants import GRAVITY
 
-__all__ = ["WEN_YU_C1", "WEN_YU_C2", "EPS_SWITCH", "U_E_PER_UMF", "wet_mass", "umf_wen_yu",
-           "wet_umf", "drag_gidaspow", "reduced_mass", "relative_body_force"]
+__all__ = ["WEN_YU_C1", "WEN_YU_C2", "EPS_SWITCH", "U_E_PER_UMF", "wet_mass", "wet_sphere",
+           "umf_wen_yu", "wet_umf", "drag_gidaspow", "reduced_mass", "relative_body_force"]
 
 #: Wen and Yu's constants of ``Re_mf = sqrt(C1^2 + C2 Ar) - C1`` (1966).
 WEN_YU_C1, WEN_YU_C2 = 33.7, 0.0408
@@ -64,6 +64,14 @@ def wet_mass(d, rho, h0, rho_l):
 
 
 @njit(cache=CACHE, error_model="numpy")
+def wet_sphere(d, h0):
+    """``(d_wet, volume)`` of a coated sphere: its wet diameter ``d + 2 h0`` [m] and volume
+    ``(pi / 6) d_wet^3`` [m3] (solid diameter ``d``, coating ``h0`` [m])."""
+    d_wet = d + 2.0 * h0
+    return d_wet, (math.pi / 6.0) * (d_wet * d_wet * d_wet)
+
+
+@njit(cache=CACHE, error_model="numpy")
 def umf_wen_yu(d, rho_p, mu_g, rho_g, c1, c2):
     """Minimum fluidization velocity [m/s] of spheres of diameter ``d`` [m] and density
     ``rho_p`` [kg/m3] in a gas of viscosity ``mu_g`` [Pa s] and density ``rho_g`` [kg/m3],
@@ -89,8 +97,8 @@ def wet_umf(d, h0, m, mu_g, rho_g, c1, c2):
         d_wet = 1e-3
         rho_p = 1e3 * rho_g
     else:
-        d_wet = d + 2.0 * h0
-        rho_p = m / ((math.pi / 6.0) * (d_wet * d_wet * d_wet))
+        d_wet, vol = wet_sphere(d, h0)
+        rho_p = m / vol
     u = umf_wen_yu(d_wet, rho_p, mu_g, rho_g, c1, c2)
     return 0.0 if plate else u
 
