@@ -243,7 +243,7 @@ def _forces(kind, lo_i, hi_i, lo_j, hi_j, frac_i, frac_j):
 @njit(cache=CACHE)
 def _setup(kind, raw, vals, body, particle_slip):
     """``(ok, constants, frac_i, frac_j, slip, forces)`` of one collision for
-    :func:`proven_from` and :func:`floors_over`: ``slip`` where the drag depends on the
+    :func:`proven_from` and :func:`_interval`: ``slip`` where the drag depends on the
     speed (``forces`` then bounded per interval), else the constant ``forces``."""
     m_i, m_j, r, H0, Ha, cos_t, theta, fn_i, fn_j, _, _ = vals
     pair = Pair(m_i, m_j, r, H0, Ha, raw[8], raw[9], cos_t, theta, fn_i, fn_j, raw[17])
@@ -265,31 +265,34 @@ def _forces_below(kind, raw, hi, frac_i, frac_j):
 
 
 @njit(cache=CACHE)
-def floors_over(kind, raw, vals, body, particle_slip, u_a, u_b):
-    """:func:`energy_floors` of the kernel ``kind`` (:data:`PAPER`, :data:`RELATIVE`) over
-    the head-on speeds
-    ``u_a <= u <= u_b`` [m/s]; arguments as :func:`proven_from`'s."""
+def _interval(kind, raw, vals, body, particle_slip, u_a, u_b):
+    """``(ok, constants, w_a, w_b, forces)``: the proof's inputs over the head-on speeds
+    ``u_a <= u <= u_b`` [m/s] (relative speeds ``w_a``, ``w_b``; the forces bounded up
+    to ``u_b``); arguments as :func:`proven_from`'s."""
     ok, k, frac_i, frac_j, slip, forces = _setup(kind, raw, vals, body, particle_slip)
-    if not ok:
-        return math.nan, math.nan, math.nan, math.nan
     if slip:
         forces = _forces_below(kind, raw, u_b, frac_i, frac_j)
     wpu = vals[10]
-    return energy_floors(k, u_a * wpu, u_b * wpu, *forces)
+    return ok, k, u_a * wpu, u_b * wpu, forces
+
+
+@njit(cache=CACHE)
+def floors_over(kind, raw, vals, body, particle_slip, u_a, u_b):
+    """:func:`energy_floors` of the kernel ``kind`` (:data:`PAPER`, :data:`RELATIVE`) over
+    the head-on speeds ``u_a <= u <= u_b`` [m/s]; arguments as :func:`proven_from`'s."""
+    ok, k, w_a, w_b, forces = _interval(kind, raw, vals, body, particle_slip, u_a, u_b)
+    if not ok:
+        return math.nan, math.nan, math.nan, math.nan
+    return energy_floors(k, w_a, w_b, *forces)
 
 
 @njit(cache=CACHE)
 def rebounds_over(kind, raw, vals, body, particle_slip, u_a, u_b):
-    """True where the kernel ``kind`` (:data:`PAPER`, :data:`RELATIVE`)
-    provably rebounds at every head-on speed ``u_a <= u <= u_b`` [m/s]; arguments as
-    :func:`proven_from`'s."""
-    ok, k, frac_i, frac_j, slip, forces = _setup(kind, raw, vals, body, particle_slip)
-    if not ok:
-        return False
-    if slip:
-        forces = _forces_below(kind, raw, u_b, frac_i, frac_j)
-    wpu = vals[10]
-    return rebounds_between(k, u_a * wpu, u_b * wpu, *forces)
+    """True where the kernel ``kind`` (:data:`PAPER`, :data:`RELATIVE`) provably rebounds
+    at every head-on speed ``u_a <= u <= u_b`` [m/s] (:func:`rebounds_between`); arguments
+    as :func:`proven_from`'s."""
+    ok, k, w_a, w_b, forces = _interval(kind, raw, vals, body, particle_slip, u_a, u_b)
+    return ok and rebounds_between(k, w_a, w_b, *forces)
 
 
 @njit(cache=CACHE)
