@@ -52,6 +52,23 @@ def _tried(rng, w_from, top):
                            w_from * np.geomspace(1.0, min(1.02, top / w_from), 40)])
 
 
+def _collisions(scene, body, slip):
+    """Each collision of ``scene`` (:func:`_random_scene`'s tuple) with a finite, positive
+    ``u0*`` in mode "paper" under the flags ``body``, ``slip``: ``(u0*, raw, vals)``, its
+    raw inputs and :func:`.fused.prepare_one` at speed 0."""
+    p_i, p_j, liq, gas, bed, beta, e, _ = scene
+    kw = dict(p_i=p_i, p_j=p_j, liquid=liq, gas=gas, bed=bed, beta_deg=beta, e=e,
+              body_forces=body, drag_slip="particle" if slip else "emulsion")
+    u_star = np.asarray(at.critical_impact_speed(mode="paper", **kw), dtype=float)
+    _, ins, steps, n = _fused_inputs(p_i, p_j, liq, gas, bed, beta, e,
+                                     np.zeros(u_star.shape), None, check=False)
+    flag = fused.slip_flag(slip)
+    for q in range(n):
+        if math.isfinite(u_star[q]) and u_star[q] > 0.0:
+            raw = _raw(ins, steps, q)
+            yield u_star[q], raw, fused.prepare_one(raw, 0.0, math.nan, body, flag)
+
+
 @pytest.mark.parametrize("body, slip", [(True, False), (True, True), (False, False)])
 def test_proven_intervals_rebound_on_random_collisions(body, slip):
     """Random collisions without plates (sizes 10 um-10 mm, viscosities 1e-4-1e7 Pa s,
@@ -60,24 +77,14 @@ def test_proven_intervals_rebound_on_random_collisions(body, slip):
     the floor, wherever the proof gives a speed for a kernel (modes "paper", "relative"),
     that kernel rebounds from it to the top."""
     rng = np.random.default_rng(29)
-    n = 250
-    p_i, p_j, liq, gas, bed, beta, e, _ = _random_scene(rng, n, plates=False)
-    kw = dict(p_i=p_i, p_j=p_j, liquid=liq, gas=gas, bed=bed, beta_deg=beta, e=e,
-              body_forces=body, drag_slip="particle" if slip else "emulsion")
-    u_star = np.asarray(at.critical_impact_speed(mode="paper", **kw), dtype=float)
-    _, ins, steps, n = _fused_inputs(p_i, p_j, liq, gas, bed, beta, e, np.zeros(n), None,
-                                     check=False)
     flag = fused.slip_flag(slip)
     proven = tried = 0
     by_tier = dict.fromkeys((fused.TIER_PAPER, fused.TIER_RELATIVE), 0)
-    for q in range(n):
-        if not (math.isfinite(u_star[q]) and u_star[q] > 0.0):
-            continue
+    for q, (us, raw, vals) in enumerate(_collisions(_random_scene(rng, 250, plates=False),
+                                                    body, slip)):
         tried += 1
-        floor = u_star[q] * (1.0 + 10 ** rng.uniform(-4.0, -1.0))
+        floor = us * (1.0 + 10 ** rng.uniform(-4.0, -1.0))
         top = floor * 10 ** rng.uniform(math.log10(1.02), 3.0)
-        raw = _raw(ins, steps, q)
-        vals = fused.prepare_one(raw, 0.0, math.nan, body, flag)
         for tier in (fused.TIER_PAPER, fused.TIER_RELATIVE):
             w_from = proven_from(tier, raw, vals, body, flag, floor, top)
             if not math.isfinite(w_from):
@@ -103,28 +110,18 @@ def test_each_interval_proven_rebounds(body, slip, scene):
     the bound proves a rebound, after the separation (each particle's own in mode "paper"),
     and it rebounds."""
     rng = np.random.default_rng(31)
-    n = 150
     if scene == "random":
-        p_i, p_j, liq, gas, bed, beta, e, _ = _random_scene(rng, n, plates=False)
+        collisions = _random_scene(rng, 150, plates=False)
         lowest, highest = -4.0, 2.0
     else:
-        p_i, p_j, liq, gas, bed, beta, e, _ = _heavy_scene(rng, n)
+        collisions = _heavy_scene(rng, 150)
         lowest, highest = -4.0, 0.0
-    kw = dict(p_i=p_i, p_j=p_j, liquid=liq, gas=gas, bed=bed, beta_deg=beta, e=e,
-              body_forces=body, drag_slip="particle" if slip else "emulsion")
-    u_star = np.asarray(at.critical_impact_speed(mode="paper", **kw), dtype=float)
-    _, ins, steps, n = _fused_inputs(p_i, p_j, liq, gas, bed, beta, e, np.zeros(n), None,
-                                     check=False)
     flag = fused.slip_flag(slip)
     proven = tried = 0
-    for q in range(n):
-        if not (math.isfinite(u_star[q]) and u_star[q] > 0.0):
-            continue
-        raw = _raw(ins, steps, q)
-        vals = fused.prepare_one(raw, 0.0, math.nan, body, flag)
+    for q, (us, raw, vals) in enumerate(_collisions(collisions, body, slip)):
         _, frac_i, frac_j = reduced_mass(vals[0], vals[1])
         for _ in range(4):
-            u_a = u_star[q] * (1.0 + 10 ** rng.uniform(lowest, highest))
+            u_a = us * (1.0 + 10 ** rng.uniform(lowest, highest))
             u_b = u_a * 10 ** rng.uniform(math.log10(1.001), highest + 0.5)
             for tier in (fused.TIER_PAPER, fused.TIER_RELATIVE):
                 tried += 1
