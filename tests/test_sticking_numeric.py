@@ -341,6 +341,73 @@ def test_compiled_pass_is_the_numpy_method(mode, slip, monkeypatch):
             assert np.all(np.abs(got - ref) <= 1e-15 + band)
 
 
+def _alternating(mode, slip):
+    """Two of the random pairs in turn along one axis, 8 collisions: one (``u0*`` near
+    9.6e-8 m/s) that rebounds at every speed above it, and one (7.5e-7 m/s) that sticks
+    again from about 300 times its ``u0*``, a speed where the first is proven to rebound
+    (shape ``(8, 1)``). What is proven for one collision must not carry over to the
+    next."""
+    rand = _random_pairs(11, 100, angles=7)
+    a, b = rand[WITH_WINDOWS[1]].kw, rand[WITH_WINDOWS[2]].kw
+
+    def both(get):
+        return np.array([get(a), get(b)] * 4, dtype=float).reshape(8, 1)
+
+    def particle(name):
+        return at.Particle(*(both(lambda kw, f=f: getattr(kw[name], f))
+                             for f in ("d", "rho", "h0", "ha")))
+
+    liquid = at.Liquid(*(both(lambda kw, f=f: getattr(kw["liquid"], f))
+                         for f in ("mu", "gamma", "rho", "theta_deg")))
+    return Pairs(particle("p_i"), particle("p_j"), liquid, AIR, 0.0,
+                 both(lambda kw: kw["e"]), mode=mode, slip=slip)
+
+
+@pytest.mark.parametrize("mode, slip", [("paper", False), ("relative", True)])
+def test_proof_shared_by_a_collisions_elements(mode, slip, monkeypatch):
+    """Modes "paper" and "relative", where a proof of rebound spares evaluations: each
+    collision of the hard set (its angles along the first axis) has a run of 12 elements
+    whose laws (Maxwellian, lognormal) reach tops above and below one another in a shuffled
+    order, so that the interval proven for the collision is taken as it is, extended, and
+    made anew. The propensity is bitwise the same as with each element alone (its own
+    run, its own proof), and within 1e-15 of the numpy batches, which evaluate every
+    candidate: the proof decides which candidates are evaluated, never the result."""
+    import agglomtool.collision.sticking_bracketed as compiled
+
+    rng = np.random.default_rng(23)
+    runs = 0
+    for base in _hard_set(mode, slip) + [_alternating(mode, slip)]:
+        k = base.kw
+        beta = np.asarray(k["beta_deg"], dtype=float).reshape(-1, 1)
+        pairs = Pairs(k["p_i"], k["p_j"], k["liquid"], k["gas"], beta, k["e"], mode=mode,
+                      slip=slip, bed=k["bed"])
+        us = np.where(np.isfinite(pairs.u_star) & (pairs.u_star > 0.0), pairs.u_star, 1.0)
+        scale = us * rng.permutation(np.geomspace(1.02, 300.0, 12))[None, :]
+        if base.shape == (8, 1):  # the alternating pairs: one set of speeds for both
+            scale = np.broadcast_to(rng.permutation(np.geomspace(1e-6, 3e-2, 12)), (8, 12))
+        for law in (SpeedModel("maxwellian", granular_temperature=scale**2 / math.log(2.0)),
+                    SpeedModel("lognormal", u0=scale, sigma_ln=rng.uniform(0.05, 1.0, 12))):
+            rep = {}
+            got = sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair,
+                                       report=rep)
+            runs += rep["bracketed"] // 12
+            for j in range(12):  # each element alone: one element per collision and call
+                one = SpeedModel(law.family, u0=None if law.u0 is None else law.u0[:, j:j + 1],
+                                 sigma_ln=None if law.sigma_ln is None
+                                 else np.broadcast_to(law.sigma_ln, scale.shape)[:, j:j + 1],
+                                 granular_temperature=None if law.theta is None
+                                 else law.theta[:, j:j + 1])
+                alone = sticking_probability(one, pairs.u_star, pairs.collide,
+                                             pair=pairs.pair)
+                np.testing.assert_array_equal(got[:, j:j + 1], alone)
+            with monkeypatch.context() as m:
+                m.setattr(compiled, "kind_of", lambda tier: None)
+                ref = sticking_probability(law, pairs.u_star, pairs.collide,
+                                           pair=pairs.pair)
+            np.testing.assert_allclose(got, ref, rtol=0.0, atol=1e-15)
+    assert runs >= 20  # runs of one collision reached the compiled pass
+
+
 def test_compiled_pass_in_parallel_over_chunks(monkeypatch):
     """The compiled pass's parallel entry and its lognormal chunks, which the hard set's
     few elements per call (under ``SERIAL_BELOW``) never reach: a water-case batch of 104

@@ -23,14 +23,17 @@ candidates need a kernel evaluation:
   ``N`` equal-probability nodes above ``u0*`` and its top speed), those of the collision
   alone evaluated once per run of consecutive elements of one collision;
 - in modes "paper" and "relative" (body forces on the axis, or the drag's slip from the
-  particle's own speed) the candidates from the lowest speed that :mod:`.rebound_proof`
-  proves the pair rebounds at, up to the top, are replaced by that speed, taken as a
-  rebound without an evaluation (the proof may start from the first speed of
-  :data:`.sticking_numeric.NEAR` up; the collision's own candidates are evaluated only
-  where an element keeps them). The verdicts skipped are rebounds (proven), so the
-  integral is the same, except that a change of verdict below that speed is bisected from
-  it rather than from the next candidate above, which may settle on another change where
-  several lie between the two (each still within the method's tolerance of one);
+  particle's own speed) a candidate at or above the lowest speed that
+  :mod:`.rebound_proof` proves the collision rebounds from (up to the element's top) is
+  taken as a rebound without an evaluation, and the element's row of candidates ends at
+  the first such one: all beyond rebound, so they add no piece and no change of verdict.
+  The proof may start from the first speed of :data:`.sticking_numeric.NEAR` up; the
+  collision's own candidates are evaluated only where an element needs them. The
+  candidates kept, the bisections between them and the integral are the method's, so the
+  result does not depend on the speed proven. That proof belongs to the collision, not
+  to the element: the elements of one run of a collision share it (:func:`_proof`),
+  taking it as it is where their top lies inside it and extending it by one more
+  interval where their top lies above;
 - each change of verdict between adjacent candidates is bisected in the same steps (the
   geometric middle, to :data:`.sticking_numeric.U_RTOL`, at most
   :data:`.sticking_numeric.MAX_BISECTIONS` steps);
@@ -70,7 +73,7 @@ from .auto import DEFAULT_TOL, _check_tol, _decide, ode_options, ode_rtol
 from .critical import _raw
 from .fused import TIER_PAPER, TIER_RELATIVE, launch_blocks, prepare_one, slip_flag, tier_kernel
 from .ode import DEFAULT_ATOL, DEFAULT_FIRST_STEP, DEFAULT_RTOL, ode_kernel
-from .rebound_proof import proven_from
+from .rebound_proof import proven_from, rebounds_over
 from .records import OdeOptions, Pair
 from .sticking import EXACT, FIXED, LOGNORMAL, MAX_WINDOWS, REST_MIN, _cdf, _windows_one
 from .sticking_numeric import MAX_BISECTIONS, NEAR, SEED_OFFSETS, TAIL, U_RTOL
@@ -217,6 +220,9 @@ class Scratch(NamedTuple):
     lo: np.ndarray
     #: and upper ends [m/s]
     hi: np.ndarray
+    #: the head-on speeds ``[lo, hi]`` over which the collision is proven to rebound
+    #: (:func:`_proof`; ``lo = inf``: none yet)
+    held: np.ndarray
 
 
 @njit(cache=CACHE)
@@ -300,14 +306,44 @@ def _node(law, j, f_star, rest, top):
 
 
 @njit(cache=CACHE)
+def _proof(kind, coll, judge, top, held):
+    """The lowest head-on speed [m/s] below ``top`` from which :mod:`.rebound_proof` proves
+    that ``coll`` rebounds at every speed up to ``top``; ``inf`` where none is. ``held``
+    (``rows.held``): the interval proven for the collision by its earlier elements. A
+    proof over an interval of speeds is the collision's, whatever the element's law, so
+    the elements of one collision share it: an element whose top lies inside it takes it
+    as it is, one above it extends it by the interval up to its top (one check), and only
+    where that fails is the proof made anew (:func:`.rebound_proof.proven_from`, up to
+    three rounds) and joined to the held one where the two meet."""
+    lo, hi = held[0], held[1]
+    if lo < top:
+        if top <= hi:
+            return lo
+        if rebounds_over(kind, coll.raw, coll.vals, judge.body, judge.particle_slip, hi,
+                         top):
+            held[1] = top
+            return lo
+    new = proven_from(kind, coll.raw, coll.vals, judge.body, judge.particle_slip,
+                      coll.u_star * (1.0 + NEAR[0]), top)
+    if not new < top:
+        return math.inf
+    if lo <= top and new <= hi:  # the two intervals meet: their union is proven
+        held[0], held[1] = min(lo, new), max(hi, top)
+    else:
+        held[0], held[1] = new, top
+    return held[0]
+
+
+@njit(cache=CACHE)
 def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     """The element's candidates into ``rows.cand`` and their verdicts into ``rows.ver``:
     the collision's own (``u0*`` always, the others below the top) merged with the law's
     nodes and top speed; a tie puts the collision's first (its verdict known). In modes
-    "paper" and "relative" the candidates from the lowest speed
-    :mod:`.rebound_proof` proves (from just above ``u0*`` to the top) are replaced by that
-    speed, a rebound, and not evaluated. Returns their count, or -1 where a verdict is
-    unknown."""
+    "paper" and "relative" a candidate at or above the lowest speed that
+    :mod:`.rebound_proof` proves for the collision (:func:`_proof`) is a rebound, taken
+    without an evaluation: the candidates, and so the bisections and the integral, are
+    those of the method, whatever speed is proven. Returns their count, or -1 where a
+    verdict is unknown."""
     sp, sv, cand, ver = rows.own, rows.own_v, rows.cand, rows.ver
     n_nodes = law.n_nodes
     top_q = max(1.0 - TAIL, f_star + rest * ((n_nodes - 1 + 0.5) / n_nodes))
@@ -316,45 +352,36 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     else:
         top = _quantile(top_q, law.a)
     # modes "paper" and "relative": from a proven speed up to the top every speed rebounds
-    # (.rebound_proof); the candidates there are not evaluated, that speed closes the row
+    # (.rebound_proof); the candidates there are not evaluated
     cut = math.inf
     if kind == TIER_PAPER or kind == TIER_RELATIVE:
-        cut = proven_from(kind, coll.raw, coll.vals, judge.body, judge.particle_slip,
-                          coll.u_star * (1.0 + NEAR[0]), top)
-    proven = cut < top
-    if not proven:
-        cut = top
+        cut = _proof(kind, coll, judge, top, rows.held)
     n_keep = 1
-    while n_keep < n_own and sp[n_keep] < cut:
+    while n_keep < n_own and sp[n_keep] < top:
         n_keep += 1
     for i in range(n_keep):  # the collision's own, once for all its elements
-        if sv[i] == _TODO and sp[i] > 0.0:
+        if sv[i] == _TODO and sp[i] > 0.0 and sp[i] < cut:
             sv[i] = _at(kind, coll, sp[i], judge)
-    last = n_nodes  # the law's nodes 0 .. n_nodes - 1 and its top (j = n_nodes) taken
-    if proven:
-        last = -1
-        while last < n_nodes and _node(law, last + 1, f_star, rest, top) < cut:
-            last += 1
     m = 0
     i = 0
     j = 0
     node = _node(law, 0, f_star, rest, top)
-    while i < n_keep or j <= last:
-        if j <= last and (i >= n_keep or node < sp[i]):
+    # the law's nodes 0 .. n_nodes - 1 and its top; the row ends at the first candidate at
+    # or above the proven speed: all beyond rebound, adding no piece and no crossing
+    while i < n_keep or j <= n_nodes:
+        if j <= n_nodes and (i >= n_keep or node < sp[i]):
             cand[m] = node
             ver[m] = _TODO
             j += 1
-            if j <= last:
+            if j <= n_nodes:
                 node = _node(law, j, f_star, rest, top)
         else:
             cand[m] = sp[i]
             ver[m] = sv[i]
             i += 1
         m += 1
-    if proven:
-        cand[m] = cut
-        ver[m] = _REBOUNDS
-        m += 1
+        if cand[m - 1] >= cut:
+            break
     # the verdicts: each distinct positive speed once, a repeat takes its first's
     for j in range(m):
         s = cand[j]
@@ -364,7 +391,7 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
             ver[j] = ver[j - 1]
             continue
         if ver[j] == _TODO:
-            ver[j] = _at(kind, coll, s, judge)
+            ver[j] = _REBOUNDS if s >= cut else _at(kind, coll, s, judge)
         if ver[j] == _UNKNOWN:
             return -1
     # a speed of 0 cannot collide: the next candidate's verdict
@@ -430,9 +457,16 @@ def _element(kind, coll, law, n_own, judge, rows):
     # the pieces: between candidates, constant up to the crossing bisected
     p = f_star if cand[0] == coll.u_star else _cdf(family, cand[0], a, b)
     f_lo = p
+    have_lo = True  # f_lo is F(cand[j]); left unmade across pieces that rebound
     for j in range(m - 1):
         s0 = ver[j] == _STICKS
         s1 = ver[j + 1] == _STICKS
+        if not (s0 or s1):
+            have_lo = False
+            continue
+        if not have_lo:
+            f_lo = _cdf(family, cand[j], a, b)
+            have_lo = True
         f_hi = _cdf(family, cand[j + 1], a, b)
         if s0 == s1:
             if s0:
@@ -462,7 +496,7 @@ def _range(kind, task, judge, res, k0, k1):
     rows = Scratch(np.empty(_MAX_OWN), np.empty(_MAX_OWN, dtype=np.int64),
                    np.empty(_MAX_OWN + n_nodes + 1),
                    np.empty(_MAX_OWN + n_nodes + 1, dtype=np.int64),
-                   np.zeros(MAX_WINDOWS), np.zeros(MAX_WINDOWS))
+                   np.zeros(MAX_WINDOWS), np.zeros(MAX_WINDOWS), np.empty(2))
     last = -1
     n_own = 0
     raw = _raw(ins, st, 0)
@@ -474,6 +508,7 @@ def _range(kind, task, judge, res, k0, k1):
             c = Collision(raw, prepare_one(raw, 0.0, math.nan, how.body, how.particle_slip),
                           u_star[q * su])
             last = q
+            rows.held[0], rows.held[1] = math.inf, 0.0  # nothing proven for it yet
             n_own = -1  # made on first need (not for a fixed law, nor where P = 1)
         law = ElementLaw(family, p1[k * s1], p2[k * s2], given, k, n_nodes)
         if n_own < 0 and family != FIXED and 1.0 - _f_star(c, law) > REST_MIN:
