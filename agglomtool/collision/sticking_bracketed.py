@@ -32,8 +32,8 @@ candidates need a kernel evaluation:
   candidates kept, the bisections between them and the integral are the method's, so the
   result does not depend on the speed proven. That proof belongs to the collision, not
   to the element: the elements of one run of a collision share it (:func:`_proof`),
-  taking it as it is where their top lies inside it and extending it by one more
-  interval where their top lies above;
+  made once up to the run's highest top speed, taken as it is where an element's top
+  lies inside it and extended by one more interval where that top lies above;
 - each change of verdict between adjacent candidates is bisected in the same steps (the
   geometric middle, to :data:`.sticking_numeric.U_RTOL`, at most
   :data:`.sticking_numeric.MAX_BISECTIONS` steps);
@@ -221,7 +221,8 @@ class Scratch(NamedTuple):
     #: and upper ends [m/s]
     hi: np.ndarray
     #: the head-on speeds ``[lo, hi]`` over which the collision is proven to rebound
-    #: (:func:`_proof`; ``lo = inf``: none yet)
+    #: (:func:`_proof`; ``lo = inf``: none yet), and the highest top speed of its run of
+    #: elements [m/s]
     held: np.ndarray
 
 
@@ -309,13 +310,15 @@ def _node(law, j, f_star, rest, top):
 def _proof(kind, coll, judge, top, held):
     """The lowest head-on speed [m/s] below ``top`` from which :mod:`.rebound_proof` proves
     that ``coll`` rebounds at every speed up to ``top``; ``inf`` where none is. ``held``
-    (``rows.held``): the interval proven for the collision by its earlier elements. A
-    proof over an interval of speeds is the collision's, whatever the element's law, so
-    the elements of one collision share it: an element whose top lies inside it takes it
-    as it is, one above it extends it by the interval up to its top (one check), and only
-    where that fails is the proof made anew (:func:`.rebound_proof.proven_from`, up to
-    three rounds) and joined to the held one where the two meet."""
-    lo, hi = held[0], held[1]
+    (``rows.held``): the interval proven for the collision by its earlier elements, and
+    the highest top of the run of elements of the collision. A proof over an interval of
+    speeds is the collision's, whatever the element's law, so the elements of one run
+    share it: an element whose top lies inside it takes it as it is, one above it extends
+    it by the interval up to its top (one check), and only where that fails is the proof
+    made anew (:func:`.rebound_proof.proven_from`, up to three rounds), up to the run's
+    highest top where that proves below the element's top, else up to the element's top,
+    and joined to the held one where the two meet."""
+    lo, hi, far = held[0], held[1], held[2]
     if lo < top:
         if top <= hi:
             return lo
@@ -323,15 +326,33 @@ def _proof(kind, coll, judge, top, held):
                          top):
             held[1] = top
             return lo
-    new = proven_from(kind, coll.raw, coll.vals, judge.body, judge.particle_slip,
-                      coll.u_star * (1.0 + NEAR[0]), top)
+    floor = coll.u_star * (1.0 + NEAR[0])
+    new = math.inf
+    reach = far
+    if far > top:  # up to the highest top of the run, once for all its elements
+        new = proven_from(kind, coll.raw, coll.vals, judge.body, judge.particle_slip, floor,
+                          far)
     if not new < top:
-        return math.inf
-    if lo <= top and new <= hi:  # the two intervals meet: their union is proven
-        held[0], held[1] = min(lo, new), max(hi, top)
+        reach = top
+        new = proven_from(kind, coll.raw, coll.vals, judge.body, judge.particle_slip, floor,
+                          top)
+        if not new < top:
+            return math.inf
+    if lo <= reach and new <= hi:  # the two intervals meet: their union is proven
+        held[0], held[1] = min(lo, new), max(hi, reach)
     else:
-        held[0], held[1] = new, top
+        held[0], held[1] = new, reach
     return held[0]
+
+
+@njit(cache=CACHE)
+def _top(law, f_star, rest):
+    """The top speed of the element's candidates [m/s]: above it the law holds
+    :data:`.sticking_numeric.TAIL`, or less than its last node's share."""
+    n_nodes = law.n_nodes
+    if law.family == LOGNORMAL:
+        return law.given[law.k, n_nodes]
+    return _quantile(max(1.0 - TAIL, f_star + rest * ((n_nodes - 1 + 0.5) / n_nodes)), law.a)
 
 
 @njit(cache=CACHE)
@@ -346,11 +367,7 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     verdict is unknown."""
     sp, sv, cand, ver = rows.own, rows.own_v, rows.cand, rows.ver
     n_nodes = law.n_nodes
-    top_q = max(1.0 - TAIL, f_star + rest * ((n_nodes - 1 + 0.5) / n_nodes))
-    if law.family == LOGNORMAL:
-        top = law.given[law.k, n_nodes]
-    else:
-        top = _quantile(top_q, law.a)
+    top = _top(law, f_star, rest)
     # modes "paper" and "relative": from a proven speed up to the top every speed rebounds
     # (.rebound_proof); the candidates there are not evaluated
     cut = math.inf
@@ -484,6 +501,26 @@ def _element(kind, coll, law, n_own, judge, rows):
 
 
 @njit(cache=CACHE)
+def _run_top(c, law_of, given, n_nodes, coll, k0, k1):
+    """The highest top speed [m/s] of the elements from ``k0`` (below ``k1``) of collision
+    ``c`` while they follow one another (its run in the block); 0 where none brackets.
+    ``law_of``: the :class:`.sticking.SpeedLaw` tuple with steps."""
+    family, p1, s1, p2, s2 = law_of
+    far = 0.0
+    if family == FIXED:
+        return far
+    k = k0
+    while k < k1 and coll[k] == coll[k0]:
+        law = ElementLaw(family, p1[k * s1], p2[k * s2], given, k, n_nodes)
+        f_star = _f_star(c, law)
+        rest = 1.0 - f_star
+        if rest > REST_MIN:
+            far = max(far, _top(law, f_star, rest))
+        k += 1
+    return far
+
+
+@njit(cache=CACHE)
 def _range(kind, task, judge, res, k0, k1):
     """Elements ``k0 <= k < k1`` of ``task`` (``(inp, coll, law, given, n_nodes)``: a
     :class:`.sticking.SetInputs` tuple, each element's collision, a
@@ -496,7 +533,7 @@ def _range(kind, task, judge, res, k0, k1):
     rows = Scratch(np.empty(_MAX_OWN), np.empty(_MAX_OWN, dtype=np.int64),
                    np.empty(_MAX_OWN + n_nodes + 1),
                    np.empty(_MAX_OWN + n_nodes + 1, dtype=np.int64),
-                   np.zeros(MAX_WINDOWS), np.zeros(MAX_WINDOWS), np.empty(2))
+                   np.zeros(MAX_WINDOWS), np.zeros(MAX_WINDOWS), np.empty(3))
     last = -1
     n_own = 0
     raw = _raw(ins, st, 0)
@@ -509,6 +546,9 @@ def _range(kind, task, judge, res, k0, k1):
                           u_star[q * su])
             last = q
             rows.held[0], rows.held[1] = math.inf, 0.0  # nothing proven for it yet
+            if kind == TIER_PAPER or kind == TIER_RELATIVE:  # the kinds with a proof
+                rows.held[2] = _run_top(c, (family, p1, s1, p2, s2), given, n_nodes, coll,
+                                        k, k1)
             n_own = -1  # made on first need (not for a fixed law, nor where P = 1)
         law = ElementLaw(family, p1[k * s1], p2[k * s2], given, k, n_nodes)
         if n_own < 0 and family != FIXED and 1.0 - _f_star(c, law) > REST_MIN:
