@@ -17,9 +17,9 @@ __all__ = ["FIELD_META", "DEFAULTS", "CATEGORICAL_FIELDS", "NUMERIC_FIELDS", "CH
 #: The model tier used unless one is asked for: the frame-consistent closed forms. Of the
 #: tiers that cost about as much as the paper's own ("paper", "relative"), it is the most
 #: accurate (max e_w error 0.055 against 0.33, u0* within 1.2 % against 22 % on the fidelity
-#: scenes); "auto" is more accurate still (0.004) but measured 50x (water) and 2.0x (a
+#: scenes); "auto" is more accurate still (0.004) but measured 50-58x (water) and 2.0x (a
 #: viscous melt) the time of "relative" on operating maps (benchmarks/bench_tiers_map.py,
-#: 2026-11-26, load 0.9, its propensity bracketed in one compiled pass: the time is its
+#: 2026-11-26, load 0.9-1.1, its propensity bracketed in one compiled pass: the time is its
 #: kernel's, integrating at the speeds the propensity needs), beyond the 3x this default
 #: may cost.
 #: The paper's model stays one word away: mode="paper".
