@@ -18,6 +18,7 @@ from agglomtool.api import _fused_inputs
 from agglomtool.collision import _codes as codes
 from agglomtool.collision import fused
 from agglomtool.collision.physics import reduced_mass
+from agglomtool.collision.fused import body_force_range
 from agglomtool.collision.rebound_proof import (
     MARGIN,
     floors_over,
@@ -141,10 +142,45 @@ def test_each_interval_proven_rebounds(body, slip, scene):
                 left = [det[:, codes.K_FIN_I] / frac_j, det[:, codes.K_FIN_J] / frac_i]
                 assert np.all(np.minimum(*left) >= b_lo - 1e-9 * b_size), (q, tier)
     # the bound is not vacuous. It holds less often with the drag's slip from the
-    # particle's own speed (that drag is bounded by its size at the interval's top, and the
+    # particle's own speed (that drag is bounded by its range over the interval, and the
     # random scenes reach voidages of 0.3 and speeds of hundreds of m/s) and on the heavy
     # particles (intervals from 1e-4 above u0*, where the margin is thin)
     assert proven > (30 if slip else tried // (4 if scene == "random" else 8))
+
+
+def test_body_forces_lie_between_their_values_at_the_ends():
+    """The drag's slip from the particle's own speed: each particle's force along the axis
+    (:func:`.fused.prepare_one`) at 200 speeds inside an interval lies between its values
+    at the interval's ends (:func:`.fused.body_force_range`, which the proof takes). Random
+    pairs without plates, voidages on both sides of Gidaspow's switch, Reynolds numbers
+    across 1000, every angle, gas speeds 1 cm/s-10 m/s, and intervals both away from and
+    across the speed where the slip along the axis changes sign."""
+    rng = np.random.default_rng(41)
+    n = 400
+    p_i, p_j, liq, gas, _, beta, e, _ = _random_scene(rng, n, plates=False)
+    eps = rng.uniform(0.3, 0.99, n)
+    U = 10 ** rng.uniform(-2.0, 1.0, n)
+    _, ins, steps, n = _fused_inputs(p_i, p_j, liq, gas, at.Bed(eps=eps, U=U), beta, e,
+                                     np.zeros(n), None, check=False)
+    flag = fused.slip_flag(True)
+    crossing = 0
+    for q in range(n):
+        raw = _raw(ins, steps, q)
+        c = abs(U[q] / eps[q] * math.sin(math.radians(beta[q])))  # the slip's sign change
+        if q % 2 and c > 0.0:
+            u_a, u_b = c * rng.uniform(0.1, 1.0), c * rng.uniform(1.0, 10.0)
+            crossing += 1
+        else:
+            u_a = 10 ** rng.uniform(-4.0, 2.0)
+            u_b = u_a * 10 ** rng.uniform(0.0, 2.0)
+        lo_i, hi_i, lo_j, hi_j = body_force_range(raw, u_a, u_b)
+        for u in np.concatenate([np.geomspace(u_a, u_b, 100), rng.uniform(u_a, u_b, 100)]):
+            v = fused.prepare_one(raw, u, math.nan, True, flag)
+            tol_i = 1e-12 * max(abs(lo_i), abs(hi_i))
+            tol_j = 1e-12 * max(abs(lo_j), abs(hi_j))
+            assert lo_i - tol_i <= v.fn_i <= hi_i + tol_i, (q, u, u_a, u_b)
+            assert lo_j - tol_j <= v.fn_j <= hi_j + tol_j, (q, u, u_a, u_b)
+    assert crossing > 150
 
 
 def _heavy_scene(rng, n):

@@ -263,39 +263,27 @@ def _gas_speed(raw, m_i, m_j):
 
 
 @njit(cache=CACHE)
-def body_force_bounds(raw, u_max):
-    """``(g_i, D_i, g_j, D_j)`` [N]: at every head-on lab speed ``0 <= u <= u_max`` [m/s],
-    ``fn_i`` (:func:`prepare_one` with ``body`` and ``particle_slip``) lies within ``D_i``
-    of ``g_i``, and ``fn_j`` within ``D_j`` of ``g_j``.
+def body_force_range(raw, u_a, u_b):
+    """``(lo_i, hi_i, lo_j, hi_j)`` [N]: at every head-on lab speed ``u_a <= u <= u_b``
+    [m/s], ``fn_i`` (:func:`prepare_one` with ``body`` and ``particle_slip``) lies within
+    ``[lo_i, hi_i]`` and ``fn_j`` within ``[lo_j, hi_j]``: the smaller and the larger of
+    its values at the two ends. NaN for a plate (not bounded here).
 
-    ``g`` is the weight less buoyancy projected on the axis (``sin(beta)`` times it), which
-    does not depend on the speed. The drag's projection is at most its size: a particle's
-    slip is ``(-u_y, U_e / eps - u_z)`` with ``|(u_y, u_z)| = u``, so the slip's size is at
-    most ``U_e / eps + u_max``, and Gidaspow's drag grows with the slip's size (both of its
-    branches; ``C_d Re`` jumps upwards at ``Re = 1000``). NaN for a plate (not bounded
-    here)."""
-    d_i, rho_i, h0_i = raw.d_i, raw.rho_i, raw.h0_i
-    d_j, rho_j, h0_j = raw.d_j, raw.rho_j, raw.h0_j
-    rho_l, mu_g, rho_g, eps = raw.rho_l, raw.mu_g, raw.rho_g, raw.eps
-    m_i = wet_mass(d_i, rho_i, h0_i, rho_l)
-    m_j = wet_mass(d_j, rho_j, h0_j, rho_l)
-    U_e = _gas_speed(raw, m_i, m_j)
-    sin_b = math.sin(raw.beta_deg * _DEG)
-    slip = abs(U_e / eps) + u_max
-    g_i, big_i = _force_bound(d_i, h0_i, m_i, slip, eps, mu_g, rho_g, sin_b)
-    g_j, big_j = _force_bound(d_j, h0_j, m_j, slip, eps, mu_g, rho_g, sin_b)
-    return g_i, big_i, g_j, big_j
-
-
-@njit(cache=CACHE)
-def _force_bound(d, h0, m, slip, eps, mu_g, rho_g, sin_b):
-    """:func:`body_force_bounds` of one particle (wet mass ``m``) at the largest slip
-    ``slip`` [m/s]: ``(g, D)``."""
-    if math.isinf(d):
-        return math.nan, math.nan
-    d_wet, vol = wet_sphere(d, h0)
-    return ((rho_g * vol - m) * GRAVITY * sin_b,
-            abs(drag_gidaspow(slip, d_wet, vol, eps, mu_g, rho_g)))
+    Each is monotonic in ``u``. Particle i moves at ``u`` along the axis ``n``, so its slip
+    (the gas's velocity less its own) has the component ``z = (U_e / eps) sin(beta) - u``
+    along ``n`` and the constant one ``(U_e / eps) cos(beta)`` across it; the drag's
+    projection on ``n`` is ``D(s) z / s`` with ``s`` the slip's size. For ``z > 0`` both
+    ``D(s)`` (Gidaspow's drag grows with the slip in both branches; ``C_d Re`` jumps
+    upwards at ``Re = 1000``) and ``z / s`` are positive and grow with ``z``, and the
+    projection is odd in ``z``: it grows with ``z``, so it falls as ``u`` grows. Particle j
+    moves at ``-u``, its ``z`` is ``(U_e / eps) sin(beta) + u``: its projection grows with
+    ``u``. The weight and buoyancy do not depend on ``u``."""
+    if math.isinf(raw.d_i) or math.isinf(raw.d_j):
+        return math.nan, math.nan, math.nan, math.nan
+    a = prepare_one(raw, u_a, math.nan, True, True)
+    b = prepare_one(raw, u_b, math.nan, True, True)
+    return (min(a.fn_i, b.fn_i), max(a.fn_i, b.fn_i), min(a.fn_j, b.fn_j),
+            max(a.fn_j, b.fn_j))
 
 
 class FusedFlags(NamedTuple):

@@ -46,8 +46,9 @@ far above the rounding of the bound and of the kernels.
 
 The body forces: without the drag's slip from the particle's own speed they do not depend
 on the speed (``fn_i``, ``fn_j`` of :func:`.fused.prepare_one`); with it they are bounded
-over the interval by :func:`.fused.body_force_bounds` (the weight exactly, the drag by its
-size at the interval's top speed).
+over the interval by :func:`.fused.body_force_range`: each is monotonic in the speed (the
+drag's projection on the axis falls for particle i and rises for particle j as the speed
+grows), so it lies between its values at the interval's ends.
 
 Mode "auto" is not served: where the proof holds for its closed forms it takes them only
 where their error indicator is small enough, and bounding that indicator over an interval
@@ -75,7 +76,7 @@ from numba import njit
 from .._jit import CACHE
 from . import stages
 from .bridge import bridge_volume, g_change, gap_parts, ln_f_change, rupture_gap
-from .fused import TIER_PAPER, TIER_RELATIVE, body_force_bounds
+from .fused import TIER_PAPER, TIER_RELATIVE, body_force_range
 from .physics import reduced_mass
 from .records import Gap, Pair
 
@@ -257,11 +258,12 @@ def _setup(kind, raw, vals, body, particle_slip):
 
 
 @njit(cache=CACHE)
-def _forces_below(kind, raw, hi, frac_i, frac_j):
-    """The forces' bounds of :func:`rebounds_between` at every head-on speed up to ``hi``
-    [m/s], the drag's slip from the particle's own speed (:func:`.fused.body_force_bounds`)."""
-    g_i, big_i, g_j, big_j = body_force_bounds(raw, hi)
-    return _forces(kind, g_i - big_i, g_i + big_i, g_j - big_j, g_j + big_j, frac_i, frac_j)
+def _forces_between(kind, raw, lo, hi, frac_i, frac_j):
+    """The forces' bounds of :func:`rebounds_between` at every head-on speed from ``lo`` to
+    ``hi`` [m/s], the drag's slip from the particle's own speed
+    (:func:`.fused.body_force_range`: each force lies between its values at the ends)."""
+    lo_i, hi_i, lo_j, hi_j = body_force_range(raw, lo, hi)
+    return _forces(kind, lo_i, hi_i, lo_j, hi_j, frac_i, frac_j)
 
 
 @njit(cache=CACHE)
@@ -271,7 +273,7 @@ def _interval(kind, raw, vals, body, particle_slip, u_a, u_b):
     to ``u_b``); arguments as :func:`proven_from`'s."""
     ok, k, frac_i, frac_j, slip, forces = _setup(kind, raw, vals, body, particle_slip)
     if slip:
-        forces = _forces_below(kind, raw, u_b, frac_i, frac_j)
+        forces = _forces_between(kind, raw, u_a, u_b, frac_i, frac_j)
     wpu = vals[10]
     return ok, k, u_a * wpu, u_b * wpu, forces
 
@@ -315,11 +317,13 @@ def proven_from(kind, raw, vals, body, particle_slip, floor, top):
     proven = math.inf
     hi = top
     for _ in range(ROUNDS):
-        if slip:
-            forces = _forces_below(kind, raw, hi, frac_i, frac_j)
+        if slip:  # bounded from the floor (any lower end proposed lies above it)
+            forces = _forces_between(kind, raw, floor, hi, frac_i, frac_j)
         lo = max(lowest_provable(k, hi * wpu, *forces) / wpu * (1.0 + NUDGE), floor)
         if not lo < hi:
             break
+        if slip:  # and proven over the interval proposed, where they are tighter
+            forces = _forces_between(kind, raw, lo, hi, frac_i, frac_j)
         if not rebounds_between(k, lo * wpu, hi * wpu, *forces):
             break
         proven = lo
