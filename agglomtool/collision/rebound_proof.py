@@ -269,8 +269,8 @@ def _forces_between(kind, raw, lo, hi, frac_i, frac_j):
 @njit(cache=CACHE)
 def _interval(kind, raw, vals, body, particle_slip, u_a, u_b):
     """``(ok, constants, w_a, w_b, forces)``: the proof's inputs over the head-on speeds
-    ``u_a <= u <= u_b`` [m/s] (relative speeds ``w_a``, ``w_b``; the forces bounded up
-    to ``u_b``); arguments as :func:`proven_from`'s."""
+    ``u_a <= u <= u_b`` [m/s] (relative speeds ``w_a``, ``w_b``; the forces bounded over
+    those speeds); arguments as :func:`proven_from`'s."""
     ok, k, frac_i, frac_j, slip, forces = _setup(kind, raw, vals, body, particle_slip)
     if slip:
         forces = _forces_between(kind, raw, u_a, u_b, frac_i, frac_j)
