@@ -18,7 +18,6 @@ from agglomtool.api import _fused_inputs
 from agglomtool.collision import _codes as codes
 from agglomtool.collision import fused
 from agglomtool.collision.physics import reduced_mass
-from agglomtool.collision.fused import body_force_range
 from agglomtool.collision.rebound_proof import (
     MARGIN,
     floors_over,
@@ -173,7 +172,7 @@ def test_body_forces_lie_between_their_values_at_the_ends():
         else:
             u_a = 10 ** rng.uniform(-4.0, 2.0)
             u_b = u_a * 10 ** rng.uniform(0.0, 2.0)
-        lo_i, hi_i, lo_j, hi_j = body_force_range(raw, u_a, u_b)
+        lo_i, hi_i, lo_j, hi_j = fused.body_force_range(raw, u_a, u_b)
         for u in np.concatenate([np.geomspace(u_a, u_b, 100), rng.uniform(u_a, u_b, 100)]):
             v = fused.prepare_one(raw, u, math.nan, True, flag)
             tol_i = 1e-12 * max(abs(lo_i), abs(hi_i))
