@@ -227,7 +227,6 @@ def lowest_provable(k, w_b, phi_a, psi_a, phi_s):
     return w_a if w_a <= w_b else math.inf
 
 
-
 @njit(cache=CACHE)
 def _forces(kind, lo_i, hi_i, lo_j, hi_j, frac_i, frac_j):
     """``(phi_a, psi_a, phi_s)`` of :func:`rebounds_between` from ``lo_i <= fn_i <= hi_i``
