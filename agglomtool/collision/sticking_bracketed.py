@@ -11,9 +11,17 @@ the axis in mode "paper", the drag's slip from the particle's own speed), mode "
 run it), and modes "ode" and "ode_selfconsistent" (their integration with the tier's own
 settings). The numpy batches are the reference the tests hold this pass to.
 
-The functions are plain compiled functions, not inlined by numba (``inline="always"``):
-numba 0.68's inlining of them lost stores made through a record's attribute and warned
-at compile time of variables "not in scope" (LLVM still inlines where it pays).
+The work of one element (:func:`_element` and what it calls for each element:
+:func:`_candidates`, :func:`_proof`, :func:`_top`, :func:`_node`, :func:`_f_star`) is
+inlined by numba (``inline="always"``) into the loop over the elements: a call of a
+compiled function that is not inlined counts a reference up and down (an atomic
+operation) for every array it is passed, and copies its records, which cost as much as
+the element's own arithmetic where no kernel is evaluated (inlining halved the pass with
+``drag_slip = "particle"`` on the benchmarks' water map). Their stores go through local
+names or parameters, not a record's attribute: numba 0.68's inlining lost stores made
+through a record's attribute (``rows.own_v[j] = ...``) and warned at compile time of
+variables "not in scope". The other functions are plain compiled functions (LLVM still
+inlines where it pays).
 
 What changes is where the numbers are made, and, in modes "paper" and "relative", which
 candidates need a kernel evaluation:
@@ -88,6 +96,8 @@ _KINDS = {"auto": KIND_AUTO, "ode": KIND_ODE, "ode_selfconsistent": KIND_ODE_SC}
 #: Verdicts: rebounds, sticks, no verdict (NaN ``e_w`` or a failed integration), not yet
 #: evaluated.
 _REBOUNDS, _STICKS, _UNKNOWN, _TODO = 0, 1, -1, -2
+#: :func:`_candidates`' count where every candidate rebounds (no row made)
+_NOTHING_STICKS = -2
 
 #: Candidates of a collision alone: ``u0*``, :data:`NEAR`, and per window of mode
 #: "relative" its middle, four speeds per end and offset, and one above an open end.
@@ -296,7 +306,7 @@ def _quantile(q, theta):
     return math.sqrt(-theta * math.log1p(-q))
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, inline="always")
 def _node(law, j, f_star, rest, top):
     """Node ``j`` of the law above ``u0*`` (``j = n_nodes``: the top speed)."""
     if j == law.n_nodes:
@@ -306,7 +316,7 @@ def _node(law, j, f_star, rest, top):
     return _quantile(f_star + rest * ((j + 0.5) / law.n_nodes), law.a)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, inline="always")
 def _proof(kind, coll, judge, top, held):
     """The lowest head-on speed [m/s] below ``top`` from which :mod:`.rebound_proof` proves
     that ``coll`` rebounds at every speed up to ``top``; ``inf`` where none is. ``held``
@@ -345,7 +355,7 @@ def _proof(kind, coll, judge, top, held):
     return held[0]
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, inline="always")
 def _top(law, f_star, rest):
     """The top speed of the element's candidates [m/s]: above it the law holds
     :data:`.sticking_numeric.TAIL`, or less than its last node's share."""
@@ -355,7 +365,7 @@ def _top(law, f_star, rest):
     return _quantile(max(1.0 - TAIL, f_star + rest * ((n_nodes - 1 + 0.5) / n_nodes)), law.a)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, inline="always")
 def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     """The element's candidates into ``rows.cand`` and their verdicts into ``rows.ver``:
     the collision's own (``u0*`` always, the others below the top) merged with the law's
@@ -376,9 +386,27 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     n_keep = 1
     while n_keep < n_own and sp[n_keep] < top:
         n_keep += 1
+    clear = sp[0] > 0.0  # every candidate below the cut rebounds (so far)
     for i in range(n_keep):  # the collision's own, once for all its elements
         if sv[i] == _TODO and sp[i] > 0.0 and sp[i] < cut:
             sv[i] = _at(kind, coll, sp[i], judge)
+        if sp[i] < cut and sv[i] != _REBOUNDS:
+            clear = False
+    if clear:
+        # the law's nodes below the cut, in order, while they rebound: where all do, no
+        # piece sticks and P = F(u0*), the row below left unmade (its end, the same)
+        j = 0
+        while j <= n_nodes:
+            node = _node(law, j, f_star, rest, top)
+            if node >= cut or (j == 0 and not node > sp[0]):
+                clear = clear and node >= cut  # (the row below puts u0* first)
+                break
+            if _at(kind, coll, node, judge) != _REBOUNDS:
+                clear = False  # the row below evaluates it again (rare: a pair that
+                break  # sticks again above u0*, or no verdict)
+            j += 1
+        if clear:
+            return _NOTHING_STICKS
     m = 0
     i = 0
     j = 0
@@ -439,7 +467,7 @@ def _crossing(kind, coll, lo, hi, lo_sticks, judge):
     return math.nan
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, inline="always")
 def _f_star(coll, law):
     """``F(u0*)`` of the element: scipy's (given) for the lognormal law, so that an element
     with nothing sticking above ``u0*`` has the quadrature's ``P`` bitwise."""
@@ -448,7 +476,7 @@ def _f_star(coll, law):
     return _cdf(law.family, coll.u_star, law.a, law.b)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, inline="always")
 def _element(kind, coll, law, n_own, judge, rows):
     """``(P, ok)`` of one element of collision ``coll`` (:class:`Collision`, its own
     candidates in ``rows`` (:class:`Scratch`), ``n_own`` of them) under ``law``
@@ -468,6 +496,8 @@ def _element(kind, coll, law, n_own, judge, rows):
             return math.nan, False
         return f_star + rest * (1.0 if v == _STICKS else 0.0), True
     m = _candidates(kind, coll, law, n_own, judge, rows, f_star, rest)
+    if m == _NOTHING_STICKS:
+        return min(f_star, 1.0), True  # as the pieces below sum it where all rebound
     if m < 0:
         return math.nan, False
     cand, ver = rows.cand, rows.ver
@@ -510,6 +540,19 @@ def _run_top(c, law_of, given, n_nodes, coll, k0, k1):
     if family == FIXED:
         return far
     k = k0
+    if family != LOGNORMAL:
+        # a Maxwellian top rises with the granular temperature (its square is the
+        # smaller of theta ln(1/TAIL) and u0*^2 + theta ln(2 N)): the hottest element's
+        # (a bound is all the proof needs; the elements' results do not depend on it)
+        hot = 0.0
+        while k < k1 and coll[k] == coll[k0]:
+            hot = max(hot, p1[k * s1])
+            k += 1
+        law = ElementLaw(family, hot, 0.0, given, k0, n_nodes)
+        f_star = _f_star(c, law)
+        if 1.0 - f_star > REST_MIN:
+            far = _top(law, f_star, 1.0 - f_star)
+        return far
     while k < k1 and coll[k] == coll[k0]:
         law = ElementLaw(family, p1[k * s1], p2[k * s2], given, k, n_nodes)
         f_star = _f_star(c, law)
