@@ -408,6 +408,52 @@ def test_proof_shared_by_a_collisions_elements(mode, slip, monkeypatch):
     assert runs >= 20  # runs of one collision reached the compiled pass
 
 
+#: A random pair (tests/test_sticking_exact.py's draw, seed 11) whose mode "paper" sticks
+#: again in a narrow window far above its u0* (about 1400 times it) at the angles 60 and
+#: 120 degrees, where mode "relative" has no window: none of the pair's own candidates
+#: (u0*, the speeds just above it, mode "relative"'s seeds) lies in it, only the law's
+#: nodes can.
+UNSEEDED = 39
+
+
+@pytest.mark.parametrize("slip", [False, True])
+def test_a_window_only_the_nodes_reach(slip, monkeypatch):
+    """The compiled pass takes ``P = F(u0*)`` without making an element's row where every
+    candidate below the proven speed rebounds; a law node that sticks must stop that. On
+    :data:`UNSEEDED` (mode "paper"), with laws concentrated on the window a dense scan of
+    the kernel finds, the window is seen (P well above F(u0*) where it exists) and the
+    pass equals the numpy method within 1e-15 (as
+    test_compiled_pass_is_the_numpy_method)."""
+    import agglomtool.collision.sticking_bracketed as compiled
+
+    kw = _random_pairs(11, 100, angles=7)[UNSEEDED].kw
+    pairs = Pairs(kw["p_i"], kw["p_j"], kw["liquid"], AIR, kw["beta_deg"], kw["e"],
+                  mode="paper", slip=slip)
+    # the window: the speeds between 2 u0* and 1 m/s at which the kernel sticks (scan)
+    beta = np.asarray(kw["beta_deg"])
+    one = dict(pairs.kw, beta_deg=60.0)
+    u = np.geomspace(2.0 * pairs.u_star[1], 1.0, 20000)
+    stuck = u[np.asarray(at.collide(u0=u, details=False, **one).agglomerated)]
+    assert stuck.size
+    lo, hi = stuck.min(), stuck.max()
+    assert hi / lo < 1.05 and lo > 1000.0 * pairs.u_star[1]  # narrow, far above u0*
+    _, _, count, _ = Pairs(kw["p_i"], kw["p_j"], kw["liquid"], AIR, kw["beta_deg"], kw["e"],
+                           mode="relative").windows()
+    assert not count.any()  # no seed from mode "relative"
+    middle = math.sqrt(lo * hi)
+    laws = [SpeedModel("lognormal", u0=np.full(beta.shape, middle), sigma_ln=0.004),
+            SpeedModel("maxwellian", granular_temperature=np.full(beta.shape, middle**2))]
+    for law in laws:
+        got = sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair)
+        with monkeypatch.context() as m:
+            m.setattr(compiled, "kind_of", lambda tier: None)
+            ref = sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair)
+        np.testing.assert_allclose(got, ref, rtol=0.0, atol=1e-15)
+        if law.family == "lognormal":
+            seen = got - law.cdf(pairs.u_star)
+            assert np.all(seen[np.isin(beta, (60.0, 120.0))] > 0.5), seen
+
+
 def test_compiled_pass_in_parallel_over_chunks(monkeypatch):
     """The compiled pass's parallel entry and its lognormal chunks, which the hard set's
     few elements per call (under ``SERIAL_BELOW``) never reach: a water-case batch of 104

@@ -373,8 +373,12 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     "paper" and "relative" a candidate at or above the lowest speed that
     :mod:`.rebound_proof` proves for the collision (:func:`_proof`) is a rebound, taken
     without an evaluation: the candidates, and so the bisections and the integral, are
-    those of the method, whatever speed is proven. Returns their count, or -1 where a
-    verdict is unknown."""
+    those of the method, whatever speed is proven. Returns their count, -1 where a
+    verdict is unknown, or :data:`_NOTHING_STICKS` where every candidate below the proven
+    speed rebounds (the collision's own, then the law's nodes in order; u0* first): then
+    no piece sticks, ``P = F(u0*)``, and the rows are left unmade
+    (tests/test_sticking_numeric.py::test_a_window_only_the_nodes_reach holds the nodes'
+    part of that check)."""
     sp, sv, cand, ver = rows.own, rows.own_v, rows.cand, rows.ver
     n_nodes = law.n_nodes
     top = _top(law, f_star, rest)
