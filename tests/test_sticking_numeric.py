@@ -308,6 +308,16 @@ def test_the_nodes_are_candidates():
         _check(pairs, law, nodes=16)
 
 
+def _numpy_method(monkeypatch, law, pairs, **kw):
+    """The propensity by the numpy batches of the method (:mod:`.sticking_numeric`), the
+    compiled pass switched off: the reference the compiled pass is held to."""
+    import agglomtool.collision.sticking_bracketed as compiled
+
+    with monkeypatch.context() as m:
+        m.setattr(compiled, "kind_of", lambda tier: None)
+        return sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair, **kw)
+
+
 @pytest.mark.parametrize("mode, slip", [("auto", False), ("paper", False), ("relative", True),
                                         ("paper", True), ("ode", False),
                                         ("ode_selfconsistent", False)])
@@ -322,7 +332,6 @@ def test_compiled_pass_is_the_numpy_method(mode, slip, monkeypatch):
     last place apart (the compiled ``log1p`` against numpy's) can let a bisection settle on
     another of the band's crossings (measured: 1.2e-9 on one of
     ``benchmarks/bench_bracketing.py``'s maps, 0 on this set)."""
-    import agglomtool.collision.sticking_bracketed as compiled
 
     rng = np.random.default_rng(7)
     for pairs in _hard_set(mode, slip):
@@ -330,10 +339,7 @@ def test_compiled_pass_is_the_numpy_method(mode, slip, monkeypatch):
             rep_c, rep_n = {}, {}
             got = sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair,
                                        report=rep_c)
-            with monkeypatch.context() as m:
-                m.setattr(compiled, "kind_of", lambda tier: None)
-                ref = sticking_probability(law, pairs.u_star, pairs.collide,
-                                           pair=pairs.pair, report=rep_n)
+            ref = _numpy_method(monkeypatch, law, pairs, report=rep_n)
             assert rep_c == rep_n
             band = 0.0
             if mode == "ode_selfconsistent":
@@ -372,7 +378,6 @@ def test_proof_shared_by_a_collisions_elements(mode, slip, monkeypatch):
     made anew. The propensity is bitwise the same as with each element alone (its own
     run, its own proof), and within 1e-15 of the numpy batches, which evaluate every
     candidate: the proof decides which candidates are evaluated, never the result."""
-    import agglomtool.collision.sticking_bracketed as compiled
 
     rng = np.random.default_rng(23)
     runs = 0
@@ -400,10 +405,7 @@ def test_proof_shared_by_a_collisions_elements(mode, slip, monkeypatch):
                 alone = sticking_probability(one, pairs.u_star, pairs.collide,
                                              pair=pairs.pair)
                 np.testing.assert_array_equal(got[:, j:j + 1], alone)
-            with monkeypatch.context() as m:
-                m.setattr(compiled, "kind_of", lambda tier: None)
-                ref = sticking_probability(law, pairs.u_star, pairs.collide,
-                                           pair=pairs.pair)
+            ref = _numpy_method(monkeypatch, law, pairs)
             np.testing.assert_allclose(got, ref, rtol=0.0, atol=1e-15)
     assert runs >= 20  # runs of one collision reached the compiled pass
 
@@ -424,19 +426,19 @@ def test_a_window_only_the_nodes_reach(slip, monkeypatch):
     the kernel finds, the window is seen (P well above F(u0*) where it exists) and the
     pass equals the numpy method within 1e-15 (as
     test_compiled_pass_is_the_numpy_method)."""
-    import agglomtool.collision.sticking_bracketed as compiled
 
     kw = _random_pairs(11, 100, angles=7)[UNSEEDED].kw
     pairs = Pairs(kw["p_i"], kw["p_j"], kw["liquid"], AIR, kw["beta_deg"], kw["e"],
                   mode="paper", slip=slip)
     # the window: the speeds between 2 u0* and 1 m/s at which the kernel sticks (scan)
     beta = np.asarray(kw["beta_deg"])
+    at_60 = int(np.flatnonzero(beta == 60.0)[0])
     one = dict(pairs.kw, beta_deg=60.0)
-    u = np.geomspace(2.0 * pairs.u_star[1], 1.0, 20000)
+    u = np.geomspace(2.0 * pairs.u_star[at_60], 1.0, 20000)
     stuck = u[np.asarray(at.collide(u0=u, details=False, **one).agglomerated)]
     assert stuck.size
     lo, hi = stuck.min(), stuck.max()
-    assert hi / lo < 1.05 and lo > 1000.0 * pairs.u_star[1]  # narrow, far above u0*
+    assert hi / lo < 1.05 and lo > 1000.0 * pairs.u_star[at_60]  # narrow, far above u0*
     _, _, count, _ = Pairs(kw["p_i"], kw["p_j"], kw["liquid"], AIR, kw["beta_deg"], kw["e"],
                            mode="relative").windows()
     assert not count.any()  # no seed from mode "relative"
@@ -445,9 +447,7 @@ def test_a_window_only_the_nodes_reach(slip, monkeypatch):
             SpeedModel("maxwellian", granular_temperature=np.full(beta.shape, middle**2))]
     for law in laws:
         got = sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair)
-        with monkeypatch.context() as m:
-            m.setattr(compiled, "kind_of", lambda tier: None)
-            ref = sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair)
+        ref = _numpy_method(monkeypatch, law, pairs)
         np.testing.assert_allclose(got, ref, rtol=0.0, atol=1e-15)
         if law.family == "lognormal":
             seen = got - law.cdf(pairs.u_star)
@@ -492,11 +492,8 @@ def test_compiled_pass_in_parallel_over_chunks(monkeypatch):
     finally:
         numba.set_num_threads(before)
     assert launches == [66, 66]
-    with monkeypatch.context() as m:
-        m.setattr(compiled, "kind_of", lambda tier: None)
-        rep = {}
-        ref = sticking_probability(law, pairs.u_star, pairs.collide, pair=pairs.pair,
-                                   report=rep)
+    rep = {}
+    ref = _numpy_method(monkeypatch, law, pairs, report=rep)
     assert reps[0] == reps[1] == rep and rep["bracketed"] == got[0].size == 104
     np.testing.assert_array_equal(got[0], got[1])
     np.testing.assert_allclose(got[0], ref, rtol=0.0, atol=1e-15)

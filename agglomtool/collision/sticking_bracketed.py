@@ -403,7 +403,7 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
         while j <= n_nodes:
             node = _node(law, j, f_star, rest, top)
             if node >= cut or (j == 0 and not node > sp[0]):
-                clear = clear and node >= cut  # (the row below puts u0* first)
+                clear = node >= cut  # (a first node not above u0* leads the row below)
                 break
             if _at(kind, coll, node, judge) != _REBOUNDS:
                 clear = False  # the row below evaluates it again (rare: a pair that
@@ -501,7 +501,7 @@ def _element(kind, coll, law, n_own, judge, rows):
         return f_star + rest * (1.0 if v == _STICKS else 0.0), True
     m = _candidates(kind, coll, law, n_own, judge, rows, f_star, rest)
     if m == _NOTHING_STICKS:
-        return min(f_star, 1.0), True  # as the pieces below sum it where all rebound
+        return f_star, True  # the pieces below sum to it where all rebound (f_star < 1)
     if m < 0:
         return math.nan, False
     cand, ver = rows.cand, rows.ver
@@ -543,27 +543,25 @@ def _run_top(c, law_of, given, n_nodes, coll, k0, k1):
     far = 0.0
     if family == FIXED:
         return far
+    # a Maxwellian top rises with the granular temperature (its square is the smaller of
+    # theta ln(1/TAIL) and u0*^2 + theta ln(2 N)): the hottest element's is the run's (a
+    # bound is all the proof needs; the elements' results do not depend on it)
+    hot = 0.0
     k = k0
-    if family != LOGNORMAL:
-        # a Maxwellian top rises with the granular temperature (its square is the
-        # smaller of theta ln(1/TAIL) and u0*^2 + theta ln(2 N)): the hottest element's
-        # (a bound is all the proof needs; the elements' results do not depend on it)
-        hot = 0.0
-        while k < k1 and coll[k] == coll[k0]:
+    while k < k1 and coll[k] == coll[k0]:
+        if family == LOGNORMAL:  # its top given per element
+            law = ElementLaw(family, p1[k * s1], p2[k * s2], given, k, n_nodes)
+            f_star = _f_star(c, law)
+            if 1.0 - f_star > REST_MIN:
+                far = max(far, _top(law, f_star, 1.0 - f_star))
+        else:
             hot = max(hot, p1[k * s1])
-            k += 1
+        k += 1
+    if family != LOGNORMAL:
         law = ElementLaw(family, hot, 0.0, given, k0, n_nodes)
         f_star = _f_star(c, law)
         if 1.0 - f_star > REST_MIN:
             far = _top(law, f_star, 1.0 - f_star)
-        return far
-    while k < k1 and coll[k] == coll[k0]:
-        law = ElementLaw(family, p1[k * s1], p2[k * s2], given, k, n_nodes)
-        f_star = _f_star(c, law)
-        rest = 1.0 - f_star
-        if rest > REST_MIN:
-            far = max(far, _top(law, f_star, rest))
-        k += 1
     return far
 
 
