@@ -17,14 +17,18 @@ import agglomtool as at
 from agglomtool.api import _fused_inputs
 from agglomtool.collision import _codes as codes
 from agglomtool.collision import fused
+from agglomtool.collision.bridge import gap_parts, ln_f_change
 from agglomtool.collision.physics import reduced_mass
 from agglomtool.collision.rebound_proof import (
     MARGIN,
+    extended_down,
     floors_over,
     proven_from,
     rebounds_over,
+    survivor_floors_over,
+    survivor_over,
 )
-from agglomtool.collision.records import RawPair
+from agglomtool.collision.records import Gap, RawPair
 
 
 def _raw(ins, steps, q):
@@ -205,7 +209,8 @@ def test_proof_leaves_the_windows_above_u_star(slip):
     """The pairs that stick again above ``u0*`` (the hard set of the bracketing's tests,
     Table 2's water at angles off the axis, knife-edge coatings): a dense scan of both
     kernels from just above ``u0*`` to 1000 times it finds every sticking speed below the
-    proven one."""
+    proven one, and mode "paper"'s extension downwards (:func:`extended_down`), asked from
+    just above the highest sticking speed down to ``u0*``, stops above it."""
     windows = proven = 0
     for pairs in _hard_set("paper", slip):
         k = pairs.kw
@@ -223,12 +228,113 @@ def test_proof_leaves_the_windows_above_u_star(slip):
             for tier in (fused.TIER_PAPER, fused.TIER_RELATIVE):
                 stuck = _e_w(raw, scan, tier, True, slip) == 0.0
                 windows += bool(stuck.any())
+                if stuck.any():  # asked to extend down through the highest sticking speed
+                    above = scan[stuck].max() * 1.001
+                    down = extended_down(tier, raw, vals, True, flag, scan[0], above, scan[0])
+                    assert not stuck[(scan >= down) & (scan <= above)].any(), (q, tier, down)
                 w_from = proven_from(tier, raw, vals, True, flag, us[q] * 1.01, scan[-1])
                 if math.isfinite(w_from):
                     proven += 1
                     assert not stuck[scan >= w_from].any(), (q, tier, w_from,
                                                              scan[stuck].max())
     assert windows >= 3 and proven >= 10
+
+
+def _survivor_scene(rng, n):
+    """Pairs whose separation one particle leaves first just above ``u0*``: equal or
+    unequal sub-millimetre to millimetre particles, water-like to viscous coatings, the
+    axis vertical or tilted (the benchmarks' water pairs are of this kind)."""
+    d_i = 10 ** rng.uniform(-4.0, -2.5, n)
+    d_j = d_i * np.where(rng.uniform(size=n) < 0.5, 1.0, 10 ** rng.uniform(-0.3, 0.3, n))
+    h0 = d_i * 10 ** rng.uniform(-3.0, -1.5, n)
+    ha = h0 * 10 ** rng.uniform(-2.0, -0.5, n)
+    p_i = at.Particle(d=d_i, rho=rng.uniform(1500.0, 4500.0, n), h0=h0, ha=ha)
+    p_j = at.Particle(d=d_j, rho=rng.uniform(1500.0, 4500.0, n), h0=h0, ha=ha)
+    liq = at.Liquid(mu=10 ** rng.uniform(-3.0, 0.0, n), gamma=rng.uniform(0.02, 0.08, n),
+                    rho=1000.0, theta_deg=rng.uniform(0.0, 60.0, n))
+    gas = at.Gas(mu=18e-6, rho=1.2)
+    bed = at.Bed(eps=rng.uniform(0.4, 0.6, n), U=rng.uniform(0.05, 1.0, n))
+    beta = rng.choice([60.0, 90.0, 120.0, 270.0], n)
+    return p_i, p_j, liq, gas, bed, beta, rng.uniform(0.5, 0.95, n), None
+
+
+def _survivor_energy(det, raw, vals, x):
+    """The kernel's own ``R`` (module docstring of ``rebound_proof``: ``2 m_y k_mid -
+    (c Delta_2)^2``) from its details, at rows where particle ``x`` stopped first in the
+    separation, and ``2 m_y`` times the partner's final energy at every row."""
+    m_i, m_j, r, H0, Ha = vals[:5]
+    a2 = (H0 - Ha) * (H0 + Ha)
+    c = 1.5 * math.pi * raw[8] * r * r
+    m_y = m_j if x == 1 else m_i
+    k_fin = det[:, codes.K_FIN_J if x == 1 else codes.K_FIN_I]
+    d_stop, h = det[:, codes.D_STOP_SEP], det[:, codes.H_RUPT]
+    c_delta_2 = np.array([c * abs(ln_f_change(Gap(a, *gap_parts(a, a2)), Gap(b, *gap_parts(b, a2))))
+                          if math.isfinite(a) else 0.0 for a, b in zip(d_stop, h, strict=True)])
+    root = np.sqrt(2.0 * m_y * k_fin) + c_delta_2  # sqrt(2 m_y k_mid)
+    return root * root - c_delta_2 * c_delta_2, 2.0 * m_y * k_fin
+
+
+@pytest.mark.parametrize("slip", [False, True])
+def test_survivor_bound_holds_where_one_particle_stops_first(slip):
+    """Mode "paper" just above ``u0*`` with a body force on the axis: one particle stops in
+    the separation and its partner leaves alone. On random intervals from 1e-5 to 3 % above
+    ``u0*`` (widths from 1e-5 to 10 %), wherever the survivor's bound proves the interval,
+    the kernel rebounds at every speed tried in it; where it takes the path of a particle
+    stopping first, its ``R`` (the partner's ``2 m k_mid - (c Delta_2)^2``, rebuilt from
+    its details) is at least the bound's, and on the ordinary path the partner's final
+    energy is at least the bound of ``G_y``. The bound must prove intervals on that path
+    (not vacuous)."""
+    rng = np.random.default_rng(53)
+    flag = fused.slip_flag(slip)
+    proven = stopped = 0
+    for q, (us, raw, vals) in enumerate(_collisions(_survivor_scene(rng, 200), True, slip)):
+        for _ in range(4):
+            u_a = us * (1.0 + 10 ** rng.uniform(-5.0, -1.5))
+            u_b = u_a * (1.0 + 10 ** rng.uniform(-5.0, -1.0))
+            r_lo, r_size, y_lo, y_size, x = survivor_floors_over(fused.TIER_PAPER, raw, vals,
+                                                                 True, flag, u_a, u_b)
+            if not (r_lo > MARGIN * r_size and y_lo > MARGIN * y_size):
+                continue
+            proven += 1
+            assert survivor_over(fused.TIER_PAPER, raw, vals, True, flag, u_a, u_b)
+            speeds = _tried(rng, u_a, u_b)
+            e_w, det = _e_w(raw, speeds, fused.TIER_PAPER, True, slip, details=True)
+            assert (e_w > 0.0).all(), (q, speeds[~(e_w > 0.0)], u_a, u_b)
+            stop = np.isfinite(det[:, codes.D_STOP_SEP])
+            r_kernel, left = _survivor_energy(det, raw, vals, x)
+            stopped += int(stop.sum())
+            assert np.all(r_kernel[stop] >= r_lo - 1e-9 * r_size), (q, u_a, u_b)
+            assert np.all(left[~stop] >= y_lo - 1e-9 * y_size), (q, u_a, u_b)
+    assert proven > 100 and stopped > 2000, (proven, stopped)
+
+
+@pytest.mark.parametrize("slip", [False, True])
+def test_extension_down_rebounds(slip):
+    """:func:`extended_down` from the speed :func:`proven_from` proves, down towards 1e-4
+    above ``u0*``: the kernel rebounds at every speed of a dense scan from the speed it
+    reaches up to the one proven before, and it reaches lower on most pairs (the band
+    where one particle stops first). Mode "relative" is left as it is."""
+    rng = np.random.default_rng(59)
+    flag = fused.slip_flag(slip)
+    tried = lower = 0
+    for q, (us, raw, vals) in enumerate(_collisions(_survivor_scene(rng, 150), True, slip)):
+        floor = us * (1.0 + 1e-6)
+        cut = proven_from(fused.TIER_PAPER, raw, vals, True, flag, floor, us * 3.0)
+        if not math.isfinite(cut):
+            continue
+        tried += 1
+        need = us * (1.0 + 1e-4)
+        down = extended_down(fused.TIER_PAPER, raw, vals, True, flag, floor, cut, need)
+        assert floor <= down <= cut
+        assert extended_down(fused.TIER_RELATIVE, raw, vals, True, flag, floor, cut,
+                             need) == cut
+        if down < cut:
+            lower += 1
+            speeds = np.concatenate([np.geomspace(down, cut, 200), rng.uniform(down, cut, 100),
+                                     down * np.geomspace(1.0, 1.0 + 1e-4, 50)])
+            e_w = _e_w(raw, speeds, fused.TIER_PAPER, True, slip)
+            assert (e_w > 0.0).all(), (q, speeds[~(e_w > 0.0)], down, cut)
+    assert tried > 100 and lower > tried // 2, (tried, lower)
 
 
 def test_no_proof_where_the_kernels_underflow():

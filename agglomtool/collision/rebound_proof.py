@@ -50,6 +50,45 @@ over the interval by :func:`.fused.body_force_range`: each is monotonic in the s
 drag's projection on the axis falls for particle i and rises for particle j as the speed
 grows), so it lies between its values at the interval's ends.
 
+One particle stopping first (mode "paper")
+------------------------------------------
+Just above ``u0*`` the bound above fails in mode "paper" with a body force on the axis:
+there the particle whose force works against its motion (``x``) stops in the
+separation, and its partner (``y``) goes on alone and leaves with little energy (the
+kernel's path of Section 2.3.5). That band, 1-3 % above ``u0*`` for the water pairs of
+the benchmarks, is where most of the law's nodes lie when ``u0*`` sits in the speed
+law's tail. :func:`survivor_floors` bounds that path over an interval as well.
+
+Write ``p = m_r w_s`` (the momentum each particle carries in the separation), ``L`` the
+``ln f`` of a gap, ``g`` its capillary potential, ``h`` the rupture gap and ``d`` the gap
+where ``x`` stops. ``x`` stops where its running energy reaches zero, which has the sign
+of
+
+    G_x(D) = (p - c (L(D) - L(Ha)))^2 - 2 m_r (kcap (g(D) - g(Ha)) - f_x (D - Ha)),
+
+rising with ``p`` (while ``p > c Delta``, which the stage checks) and with ``f_x``;
+``G_x`` is convex in ``D`` for a wetting liquid (:func:`.paper._stop_gap`), so where the
+kernel takes this path (``G_x(h) <= 0``) the set ``G_x <= 0`` is one interval reaching
+``h``. A gap ``D_lo`` with ``G_x(D_lo) > 0`` at the interval's least ``p`` and ``f_x``
+therefore lies below every stop of the interval, and a gap ``D_hi <= h`` with
+``G_x(D_hi) <= 0`` at the largest ``p`` and ``f_x`` lies above every stop. The partner
+leaves with energy exactly where
+
+    R = (p - c Delta) (p - c Delta + 2 c (L(h) - L(d)))
+        - 2 m_y kcap (g(h) - g(Ha) - s_x (g(d) - g(Ha)))
+        + 2 m_y f_y ((h - Ha) - s_x (d - Ha)) > 0
+
+(``Delta = L(h) - L(Ha)``, ``s_x`` the share of the gap change of ``x``, ``m_y`` the
+partner's mass: the kernel's ``2 m_y k_mid - (c Delta_2)^2``, whose sign decides Eq. 144).
+Each term is monotonic in ``p``, ``h`` and ``d``, so it is bounded at an end of their
+ranges. Where ``x`` does not stop, both go on and the pair rebounds; both stop only where
+``G_y(h) <= 0``, which the floor of ``G_y`` excludes. The opening speed is bounded from
+each particle's own approach (its own force), not from the worse of the two: the band's
+margin is a few parts in 1e4 of the terms. :func:`extended_down` proves intervals below
+a proven speed with this bound, geometric in the distance from the floor; the
+bracketing asks it down to an element's first node. The tests hold this bound, too, to
+the kernel at random speeds of random intervals.
+
 Mode "auto" is not served: where the proof holds for its closed forms it takes them only
 where their error indicator is small enough, and bounding that indicator over an interval
 (tried) cost as much as the closed-form evaluations it spared; the speeds where it
@@ -77,12 +116,15 @@ from .._jit import CACHE
 from . import stages
 from .bridge import bridge_volume, g_change, gap_parts, ln_f_change, rupture_gap
 from .fused import TIER_PAPER, TIER_RELATIVE, body_force_range
+from .paper import _stop_gap
 from .physics import reduced_mass
-from .records import Gap, Pair
+from .records import Bridge, Gap, Pair
 
-__all__ = ["MARGIN", "LEAST", "NUDGE", "ROUNDS", "ProofConstants", "proof_constants",
-           "energy_floors", "rebounds_between", "lowest_provable", "floors_over",
-           "rebounds_over", "proven_from", "PAPER", "RELATIVE"]
+__all__ = ["MARGIN", "LEAST", "NUDGE", "ROUNDS", "STEP", "STEP_LEAST", "CHECKS",
+           "ProofConstants", "proof_constants", "energy_floors", "rebounds_between",
+           "lowest_provable", "floors_over", "rebounds_over", "proven_from",
+           "survivor_floors", "survivor_floors_over", "survivor_over", "extended_down",
+           "PAPER", "RELATIVE"]
 
 #: Relative margin every inequality of the proof must clear, of the size of its terms.
 MARGIN = 1e-9
@@ -94,6 +136,14 @@ LEAST = 1e-200
 NUDGE = 1e-3
 #: Rounds of :func:`proven_from` (each proposes an interval below the last one proven).
 ROUNDS = 3
+#: :func:`extended_down`'s first step: the interval below a proven speed ``lo`` reaches
+#: down to ``floor + (lo - floor) / (1 + STEP)``; the step doubles after an interval
+#: proven (up to ``4 STEP``) and falls to a quarter after one that is not, down to
+#: :data:`STEP_LEAST`.
+STEP = 2.0
+STEP_LEAST = 0.1
+#: Intervals :func:`extended_down` checks at most.
+CHECKS = 12
 #: The kinds of :func:`proven_from`: the kernels of modes "paper" and "relative" (the fused
 #: tiers' codes).
 PAPER, RELATIVE = TIER_PAPER, TIER_RELATIVE
@@ -330,3 +380,214 @@ def proven_from(kind, raw, vals, body, particle_slip, floor, top):
         if lo == floor:
             break
     return proven
+
+
+@njit(cache=CACHE)
+def _stop_sign(D, p, f, k):
+    """``(G_x(D), size)``: the sign function of a separating particle's running energy at
+    the gap ``D`` [m] (module docstring: momentum ``p`` [kg m/s], its force ``f`` [N]
+    along its motion) and the size of its terms."""
+    m_r, c, kcap, a2 = k.m_r, k.c, k.kcap, k.a2
+    ha = k.gap_ha
+    at = Gap(D, *gap_parts(D, a2))
+    u = p - c * abs(ln_f_change(ha, at))
+    cap = kcap * g_change(ha, at, a2)
+    work = f * (D - ha.d)
+    return u * u - 2.0 * m_r * (cap - work), p * p + 2.0 * m_r * (abs(cap) + abs(work))
+
+
+@njit(cache=CACHE)
+def _first_stop(p, f, low, k):
+    """The zero of :func:`_stop_sign` between ``Ha`` and the gap ``low`` (a
+    :class:`~.records.Gap` with ``G_x(low) <= 0``): the kernel's own search
+    (:func:`.paper._stop_gap`)."""
+    c, kcap, a2 = k.c, k.kcap, k.a2
+    ha = k.gap_ha
+    return _stop_gap(ha, low, p - c * abs(ln_f_change(ha, low)), kcap * g_change(ha, low, a2),
+                     p, p / k.m_r, f, Bridge(c, kcap, a2))
+
+
+@njit(cache=CACHE)
+def survivor_floors(k, w_a, w_b, lo_i, hi_i, lo_j, hi_j, m_i, m_j):
+    """Lower bounds over the relative speeds ``w_a <= w <= w_b`` [m/s] of mode "paper"'s
+    separation where one particle may stop first (module docstring), for the collision of
+    constants ``k`` (:class:`ProofConstants`, a wetting liquid), masses ``m_i``, ``m_j``
+    [kg] and body forces ``lo_i <= fn_i <= hi_i``, ``lo_j <= fn_j <= hi_j`` [N]
+    (:func:`.fused.prepare_one`'s, along the axis).
+
+    Returns ``(r_lo, r_size, y_lo, y_size, x)``: the floor of ``R`` (the partner's
+    survival where ``x`` stops first) and of ``G_y(h)`` (the partner's own running energy
+    at the rupture gap on the ordinary path, in the units of ``G``), each with the size of
+    its terms, and ``x`` (1: particle i stops first, 2: particle j); NaN floors and
+    ``x = 0`` where the bound does not apply (a non-wetting liquid, forces whose ranges
+    overlap, either particle stopped in the approach, a bridge broken at contact, or
+    viscosity alone stopping the separation)."""
+    m_r, c, kcap, a2, c_app, l_app, d_app, ha, vol3, e, mu_per_gamma, theta = k
+    nan = math.nan
+    fail = (nan, nan, nan, nan, 0)
+    if not (kcap >= 0.0 and w_a > 0.0 and w_b >= w_a):
+        return fail
+    _, frac_i, frac_j = reduced_mass(m_i, m_j)
+    # ---- the approach, each particle with its own force (fn_i; -fn_j for particle j)
+    x_a = w_a - c_app / m_r
+    x_b = w_b - c_app / m_r
+    a_size = (0.5 * m_r * w_b * w_b + abs(l_app)
+              + (abs(lo_i) + abs(hi_i) + abs(lo_j) + abs(hi_j)) * d_app)
+    if not x_a > MARGIN * w_a:
+        return fail
+    base_lo = 0.5 * m_r * x_a * x_a - l_app
+    base_hi = 0.5 * m_r * x_b * x_b - l_app
+    ai_lo = base_lo + lo_i * d_app
+    aj_lo = base_lo - hi_j * d_app
+    if not (ai_lo > MARGIN * a_size and aj_lo > MARGIN * a_size):
+        return fail
+    ai_hi = base_hi + hi_i * d_app
+    aj_hi = base_hi - lo_j * d_app
+    # the opening speed: each particle's speed from its own energy (frac_j A_i on i)
+    ws_lo = e * (math.sqrt(2.0 * frac_j * ai_lo / m_i) + math.sqrt(2.0 * frac_i * aj_lo / m_j))
+    ws_hi = e * (math.sqrt(2.0 * frac_j * ai_hi / m_i) + math.sqrt(2.0 * frac_i * aj_hi / m_j))
+    h_lo = rupture_gap(theta, mu_per_gamma * ws_lo, vol3)
+    h_hi = rupture_gap(theta, mu_per_gamma * ws_hi, vol3)
+    if not h_lo > ha.d:
+        return fail
+    # ---- who stops first: the particle whose force along its motion is the smaller
+    # (-fn_i on particle i, fn_j on particle j, in the separation), over the whole interval
+    if -lo_i <= lo_j:
+        x, fx_lo, fx_hi, fy_lo, m_y, share_x = 1, -hi_i, -lo_i, lo_j, m_j, frac_j
+    elif hi_j <= -hi_i:
+        x, fx_lo, fx_hi, fy_lo, m_y, share_x = 2, lo_j, hi_j, -hi_i, m_i, frac_i
+    else:
+        return fail
+    p_lo, p_hi = m_r * ws_lo, m_r * ws_hi
+    top = Gap(h_hi, *gap_parts(h_hi, a2))
+    low = Gap(h_lo, *gap_parts(h_lo, a2))
+    first = p_lo - c * abs(ln_f_change(ha, top))  # p - c Delta at its least
+    if not first > MARGIN * p_lo:
+        return fail
+    # ---- D_lo: below every stop (G_x > 0 there at the least p and f_x)
+    d_lo = h_lo
+    g, size = _stop_sign(h_lo, p_lo, fx_lo, k)
+    if not g > MARGIN * size:
+        z = _first_stop(p_lo, fx_lo, low, k)
+        d_lo = ha.d
+        for back in (1e-6, 1e-3):
+            d = ha.d + (z - ha.d) * (1.0 - back)
+            g, size = _stop_sign(d, p_lo, fx_lo, k)
+            if g > MARGIN * size:
+                d_lo = d
+                break
+    # ---- D_hi: above every stop (G_x <= 0 there at the largest p and f_x), else h_hi
+    d_hi = h_hi
+    g, size = _stop_sign(h_lo, p_hi, fx_hi, k)
+    if g < -MARGIN * size:
+        z = _first_stop(p_hi, fx_hi, low, k)
+        d = min(ha.d + (z - ha.d) * (1.0 + 1e-6), h_lo)
+        g, size = _stop_sign(d, p_hi, fx_hi, k)
+        if g < -MARGIN * size:
+            d_hi = d
+    at_lo = Gap(d_lo, *gap_parts(d_lo, a2))
+    at_hi = Gap(d_hi, *gap_parts(d_hi, a2))
+    # (p - c Delta_1) + c Delta_2, at its least: Delta_1 up to D_hi, Delta_2 from D_hi to h
+    second = p_lo - c * abs(ln_f_change(ha, at_hi))
+    if d_hi < h_lo:
+        second += c * abs(ln_f_change(at_hi, low))
+    second = max(first, second)
+    cap_top = kcap * g_change(ha, top, a2)
+    cap = 2.0 * m_y * (cap_top - share_x * kcap * g_change(ha, at_lo, a2))
+    # the partner's path length weighted as the kernel does: (h - Ha) - s_x (d - Ha)
+    q_lo = max((h_lo - ha.d) - share_x * (d_hi - ha.d), (1.0 - share_x) * (h_lo - ha.d))
+    q_hi = (h_hi - ha.d) - share_x * (d_lo - ha.d)
+    work = 2.0 * m_y * (fy_lo * q_lo if fy_lo >= 0.0 else fy_lo * q_hi)
+    r_lo = first * second - cap + work
+    r_size = p_hi * p_hi + 2.0 * m_y * (abs(cap_top) + abs(fy_lo) * (h_hi - ha.d))
+    # ---- G_y(h): the partner reaches the rupture on the ordinary path (not both stop)
+    y_work = fy_lo * (h_lo - ha.d) if fy_lo >= 0.0 else fy_lo * (h_hi - ha.d)
+    y_lo = first * first - 2.0 * m_r * (cap_top - y_work)
+    y_size = p_hi * p_hi + 2.0 * m_r * (abs(cap_top) + abs(fy_lo) * (h_hi - ha.d))
+    return r_lo, r_size, y_lo, y_size, x
+
+
+@njit(cache=CACHE)
+def _survives(k, w_a, w_b, forces, m_i, m_j):
+    """True where :func:`survivor_floors` proves a rebound at every relative speed of
+    ``[w_a, w_b]`` (``forces``: ``(lo_i, hi_i, lo_j, hi_j)``): both floors clear
+    :data:`MARGIN` of their size, and the partner's energy left, at least
+    ``R^2 / (8 m_y size)``, clears :data:`LEAST` of the impact's."""
+    lo_i, hi_i, lo_j, hi_j = forces
+    r_lo, r_size, y_lo, y_size, x = survivor_floors(k, w_a, w_b, lo_i, hi_i, lo_j, hi_j,
+                                                    m_i, m_j)
+    if not (r_lo > MARGIN * r_size and y_lo > MARGIN * y_size):
+        return False
+    m_y = m_j if x == 1 else m_i
+    return r_lo * (r_lo / (8.0 * m_y * r_size)) > LEAST * (0.5 * k.m_r * w_b * w_b)
+
+
+@njit(cache=CACHE)
+def _paper_setup(kind, raw, vals, body, particle_slip):
+    """``(ok, constants, slip, forces)`` of one collision for :func:`survivor_over` and
+    :func:`extended_down`: ``ok`` false outside mode "paper" (the survivor's path is
+    its own) or where :func:`proof_constants` proves nothing; ``forces`` the constant
+    ``(fn_i, fn_i, fn_j, fn_j)`` where the drag does not depend on the speed."""
+    ok, k, _, _, slip, _ = _setup(kind, raw, vals, body, particle_slip)
+    fn_i, fn_j = vals[7], vals[8]
+    return ok and kind == PAPER, k, slip, (fn_i, fn_i, fn_j, fn_j)
+
+
+@njit(cache=CACHE)
+def survivor_floors_over(kind, raw, vals, body, particle_slip, u_a, u_b):
+    """:func:`survivor_floors` of mode "paper" (``kind`` :data:`PAPER`; NaN floors for any
+    other) over the head-on speeds ``u_a <= u <= u_b`` [m/s]; arguments as
+    :func:`proven_from`'s."""
+    ok, k, slip, forces = _paper_setup(kind, raw, vals, body, particle_slip)
+    if not ok:
+        return math.nan, math.nan, math.nan, math.nan, 0
+    if slip:
+        forces = body_force_range(raw, u_a, u_b)
+    lo_i, hi_i, lo_j, hi_j = forces
+    wpu = vals[10]
+    return survivor_floors(k, u_a * wpu, u_b * wpu, lo_i, hi_i, lo_j, hi_j, vals[0], vals[1])
+
+
+@njit(cache=CACHE)
+def survivor_over(kind, raw, vals, body, particle_slip, u_a, u_b):
+    """True where mode "paper" (``kind`` :data:`PAPER`; any other kind: False) provably
+    rebounds at every head-on speed ``u_a <= u <= u_b`` [m/s] by the survivor's bound
+    (:func:`survivor_floors`), whichever particle stops first; arguments as
+    :func:`proven_from`'s."""
+    ok, k, slip, forces = _paper_setup(kind, raw, vals, body, particle_slip)
+    if not ok:
+        return False
+    if slip:
+        forces = body_force_range(raw, u_a, u_b)
+    wpu = vals[10]
+    return _survives(k, u_a * wpu, u_b * wpu, forces, vals[0], vals[1])
+
+
+@njit(cache=CACHE)
+def extended_down(kind, raw, vals, body, particle_slip, floor, lo, need):
+    """The lowest head-on speed ``W`` [m/s], ``floor <= W <= lo``, down to which mode
+    "paper" is proven to rebound, given that it rebounds from ``lo`` up: intervals below
+    ``lo`` proven one after another by the survivor's bound (:func:`survivor_floors`),
+    until one reaches ``need`` or below (at most :data:`CHECKS`; steps of
+    :data:`STEP`, geometric in the distance from ``floor``). ``lo`` where nothing more is
+    proven, or for any kind but :data:`PAPER`; other arguments as :func:`proven_from`'s."""
+    ok, k, slip, forces = _paper_setup(kind, raw, vals, body, particle_slip)
+    if not (ok and floor > 0.0 and lo > floor and need < lo):
+        return lo
+    wpu = vals[10]
+    m_i, m_j = vals[0], vals[1]
+    step = STEP
+    for _ in range(CHECKS):
+        below = max(floor + (lo - floor) / (1.0 + step), floor)
+        if slip:
+            forces = body_force_range(raw, below, lo)
+        if _survives(k, below * wpu, lo * wpu, forces, m_i, m_j):
+            lo = below
+            if lo <= need or lo == floor:
+                break
+            step = min(2.0 * step, 4.0 * STEP)
+        else:
+            step *= 0.25
+            if step < STEP_LEAST:
+                break
+    return lo

@@ -81,7 +81,7 @@ from .auto import DEFAULT_TOL, _check_tol, _decide, ode_options, ode_rtol
 from .critical import _raw
 from .fused import TIER_PAPER, TIER_RELATIVE, launch_blocks, prepare_one, slip_flag, tier_kernel
 from .ode import DEFAULT_ATOL, DEFAULT_FIRST_STEP, DEFAULT_RTOL, ode_kernel
-from .rebound_proof import proven_from, rebounds_over
+from .rebound_proof import extended_down, proven_from, rebounds_over
 from .records import OdeOptions, Pair
 from .sticking import EXACT, FIXED, LOGNORMAL, MAX_WINDOWS, REST_MIN, _cdf, _windows_one
 from .sticking_numeric import MAX_BISECTIONS, NEAR, SEED_OFFSETS, TAIL, U_RTOL
@@ -231,8 +231,9 @@ class Scratch(NamedTuple):
     #: and upper ends [m/s]
     hi: np.ndarray
     #: the head-on speeds ``[lo, hi]`` over which the collision is proven to rebound
-    #: (:func:`_proof`; ``lo = inf``: none yet), and the highest top speed of its run of
-    #: elements [m/s]
+    #: (:func:`_proof`; ``lo = inf``: none yet), the highest top speed of its run of
+    #: elements, and the lower end from which mode "paper"'s extension downwards last gave
+    #: up (NaN: none) [m/s]
     held: np.ndarray
 
 
@@ -317,7 +318,7 @@ def _node(law, j, f_star, rest, top):
 
 
 @njit(cache=CACHE, inline="always")
-def _proof(kind, coll, judge, top, held):
+def _proof(kind, coll, judge, top, held, need):
     """The lowest head-on speed [m/s] below ``top`` from which :mod:`.rebound_proof` proves
     that ``coll`` rebounds at every speed up to ``top``; ``inf`` where none is. ``held``
     (``rows.held``): the interval proven for the collision by its earlier elements, and
@@ -327,31 +328,38 @@ def _proof(kind, coll, judge, top, held):
     it by the interval up to its top (one check), and only where that fails is the proof
     made anew (:func:`.rebound_proof.proven_from`, up to three rounds), up to the run's
     highest top where that proves below the element's top, else up to the element's top,
-    and joined to the held one where the two meet."""
+    and joined to the held one where the two meet. In mode "paper" the interval held is
+    then extended down towards ``need`` (the element's first node) where one particle
+    stops first (:func:`.rebound_proof.extended_down`), once for each lower end held
+    (``held[3]``: the lower end from which that extension last gave up)."""
     lo, hi, far = held[0], held[1], held[2]
-    if lo < top:
-        if top <= hi:
-            return lo
-        if rebounds_over(kind, coll.raw, coll.vals, judge.body, judge.particle_slip, hi,
-                         top):
+    if not (lo < top and top <= hi):
+        if lo < top and rebounds_over(kind, coll.raw, coll.vals, judge.body,
+                                      judge.particle_slip, hi, top):
             held[1] = top
-            return lo
-    floor = coll.u_star * (1.0 + NEAR[0])
-    new = math.inf
-    reach = far
-    if far > top:  # up to the highest top of the run, once for all its elements
-        new = proven_from(kind, coll.raw, coll.vals, judge.body, judge.particle_slip, floor,
-                          far)
-    if not new < top:
-        reach = top
-        new = proven_from(kind, coll.raw, coll.vals, judge.body, judge.particle_slip, floor,
-                          top)
-        if not new < top:
-            return math.inf
-    if lo <= reach and new <= hi:  # the two intervals meet: their union is proven
-        held[0], held[1] = min(lo, new), max(hi, reach)
-    else:
-        held[0], held[1] = new, reach
+        else:
+            floor = coll.u_star * (1.0 + NEAR[0])
+            new = math.inf
+            reach = far
+            if far > top:  # up to the highest top of the run, once for all its elements
+                new = proven_from(kind, coll.raw, coll.vals, judge.body,
+                                  judge.particle_slip, floor, far)
+            if not new < top:
+                reach = top
+                new = proven_from(kind, coll.raw, coll.vals, judge.body,
+                                  judge.particle_slip, floor, top)
+                if not new < top:
+                    return math.inf
+            if lo <= reach and new <= hi:  # the two intervals meet: their union is proven
+                held[0], held[1] = min(lo, new), max(hi, reach)
+            else:
+                held[0], held[1] = new, reach
+    if kind == TIER_PAPER and need < held[0] and held[3] != held[0]:
+        down = extended_down(kind, coll.raw, coll.vals, judge.body, judge.particle_slip,
+                             coll.u_star * (1.0 + NEAR[0]), held[0], need)
+        if down > need:
+            held[3] = down  # gave up there: not tried again from that end
+        held[0] = down
     return held[0]
 
 
@@ -386,7 +394,7 @@ def _candidates(kind, coll, law, n_own, judge, rows, f_star, rest):
     # (.rebound_proof); the candidates there are not evaluated
     cut = math.inf
     if kind == TIER_PAPER or kind == TIER_RELATIVE:
-        cut = _proof(kind, coll, judge, top, rows.held)
+        cut = _proof(kind, coll, judge, top, rows.held, _node(law, 0, f_star, rest, top))
     n_keep = 1
     while n_keep < n_own and sp[n_keep] < top:
         n_keep += 1
@@ -578,7 +586,7 @@ def _range(kind, task, judge, res, k0, k1):
     rows = Scratch(np.empty(_MAX_OWN), np.empty(_MAX_OWN, dtype=np.int64),
                    np.empty(_MAX_OWN + n_nodes + 1),
                    np.empty(_MAX_OWN + n_nodes + 1, dtype=np.int64),
-                   np.zeros(MAX_WINDOWS), np.zeros(MAX_WINDOWS), np.empty(3))
+                   np.zeros(MAX_WINDOWS), np.zeros(MAX_WINDOWS), np.empty(4))
     last = -1
     n_own = 0
     raw = _raw(ins, st, 0)
@@ -591,6 +599,7 @@ def _range(kind, task, judge, res, k0, k1):
                           u_star[q * su])
             last = q
             rows.held[0], rows.held[1] = math.inf, 0.0  # nothing proven for it yet
+            rows.held[3] = math.nan  # nor given up
             if kind == TIER_PAPER or kind == TIER_RELATIVE:  # the kinds with a proof
                 rows.held[2] = _run_top(c, (family, p1, s1, p2, s2), given, n_nodes, coll,
                                         k, k1)
