@@ -41,7 +41,11 @@ candidates need a kernel evaluation:
   result does not depend on the speed proven. That proof belongs to the collision, not
   to the element: the elements of one run of a collision share it (:func:`_proof`),
   made once up to the run's highest top speed, taken as it is where an element's top
-  lies inside it and extended by one more interval where that top lies above;
+  lies inside it and extended by one more interval where that top lies above. In mode
+  "paper" it is then extended downwards, towards the element's first node, through the
+  band just above ``u0*`` where one particle stops first in the separation
+  (:func:`.rebound_proof.extended_down`): on the benchmarks' water and slag maps with
+  ``beta_deg = 90`` that band held most of the evaluations left;
 - each change of verdict between adjacent candidates is bisected in the same steps (the
   geometric middle, to :data:`.sticking_numeric.U_RTOL`, at most
   :data:`.sticking_numeric.MAX_BISECTIONS` steps);
