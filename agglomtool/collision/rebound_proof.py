@@ -408,12 +408,12 @@ def _first_stop(p, f, low, k):
 
 
 @njit(cache=CACHE)
-def survivor_floors(k, w_a, w_b, lo_i, hi_i, lo_j, hi_j, m_i, m_j):
+def survivor_floors(k, w_a, w_b, forces, m_i, m_j):
     """Lower bounds over the relative speeds ``w_a <= w <= w_b`` [m/s] of mode "paper"'s
     separation where one particle may stop first (module docstring), for the collision of
     constants ``k`` (:class:`ProofConstants`, a wetting liquid), masses ``m_i``, ``m_j``
-    [kg] and body forces ``lo_i <= fn_i <= hi_i``, ``lo_j <= fn_j <= hi_j`` [N]
-    (:func:`.fused.prepare_one`'s, along the axis).
+    [kg] and body forces ``forces = (lo_i, hi_i, lo_j, hi_j)``: ``lo_i <= fn_i <= hi_i``,
+    ``lo_j <= fn_j <= hi_j`` [N] (:func:`.fused.prepare_one`'s, along the axis).
 
     Returns ``(r_lo, r_size, y_lo, y_size, x)``: the floor of ``R`` (the partner's
     survival where ``x`` stops first) and of ``G_y(h)`` (the partner's own running energy
@@ -423,6 +423,7 @@ def survivor_floors(k, w_a, w_b, lo_i, hi_i, lo_j, hi_j, m_i, m_j):
     overlap, either particle stopped in the approach, a bridge broken at contact, or
     viscosity alone stopping the separation)."""
     m_r, c, kcap, a2, c_app, l_app, d_app, ha, vol3, e, mu_per_gamma, theta = k
+    lo_i, hi_i, lo_j, hi_j = forces
     nan = math.nan
     fail = (nan, nan, nan, nan, 0)
     if not (kcap >= 0.0 and w_a > 0.0 and w_b >= w_a):
@@ -513,9 +514,7 @@ def _survives(k, w_a, w_b, forces, m_i, m_j):
     ``[w_a, w_b]`` (``forces``: ``(lo_i, hi_i, lo_j, hi_j)``): both floors clear
     :data:`MARGIN` of their size, and the partner's energy left, at least
     ``R^2 / (8 m_y size)``, clears :data:`LEAST` of the impact's."""
-    lo_i, hi_i, lo_j, hi_j = forces
-    r_lo, r_size, y_lo, y_size, x = survivor_floors(k, w_a, w_b, lo_i, hi_i, lo_j, hi_j,
-                                                    m_i, m_j)
+    r_lo, r_size, y_lo, y_size, x = survivor_floors(k, w_a, w_b, forces, m_i, m_j)
     if not (r_lo > MARGIN * r_size and y_lo > MARGIN * y_size):
         return False
     m_y = m_j if x == 1 else m_i
@@ -543,9 +542,8 @@ def survivor_floors_over(kind, raw, vals, body, particle_slip, u_a, u_b):
         return math.nan, math.nan, math.nan, math.nan, 0
     if slip:
         forces = body_force_range(raw, u_a, u_b)
-    lo_i, hi_i, lo_j, hi_j = forces
     wpu = vals[10]
-    return survivor_floors(k, u_a * wpu, u_b * wpu, lo_i, hi_i, lo_j, hi_j, vals[0], vals[1])
+    return survivor_floors(k, u_a * wpu, u_b * wpu, forces, vals[0], vals[1])
 
 
 @njit(cache=CACHE)
