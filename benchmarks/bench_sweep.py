@@ -11,6 +11,9 @@
                                                  # impact-speed model, interleaved (A/B)
     python benchmarks/bench_sweep.py --tiers     # the maps under each model tier and
                                                  # drag slip against a plain collide
+    python benchmarks/bench_sweep.py --tiers --law-first  # the same with the speed law's
+                                                 # axis first (U_Umf x T x h0): each
+                                                 # pair's points 1e4 apart
     python benchmarks/bench_sweep.py --busy      # the water map on all threads and on
                                                  # one, with and without a core held
                                                  # by another process
@@ -218,19 +221,23 @@ TIERS = {
 }
 
 
-def bench_tiers(repeats: int = 5, which=None) -> None:
+def bench_tiers(repeats: int = 5, which=None, law_first=False) -> None:
     """The 1e6-point maps of ``--speeds`` (excess-gas speeds) under each of :data:`TIERS`,
     against one plain ``collide`` of the same pairs in the same settings, timed in the
     same run: where the propensity is bracketed with the tier's kernel instead of found
-    in closed form."""
+    in closed form. ``law_first``: the speed law's axis first (``U_Umf x T x h0``), so
+    that the points of one pair lie far apart, as in a map whose grid lists ``U_Umf``
+    before the pair's axes (the README's granulator map has it in the middle)."""
     fields, axis = LAWS["excess-gas"]
     for mat, (scene, base) in MATERIALS.items():
         for name, extra in TIERS.items():
             if which and name not in which:
                 continue
             sc = Scene(**{**scene.values(), **fields, **extra})
-            _, t_map, t_col, load = _map_against_collide(sc, {**base, **axis}, repeats, 10)
-            print(f"{mat:5s} {name:18s}: map best {min(t_map):.3f} s, median "
+            axes = {**axis, **base} if law_first else {**base, **axis}
+            _, t_map, t_col, load = _map_against_collide(sc, axes, repeats, 10)
+            label = f"{name} (law first)" if law_first else name
+            print(f"{mat:5s} {label:18s}: map best {min(t_map):.3f} s, median "
                   f"{np.median(t_map):.3f} s; plain collide median {np.median(t_col):.3f} s; "
                   f"map / collide {np.median(t_map) / np.median(t_col):.1f}x; load "
                   f"{load[0]:.2f} -> {os.getloadavg()[0]:.2f}", flush=True)
@@ -301,10 +308,13 @@ if __name__ == "__main__":
     ap.add_argument("--tiers", nargs="*", metavar="SETTING",
                     help="the water and slag maps under each model tier and drag slip "
                          "(all, or those named: auto, 'paper, beta 90', ...)")
+    ap.add_argument("--law-first", action="store_true",
+                    help="with --tiers: the speed law's axis first (each pair's points "
+                         "far apart)")
     ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args()
     if a.tiers is not None:
-        bench_tiers(a.repeats, a.tiers)
+        bench_tiers(a.repeats, a.tiers, a.law_first)
     elif a.busy:
         bench_busy(max(a.repeats, 7))
     elif a.speeds is not None:

@@ -458,12 +458,12 @@ def test_compiled_pass_in_parallel_over_chunks(monkeypatch):
     """The compiled pass's parallel entry and its lognormal chunks, which the hard set's
     few elements per call (under ``SERIAL_BELOW``) never reach: a water-case batch of 104
     elements whose collision changes at every element (the law varies along the first
-    axis, the collisions along the last: no run of one collision), the lognormal nodes
-    made by scipy in chunks of 66 (``LOGNORMAL_CHUNK`` shrunk from 65536: one parallel
-    launch, then 38 elements on the calling thread, the second chunk starting within a
-    round of the angles). Against the numpy batches within 1e-15 (as
-    test_compiled_pass_is_the_numpy_method), the same elements proven, and bitwise the
-    same on one thread as on two."""
+    axis, the collisions along the last: the pass groups them by collision, and the
+    lognormal nodes are asked for by index), the lognormal nodes made by scipy in chunks
+    of 66 (``LOGNORMAL_CHUNK`` shrunk from 65536: one parallel launch, then 38 elements on
+    the calling thread, the second chunk starting inside a collision's group). Against
+    the numpy batches within 1e-15 (as test_compiled_pass_is_the_numpy_method), the same
+    elements proven, and bitwise the same on one thread as on two."""
     import numba
 
     import agglomtool.collision.sticking_bracketed as compiled
@@ -499,6 +499,40 @@ def test_compiled_pass_in_parallel_over_chunks(monkeypatch):
     np.testing.assert_allclose(got[0], ref, rtol=0.0, atol=1e-15)
 
 
+def test_compiled_pass_groups_the_elements_of_a_collision(monkeypatch):
+    """A map whose speed law varies along an axis before the pairs' gives each collision's
+    elements far apart (here 26 Maxwellian laws x the 4 angles of a water pair in mode
+    "paper" with gravity: the collision changes at every element). The pass takes them
+    grouped by collision (one proof and one set of own candidates per collision, not per
+    element) and returns them in the caller's order: bitwise the same as the pass run in
+    the caller's order (a run per element), with the same elements proven."""
+    import agglomtool.collision.sticking_bracketed as compiled
+    from agglomtool.collision.sticking import MAXWELLIAN
+
+    pairs = _hard_set("paper", False)[3]  # Table 2 water against ilmenite, 4 angles
+    ins, steps, cshape, tier, body, slip = pairs.pair(pairs.u_star)
+    n = int(np.prod(cshape))
+    u_star = np.ascontiguousarray(np.broadcast_to(pairs.u_star, cshape), dtype=float).ravel()
+    rng = np.random.default_rng(17)
+    coll = np.tile(np.arange(n), 26)
+    theta = (u_star[coll] * 10 ** rng.uniform(-0.3, 1.0, coll.size)) ** 2 / math.log(2.0)
+    assert compiled._grouping(coll) is not None and compiled._grouping(np.sort(coll)) is None
+
+    def run():
+        return compiled.bracketed_propensity(ins, steps, compiled.kind_of(tier), u_star, coll,
+                                             MAXWELLIAN, theta, np.ones(1), body=body,
+                                             particle_slip=slip)
+
+    grouped = run()
+    with monkeypatch.context() as m:
+        m.setattr(compiled, "_grouping", lambda coll: None)
+        as_given = run()
+    assert grouped[1].all()
+    np.testing.assert_array_equal(grouped[1], as_given[1])
+    np.testing.assert_array_equal(grouped[0], as_given[0])
+    assert np.ptp(grouped[0]) > 0.1  # the laws differ: the order matters to the result
+
+
 def test_compiled_pass_leaves_an_element_without_u_star():
     """Called directly with a NaN ``u0*`` (no critical speed), the compiled pass proves
     nothing: P NaN and not ``ok``, every law (the compiled lognormal CDF of NaN is 0, which
@@ -513,7 +547,7 @@ def test_compiled_pass_leaves_an_element_without_u_star():
     u_star = np.full(n, np.nan)
     coll = np.arange(n)
     for family, p1, p2 in ((LOGNORMAL, 0.1, 0.5), (MAXWELLIAN, 0.01, 1.0), (FIXED, 0.1, 1.0)):
-        nodes = lambda k0, k1: np.full((k1 - k0, 18), np.nan)  # noqa: E731
+        nodes = lambda idx: np.full((idx.size, 18), np.nan)  # noqa: E731
         p, ok = bracketed_propensity(ins, steps, kind_of(tier), u_star, coll, family,
                                      np.array([p1]), np.array([p2]), body=body,
                                      particle_slip=slip, lognormal=nodes)

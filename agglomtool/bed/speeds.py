@@ -453,12 +453,12 @@ def _bracketed_compiled(speeds: SpeedModel, u_star, fused, shape, within, nodes)
     fam = law.family
     p1, p2 = _law_params(law)
 
-    def lognormal(k0, k1):
-        # the nodes, the top speed and F(u0*) of elements k0 to k1, as bracket_elements
+    def lognormal(idx):
+        # the nodes, the top speed and F(u0*) of the elements idx, as bracket_elements
         # makes them
-        part = _column(SpeedModel(fam, u0=_rows(law.u0, k0, k1),
-                                  sigma_ln=_rows(law.sigma_ln, k0, k1)))
-        f_o = np.broadcast_to(part.cdf(us_c[coll[k0:k1]][:, None]), (k1 - k0, 1))
+        part = _column(SpeedModel(fam, u0=_rows(law.u0, idx),
+                                  sigma_ln=_rows(law.sigma_ln, idx)))
+        f_o = np.broadcast_to(part.cdf(us_c[coll[idx]][:, None]), (idx.size, 1))
         q = f_o + (1.0 - f_o) * ((np.arange(nodes) + 0.5) / nodes)[None, :]
         q = np.concatenate([q, np.maximum(1.0 - TAIL, q[:, -1:])], axis=1)
         return np.concatenate([np.broadcast_to(part.quantile(q), q.shape), f_o], axis=1)
@@ -469,9 +469,10 @@ def _bracketed_compiled(speeds: SpeedModel, u_star, fused, shape, within, nodes)
                                 lognormal=lognormal)
 
 
-def _rows(a, k0, k1):
-    """Elements ``k0`` to ``k1`` of a parameter of :meth:`SpeedModel.at` (a scalar stays)."""
-    return a if a.ndim == 0 else a[k0:k1]
+def _rows(a, idx):
+    """Elements ``idx`` (an index array) of a parameter of :meth:`SpeedModel.at` (a scalar
+    stays)."""
+    return a if a.ndim == 0 else a[idx]
 
 
 def _put(p, mask, val, ok):
