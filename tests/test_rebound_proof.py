@@ -17,7 +17,7 @@ import agglomtool as at
 from agglomtool.api import _fused_inputs
 from agglomtool.collision import _codes as codes
 from agglomtool.collision import fused
-from agglomtool.collision.bridge import gap_parts, ln_f_change
+from agglomtool.collision.bridge import ln_f_diff, viscous_constant
 from agglomtool.collision.physics import reduced_mass
 from agglomtool.collision.rebound_proof import (
     MARGIN,
@@ -28,7 +28,7 @@ from agglomtool.collision.rebound_proof import (
     survivor_floors_over,
     survivor_over,
 )
-from agglomtool.collision.records import Gap, RawPair
+from agglomtool.collision.records import RawPair
 
 
 def _raw(ins, steps, q):
@@ -264,12 +264,12 @@ def _survivor_energy(det, raw, vals, x):
     separation, and ``2 m_y`` times the partner's final energy at every row."""
     m_i, m_j, r, H0, Ha = vals[:5]
     a2 = (H0 - Ha) * (H0 + Ha)
-    c = 1.5 * math.pi * raw[8] * r * r
+    c = viscous_constant(raw[8], r)
     m_y = m_j if x == 1 else m_i
     k_fin = det[:, codes.K_FIN_J if x == 1 else codes.K_FIN_I]
     d_stop, h = det[:, codes.D_STOP_SEP], det[:, codes.H_RUPT]
-    c_delta_2 = np.array([c * abs(ln_f_change(Gap(a, *gap_parts(a, a2)), Gap(b, *gap_parts(b, a2))))
-                          if math.isfinite(a) else 0.0 for a, b in zip(d_stop, h, strict=True)])
+    c_delta_2 = np.array([c * abs(ln_f_diff(a, b, a2)) if math.isfinite(a) else 0.0
+                          for a, b in zip(d_stop, h, strict=True)])
     root = np.sqrt(2.0 * m_y * k_fin) + c_delta_2  # sqrt(2 m_y k_mid)
     return root * root - c_delta_2 * c_delta_2, 2.0 * m_y * k_fin
 

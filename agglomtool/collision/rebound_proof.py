@@ -383,16 +383,15 @@ def proven_from(kind, raw, vals, body, particle_slip, floor, top):
 
 
 @njit(cache=CACHE)
-def _stop_sign(D, p, f, k):
+def _stop_sign(at, p, f, k):
     """``(G_x(D), size)``: the sign function of a separating particle's running energy at
-    the gap ``D`` [m] (module docstring: momentum ``p`` [kg m/s], its force ``f`` [N]
-    along its motion) and the size of its terms."""
+    the gap ``at`` (a :class:`~.records.Gap`; module docstring: momentum ``p`` [kg m/s],
+    its force ``f`` [N] along its motion) and the size of its terms."""
     m_r, c, kcap, a2 = k.m_r, k.c, k.kcap, k.a2
     ha = k.gap_ha
-    at = Gap(D, *gap_parts(D, a2))
     u = p - c * abs(ln_f_change(ha, at))
     cap = kcap * g_change(ha, at, a2)
-    work = f * (D - ha.d)
+    work = f * (at.d - ha.d)
     return u * u - 2.0 * m_r * (cap - work), p * p + 2.0 * m_r * (abs(cap) + abs(work))
 
 
@@ -466,28 +465,29 @@ def survivor_floors(k, w_a, w_b, forces, m_i, m_j):
     if not first > MARGIN * p_lo:
         return fail
     # ---- D_lo: below every stop (G_x > 0 there at the least p and f_x)
-    d_lo = h_lo
-    g, size = _stop_sign(h_lo, p_lo, fx_lo, k)
+    at_lo = low
+    g, size = _stop_sign(low, p_lo, fx_lo, k)
     if not g > MARGIN * size:
         z = _first_stop(p_lo, fx_lo, low, k)
-        d_lo = ha.d
+        at_lo = ha
         for back in (1e-6, 1e-3):
             d = ha.d + (z - ha.d) * (1.0 - back)
-            g, size = _stop_sign(d, p_lo, fx_lo, k)
+            at = Gap(d, *gap_parts(d, a2))
+            g, size = _stop_sign(at, p_lo, fx_lo, k)
             if g > MARGIN * size:
-                d_lo = d
+                at_lo = at
                 break
     # ---- D_hi: above every stop (G_x <= 0 there at the largest p and f_x), else h_hi
-    d_hi = h_hi
-    g, size = _stop_sign(h_lo, p_hi, fx_hi, k)
+    at_hi = top
+    g, size = _stop_sign(low, p_hi, fx_hi, k)
     if g < -MARGIN * size:
         z = _first_stop(p_hi, fx_hi, low, k)
         d = min(ha.d + (z - ha.d) * (1.0 + 1e-6), h_lo)
-        g, size = _stop_sign(d, p_hi, fx_hi, k)
+        at = Gap(d, *gap_parts(d, a2))
+        g, size = _stop_sign(at, p_hi, fx_hi, k)
         if g < -MARGIN * size:
-            d_hi = d
-    at_lo = Gap(d_lo, *gap_parts(d_lo, a2))
-    at_hi = Gap(d_hi, *gap_parts(d_hi, a2))
+            at_hi = at
+    d_lo, d_hi = at_lo.d, at_hi.d
     # (p - c Delta_1) + c Delta_2, at its least: Delta_1 up to D_hi, Delta_2 from D_hi to h
     second = p_lo - c * abs(ln_f_change(ha, at_hi))
     if d_hi < h_lo:
